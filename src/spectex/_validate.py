@@ -1,0 +1,115 @@
+"""Input checks shared by the public functions.
+
+Every check raises ``ValueError`` or ``TypeError`` with a one-line message
+that names the parameter and the value received, so that the command line
+can print it as it is.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+
+def _show(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def check_int(name: str, value, *, minimum=None, maximum=None) -> int:
+    """Return ``value`` as an int, or raise naming ``name``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {_show(value)}")
+    value = int(value)
+    if minimum is not None and value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be <= {maximum}, got {value}")
+    return value
+
+
+def check_float(name: str, value, *, minimum=None, maximum=None,
+                exclusive_minimum=False, allow_inf=False) -> float:
+    """Return ``value`` as a finite float, or raise naming ``name``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number, got {_show(value)}")
+    value = float(value)
+    if math.isnan(value) or (math.isinf(value) and not allow_inf):
+        raise ValueError(f"{name} must be finite, got {value}")
+    if minimum is not None:
+        if exclusive_minimum and value <= minimum:
+            raise ValueError(f"{name} must be > {minimum}, got {value}")
+        if not exclusive_minimum and value < minimum:
+            raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be <= {maximum}, got {value}")
+    return value
+
+
+def check_choice(name: str, value, choices) -> str:
+    """Return ``value`` if it is one of ``choices``, or raise naming ``name``."""
+    if not isinstance(value, str) or value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"{name} must be one of {listed}, got {_show(value)}")
+    return value
+
+
+def check_seed(name: str, value, *, allow_none=True):
+    """Return a seed: ``None`` (where allowed) or a non-negative int."""
+    if value is None:
+        if allow_none:
+            return None
+        raise TypeError(f"{name} must be an integer, got None")
+    return check_int(name, value, minimum=0, maximum=2**63 - 1)
+
+
+def check_shape(name: str, value, *, maximum_pixels: int = 1 << 28) -> tuple[int, int]:
+    """Return ``(height, width)`` from an int or a pair of ints."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        value = (value, value)
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ValueError(f"{name} must be an int or a (height, width) pair, got {_show(value)}")
+    h = check_int(f"{name}[0]", value[0], minimum=1)
+    w = check_int(f"{name}[1]", value[1], minimum=1)
+    if h * w > maximum_pixels:
+        raise ValueError(f"{name} of {h}x{w} is over the limit of {maximum_pixels} pixels")
+    return h, w
+
+
+def check_image(name: str, image, *, channels=(None, 1, 2, 3, 4), min_size: int = 1) -> np.ndarray:
+    """Return ``image`` as a float32 ``(H, W)`` or ``(H, W, C)`` array.
+
+    Integer images are scaled to [0, 1] by their dtype's maximum (uint8 by
+    255, uint16 by 65535); float images are taken as they are and must be
+    finite.
+    """
+    if not isinstance(image, np.ndarray):
+        try:
+            image = np.asarray(image)
+        except Exception as exc:  # pragma: no cover - numpy's message is enough
+            raise TypeError(f"{name} must be an array, got {type(image).__name__}") from exc
+    if image.ndim not in (2, 3):
+        raise ValueError(f"{name} must have shape (H, W) or (H, W, C), got shape {image.shape}")
+    nch = None if image.ndim == 2 else image.shape[2]
+    if nch not in channels:
+        raise ValueError(f"{name} must have {' or '.join(str(c) for c in channels if c)} channels, "
+                         f"got shape {image.shape}")
+    if min(image.shape[:2]) < min_size:
+        raise ValueError(f"{name} must be at least {min_size}x{min_size} pixels, got "
+                         f"{image.shape[1]}x{image.shape[0]}")
+    if image.dtype == np.bool_:
+        image = image.astype(np.float32)
+    elif np.issubdtype(image.dtype, np.integer):
+        info = np.iinfo(image.dtype)
+        if info.min < 0:
+            raise TypeError(f"{name} must be unsigned integers or floats, got dtype {image.dtype}")
+        image = image.astype(np.float32) / np.float32(info.max)
+    elif np.issubdtype(image.dtype, np.floating):
+        image = image.astype(np.float32, copy=False)
+        if not np.all(np.isfinite(image)):
+            raise ValueError(f"{name} must hold finite values, got NaN or infinity")
+    else:
+        raise TypeError(f"{name} must be a numeric array, got dtype {image.dtype}")
+    return image

@@ -1,0 +1,88 @@
+"""The ``spectex`` command line: a thin layer over the library.
+
+Each subcommand lives in its own module here with a ``register(subparsers)``
+function; the modules import nothing heavy at the top, so that ``spectex
+--help`` answers at once. Library errors (``ValueError``, ``TypeError``,
+``OSError``) become one line on standard error and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# Subcommand modules, in the order they appear in ``spectex --help``.
+_COMMANDS = (
+    "demo",
+    "noise",
+    "tile",
+    "spectrum",
+    "render",
+    "view",
+    "synth",
+    "text",
+    "compare",
+    "fit",
+)
+
+
+class UsageError(Exception):
+    """A command-line mistake: reported in one line, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose errors are one line and exit status 2."""
+
+    def error(self, message):  # noqa: D401 - argparse API
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from spectex import __version__
+
+    parser = _Parser(
+        prog="spectex",
+        description="Spectral texturing, procedural noise and texture synthesis from examples.",
+    )
+    parser.add_argument("--version", action="version", version=f"spectex {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in _COMMANDS:
+        try:
+            module = importlib.import_module(f"spectex.cli._{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"spectex.cli._{name}":
+                continue  # not built yet
+            raise
+        module.register(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Run the command line; return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        result = args.func(args)
+    except (UsageError, ValueError, TypeError) as exc:
+        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"spectex {args.command}: interrupted", file=sys.stderr)
+        return 130
+    return 0 if result is None else int(result)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = str(exc) or type(exc).__name__
+    return " ".join(text.split())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,129 @@
+"""Argument types and helpers shared by the subcommands (no heavy imports)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+
+def size(text: str) -> tuple[int, int]:
+    """Parse ``WxH`` (or ``N`` for a square) into ``(height, width)``."""
+    parts = text.lower().split("x")
+    try:
+        if len(parts) == 1:
+            w = h = int(parts[0])
+        elif len(parts) == 2:
+            w, h = int(parts[0]), int(parts[1])
+        else:
+            raise ValueError
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WxH such as 512x256, got '{text}'") from None
+    if w < 1 or h < 1:
+        raise argparse.ArgumentTypeError(f"width and height must be >= 1, got '{text}'")
+    return h, w
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
+
+
+def nonneg_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
+    return value
+
+
+def finite_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got '{text}'")
+    return value
+
+
+def positive_float(text: str) -> float:
+    value = finite_float(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def floats(count: int):
+    """An argument type for ``count`` comma-separated numbers."""
+
+    def parse(text: str) -> tuple[float, ...]:
+        parts = text.split(",")
+        if len(parts) != count:
+            raise argparse.ArgumentTypeError(f"expected {count} comma-separated numbers, got '{text}'")
+        return tuple(finite_float(p.strip()) for p in parts)
+
+    return parse
+
+
+def existing_file(text: str) -> Path:
+    path = Path(text)
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"file not found: '{text}'")
+    return path
+
+
+def report(message: str) -> None:
+    """Print a progress or result line (standard output)."""
+    print(message, flush=True)
+
+
+class Progress:
+    """A progress bar on standard error for long library calls.
+
+    Use as a context manager; pass the instance (a callable ``(done, total)``)
+    as the ``progress`` argument of a library function. The bar appears only
+    when standard error is a terminal, and only once the work has taken more
+    than ``delay`` seconds.
+    """
+
+    def __init__(self, description: str, *, delay: float = 0.5):
+        self.description = description
+        self.delay = delay
+        self._bar = None
+        self._task = None
+        self._start = None
+
+    def __enter__(self):
+        import time
+
+        self._start = time.perf_counter()
+        return self
+
+    def __call__(self, done: int, total: int) -> None:
+        import sys
+        import time
+
+        if self._bar is None:
+            if not sys.stderr.isatty() or time.perf_counter() - self._start < self.delay:
+                return
+            from rich.progress import BarColumn, Progress as _RichProgress, TextColumn, TimeRemainingColumn
+
+            self._bar = _RichProgress(TextColumn("{task.description}"), BarColumn(),
+                                      TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn(),
+                                      transient=True)
+            self._bar.start()
+            self._task = self._bar.add_task(self.description, total=total)
+        self._bar.update(self._task, completed=done, total=total)
+
+    def __exit__(self, *exc):
+        if self._bar is not None:
+            self._bar.stop()
+        return False
