@@ -1,0 +1,516 @@
+"""Quality measures for textures: the single home for them.
+
+Used by the tests, the benchmarks, ``spectex compare`` and the fitting code
+(:mod:`spectex.analysis`). Every function takes float images in [0, 1],
+``(H, W)`` or ``(H, W, C)`` (integer images are scaled by their dtype's
+maximum, as everywhere in spectex), and returns plain numbers or arrays.
+
+===========================  ==============================================  ==============
+measure                      what it says                                    good value
+===========================  ==============================================  ==============
+:func:`histogram_w1`         per-channel Wasserstein-1 distance of values    <= 0.03
+:func:`band_power`           windowed, radially averaged power per octave    --
+:func:`band_power_distance`  RMS difference of the above, in dB              <= 1.5 dB
+:func:`seam_energy`          gradient energy on block boundaries / interior  about 1
+:func:`verbatim_copy`        largest region copied with one offset           small
+:func:`repetition`           fraction of patches repeated at one period      about 0
+:func:`tileability`          step across the wrap edge / interior steps      about 1
+===========================  ==============================================  ==============
+
+References
+----------
+.. [1] Y. Rubner, C. Tomasi, L. J. Guibas, "The Earth Mover's Distance as a
+   metric for image retrieval", IJCV 40(2), 2000 (W1 between histograms).
+.. [2] F. J. Harris, "On the use of windows for harmonic analysis with the
+   discrete Fourier transform", Proc. IEEE 66(1), 1978 (the Hann window).
+.. [3] A. A. Efros, W. T. Freeman, "Image quilting for texture synthesis and
+   transfer", SIGGRAPH 2001 (block boundaries, the seams measured here).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import check_image, check_int
+
+__all__ = [
+    "histogram_w1",
+    "band_power",
+    "band_power_distance",
+    "seam_energy",
+    "verbatim_copy",
+    "repetition",
+    "tileability",
+    "compare",
+]
+
+# Rec. 709 luma weights: how colour images are reduced to one channel for the
+# spectral measures.
+_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float64)
+
+
+def _channels(image: np.ndarray) -> np.ndarray:
+    """``(H, W, C)`` view of an image (grey gets C = 1)."""
+    return image[:, :, None] if image.ndim == 2 else image
+
+
+def _luma(image: np.ndarray) -> np.ndarray:
+    """One float64 channel: grey as is, RGB(A) by Rec. 709 luma, alpha ignored."""
+    if image.ndim == 2:
+        return image.astype(np.float64)
+    c = image.shape[2]
+    if c in (1, 2):
+        return image[:, :, 0].astype(np.float64)
+    return image[:, :, :3].astype(np.float64) @ _LUMA
+
+
+# --------------------------------------------------------------------------
+# Histogram distance
+# --------------------------------------------------------------------------
+
+def _w1_1d(u: np.ndarray, v: np.ndarray) -> float:
+    """Exact W1 between two empirical distributions (any sizes)."""
+    u = np.sort(u.ravel().astype(np.float64))
+    v = np.sort(v.ravel().astype(np.float64))
+    allv = np.concatenate([u, v])
+    allv.sort(kind="mergesort")
+    deltas = np.diff(allv)
+    cu = np.searchsorted(u, allv[:-1], side="right") / u.size
+    cv = np.searchsorted(v, allv[:-1], side="right") / v.size
+    return float(np.sum(np.abs(cu - cv) * deltas))
+
+
+def histogram_w1(a, b) -> np.ndarray:
+    """Per-channel Wasserstein-1 (earth mover's) distance between two images.
+
+    The distance between the empirical distributions of the values of each
+    channel: the integral of ``|F_a(t) - F_b(t)|`` over ``t``, computed exactly
+    from the sorted values. The images may differ in size; with values in
+    [0, 1] the distance is in [0, 1] too (0 for identical histograms, 1 for
+    an all-black against an all-white image).
+
+    Parameters
+    ----------
+    a, b : ndarray, shape (H, W) or (H, W, C)
+        Two images with the same number of channels.
+
+    Returns
+    -------
+    ndarray of float64, shape (C,)
+        One distance per channel (``C = 1`` for grey images).
+
+    References
+    ----------
+    Rubner, Tomasi and Guibas, IJCV 2000.
+    """
+    a = check_image("a", a)
+    b = check_image("b", b)
+    ca, cb = _channels(a), _channels(b)
+    if ca.shape[2] != cb.shape[2]:
+        raise ValueError(f"a and b must have the same number of channels, got shapes {a.shape} and {b.shape}")
+    return np.array([_w1_1d(ca[:, :, i], cb[:, :, i]) for i in range(ca.shape[2])])
+
+
+# --------------------------------------------------------------------------
+# Power per octave band
+# --------------------------------------------------------------------------
+
+def band_power(image, *, min_cycles: int = 4):
+    """Windowed, radially averaged power per octave band.
+
+    The image (its Rec. 709 luma for colour; alpha is ignored) has its mean
+    removed and is multiplied by a separable 2-D Hann window, so that a
+    non-periodic photograph does not leak its edges into the high
+    frequencies. The power spectrum ``|F|^2 / (H W)^2`` (so that the sum over
+    all frequencies is the variance) is divided by the window's mean square
+    (which makes the estimate unbiased for a stationary texture) and summed
+    over octave bands of radial frequency ``r`` in cycles per pixel::
+
+        band 0: 1/4  <= r          (up to the corners of the spectrum)
+        band k: 2^-(k+2) <= r < 2^-(k+1)
+
+    Band ``k`` is kept while its lower edge holds at least ``min_cycles``
+    cycles across the image's shorter side. The band power is the variance
+    the band contributes, so it does not depend on the image size and images
+    of different sizes can be compared band by band.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        At least ``8 * min_cycles`` pixels on its shorter side (two bands).
+    min_cycles : int
+        Cycles across the shorter side that the lowest band must hold.
+
+    Returns
+    -------
+    bands : ndarray, shape (K, 2)
+        Lower and upper edge of each band in cycles per pixel, finest first
+        (the upper edge of band 0 is reported as 0.5).
+    power_db : ndarray, shape (K,)
+        ``10 log10`` of each band's power (floored at 1e-20, -200 dB, for a
+        flat image).
+
+    References
+    ----------
+    Harris, Proc. IEEE 1978 (windowing); Portilla and Simoncelli, IJCV 2000
+    (texture statistics per scale).
+    """
+    image = check_image("image", image)
+    min_cycles = check_int("min_cycles", min_cycles, minimum=1)
+    h, w = image.shape[:2]
+    n = min(h, w)
+    k_count = 0
+    while 2.0 ** -(k_count + 2) >= min_cycles / n:
+        k_count += 1
+    if k_count < 2:
+        raise ValueError(f"image must be at least {8 * min_cycles} pixels on its shorter side for "
+                         f"two octave bands, got {w}x{h}")
+    lum = _luma(image)
+    lum = lum - lum.mean()
+    win = np.outer(np.hanning(h + 2)[1:-1], np.hanning(w + 2)[1:-1])
+    spec = np.abs(np.fft.fft2(lum * win)) ** 2 / (float(h * w) ** 2 * float(np.mean(win ** 2)))
+    fy = np.fft.fftfreq(h)[:, None]
+    fx = np.fft.fftfreq(w)[None, :]
+    r = np.sqrt(fy * fy + fx * fx)
+    bands = np.empty((k_count, 2))
+    power = np.empty(k_count)
+    for k in range(k_count):
+        lo, hi = 2.0 ** -(k + 2), 2.0 ** -(k + 1)
+        sel = (r >= lo) if k == 0 else ((r >= lo) & (r < hi))
+        bands[k] = lo, hi
+        power[k] = spec[sel].sum()
+    return bands, 10.0 * np.log10(np.maximum(power, 1e-20))
+
+
+def band_power_distance(a, b, *, min_cycles: int = 4) -> float:
+    """RMS difference in dB between two images' power per octave band.
+
+    The bands compared are those both images hold (see :func:`band_power`);
+    images of different sizes are compared over the smaller one's bands.
+
+    Parameters
+    ----------
+    a, b : ndarray, shape (H, W) or (H, W, C)
+    min_cycles : int
+        As in :func:`band_power`.
+
+    Returns
+    -------
+    float
+        ``sqrt(mean((P_a - P_b)^2))`` over the common bands, in dB.
+    """
+    bands_a, pa = band_power(a, min_cycles=min_cycles)
+    bands_b, pb = band_power(b, min_cycles=min_cycles)
+    k = min(len(pa), len(pb))
+    return float(np.sqrt(np.mean((pa[:k] - pb[:k]) ** 2)))
+
+
+# --------------------------------------------------------------------------
+# Seams and wrap edges
+# --------------------------------------------------------------------------
+
+def seam_energy(image, block: int, overlap: int = 0) -> float:
+    """Gradient energy along block boundaries against the interior's.
+
+    For a texture assembled from blocks of ``block`` pixels placed every
+    ``block - overlap`` pixels from the top-left corner (the layout of
+    :func:`spectex.synthesis.quilt` and of plain tiling, ``overlap=0``), the
+    boundary between two blocks lies somewhere in the overlap band. This is
+    the mean squared step between neighbouring pixels across those bands
+    (the ``overlap + 1`` steps from the last pixel before a band to its last
+    pixel, horizontally for vertical bands and vertically for horizontal
+    ones) divided by the mean squared step everywhere else.
+
+    A seamless texture gives about 1; visible seams give more (abutting
+    unrelated blocks: about ``2 / (1 - rho)`` for a neighbour correlation
+    ``rho``).
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+    block : int
+        Block size in pixels, >= 2.
+    overlap : int
+        Overlap between neighbouring blocks, ``0 <= overlap < block``.
+
+    Returns
+    -------
+    float
+        The ratio; ``nan`` if the image holds no block boundary.
+
+    References
+    ----------
+    Efros and Freeman, SIGGRAPH 2001.
+    """
+    image = check_image("image", image)
+    block = check_int("block", block, minimum=2)
+    overlap = check_int("overlap", overlap, minimum=0)
+    if overlap >= block:
+        raise ValueError(f"overlap must be smaller than block={block}, got {overlap}")
+    img = _channels(image).astype(np.float64)
+    step = block - overlap
+    energies = []
+    masks = []
+    for axis in (0, 1):
+        d = np.diff(img, axis=axis)
+        e = np.sum(d * d, axis=2)  # (H-1, W) or (H, W-1)
+        n = e.shape[axis]
+        band = np.zeros(n, dtype=bool)
+        for start in range(step, n + 1, step):
+            band[max(start - 1, 0):min(start + overlap, n)] = True
+        energies.append(e)
+        masks.append(band[:, None] if axis == 0 else band[None, :])
+    band_sum = band_n = rest_sum = rest_n = 0.0
+    for e, m in zip(energies, masks):
+        m = np.broadcast_to(m, e.shape)
+        band_sum += e[m].sum()
+        band_n += m.sum()
+        rest_sum += e[~m].sum()
+        rest_n += (~m).sum()
+    if band_n == 0 or rest_n == 0 or rest_sum == 0:
+        return float("nan")
+    return float((band_sum / band_n) / (rest_sum / rest_n))
+
+
+def tileability(image, *, axis: int | None = None) -> float:
+    """Step across the wrap edge against the steps inside the image.
+
+    The mean squared difference between the last and the first row (the step
+    a viewer sees where two copies of the image meet) divided by the mean
+    squared difference between neighbouring rows inside the image; the same
+    for columns. A texture that tiles seamlessly gives about 1 (its wrap edge
+    looks like any other pair of neighbouring rows); a crop of a photograph
+    usually gives several times more.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        At least 3 x 3 pixels.
+    axis : {None, 0, 1}
+        0: the top/bottom edge only; 1: the left/right edge only; None: the
+        larger (worse) of the two.
+
+    Returns
+    -------
+    float
+        The ratio (``nan`` for an image without interior steps, such as a
+        constant one, unless its wrap step is not zero either: then ``inf``).
+    """
+    image = check_image("image", image, min_size=3)
+    if axis is not None:
+        axis = check_int("axis", axis, minimum=0, maximum=1)
+    img = _channels(image).astype(np.float64)
+    ratios = []
+    for ax in ((0, 1) if axis is None else (axis,)):
+        inner = np.mean(np.sum(np.diff(img, axis=ax) ** 2, axis=2))
+        if ax == 0:
+            wrap = np.mean(np.sum((img[0] - img[-1]) ** 2, axis=1))
+        else:
+            wrap = np.mean(np.sum((img[:, 0] - img[:, -1]) ** 2, axis=1))
+        if inner == 0:
+            ratios.append(float("nan") if wrap == 0 else float("inf"))
+        else:
+            ratios.append(float(wrap / inner))
+    return max(ratios) if len(ratios) > 1 else ratios[0]
+
+
+# --------------------------------------------------------------------------
+# Copies and repetition
+# --------------------------------------------------------------------------
+
+def _patch_hashes(image: np.ndarray, patch: int) -> np.ndarray:
+    """A 64-bit hash of every ``patch x patch`` window (8-bit quantised).
+
+    Returns shape ``(H - patch + 1, W - patch + 1)``, uint64. The hash is a
+    random linear combination modulo 2^64 of the quantised values, the same
+    for every image in a run (fixed seed), so equal patches get equal hashes
+    and different ones collide with probability about 2^-64.
+    """
+    img = _channels(image)
+    q = np.rint(np.clip(img, 0.0, 1.0) * 255.0).astype(np.uint64)
+    h, w, c = q.shape
+    weights = np.random.default_rng(0x5EC7E).integers(1, 2**63, size=(patch, patch, 4), dtype=np.uint64)
+    weights |= np.uint64(1)
+    out = np.zeros((h - patch + 1, w - patch + 1), dtype=np.uint64)
+    for dy in range(patch):
+        for dx in range(patch):
+            for ch in range(c):
+                out += q[dy:dy + h - patch + 1, dx:dx + w - patch + 1, ch] * weights[dy, dx, ch]
+    # mix so that nearby linear combinations spread (splitmix64 finaliser)
+    out ^= out >> np.uint64(30)
+    out *= np.uint64(0xBF58476D1CE4E5B9)
+    out ^= out >> np.uint64(27)
+    return out
+
+
+def verbatim_copy(image, exemplar, *, patch: int = 5) -> float:
+    """The largest region of ``image`` copied from ``exemplar`` with one offset.
+
+    Every ``patch x patch`` window of the image (values quantised to 8 bits)
+    is looked up among the exemplar's windows; where it occurs exactly once
+    there, the pixel gets that source position, hence an offset (source minus
+    position). Pixels whose neighbours (4-connected) have the same offset form
+    one copied region. The result is the largest region's area as a fraction
+    of the image's windows: 1.0 for a crop of the exemplar, ``1/n`` for the
+    exemplar tiled ``n`` times, about ``(block / size)^2`` for a quilt.
+
+    Windows that occur more than once in the exemplar (flat areas) match
+    nothing, so the measure never overstates a copy.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+    exemplar : ndarray, shape (h, w) or (h, w, C)
+        Same number of channels as ``image``.
+    patch : int
+        Odd window size >= 1 used to identify a source position.
+
+    Returns
+    -------
+    float
+        Fraction in [0, 1].
+    """
+    image = check_image("image", image)
+    exemplar = check_image("exemplar", exemplar)
+    patch = check_int("patch", patch, minimum=1)
+    if patch % 2 == 0:
+        raise ValueError(f"patch must be odd, got {patch}")
+    ci, ce = _channels(image), _channels(exemplar)
+    if ci.shape[2] != ce.shape[2]:
+        raise ValueError(f"image and exemplar must have the same number of channels, got shapes "
+                         f"{image.shape} and {exemplar.shape}")
+    if min(image.shape[:2]) < patch or min(exemplar.shape[:2]) < patch:
+        raise ValueError(f"patch={patch} is larger than the image or the exemplar")
+    he = _patch_hashes(ce, patch)
+    hi = _patch_hashes(ci, patch)
+    ekeys = he.ravel()
+    order = np.argsort(ekeys, kind="stable")
+    sorted_keys = ekeys[order]
+    uniq, first, counts = np.unique(sorted_keys, return_index=True, return_counts=True)
+    pos = np.searchsorted(uniq, hi.ravel())
+    pos = np.minimum(pos, len(uniq) - 1)
+    found = (uniq[pos] == hi.ravel()) & (counts[pos] == 1)
+    src = np.where(found, order[first[pos]], -1)
+    ew = he.shape[1]
+    hh, ww = hi.shape
+    sy, sx = np.divmod(src, ew)
+    yy, xx = np.divmod(np.arange(hh * ww), ww)
+    # offset code: unique per (dy, dx); -1 where unmatched
+    code = np.where(found, (sy - yy + hh) * (2 * ww + ew + 1) + (sx - xx + ww), -1).reshape(hh, ww)
+    if not found.any():
+        return 0.0
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    idx = np.arange(hh * ww).reshape(hh, ww)
+    right = (code[:, :-1] == code[:, 1:]) & (code[:, :-1] >= 0)
+    down = (code[:-1, :] == code[1:, :]) & (code[:-1, :] >= 0)
+    rows = np.concatenate([idx[:, :-1][right], idx[:-1, :][down]])
+    cols = np.concatenate([idx[:, 1:][right], idx[1:, :][down]])
+    graph = coo_matrix((np.ones(rows.size, dtype=np.int8), (rows, cols)), shape=(hh * ww, hh * ww))
+    _, labels = connected_components(graph, directed=False)
+    labels = labels[found]
+    largest = np.bincount(labels).max()
+    return float(largest / (hh * ww))
+
+
+def repetition(image, period, *, patch: int = 5) -> float:
+    """Fraction of the image's windows repeated exactly one period away.
+
+    A window (``patch x patch``, values quantised to 8 bits) at ``(y, x)``
+    counts as repeated if the window at ``(y + py, x)`` or at ``(y, x + px)``
+    is identical. The exemplar tiled with period ``(py, px)`` gives 1; a
+    synthesis that does not repeat the exemplar at its own period gives
+    about 0.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+    period : int or (int, int)
+        ``(py, px)``, usually the exemplar's ``(height, width)``.
+    patch : int
+        Odd window size >= 1.
+
+    Returns
+    -------
+    float
+        Fraction in [0, 1] of the windows that have a partner one period
+        away inside the image (0 if none has).
+    """
+    image = check_image("image", image)
+    patch = check_int("patch", patch, minimum=1)
+    if patch % 2 == 0:
+        raise ValueError(f"patch must be odd, got {patch}")
+    if np.ndim(period) == 0:
+        period = (period, period)
+    if len(period) != 2:
+        raise ValueError(f"period must be an int or a (py, px) pair, got {period!r}")
+    py = check_int("period[0]", period[0], minimum=1)
+    px = check_int("period[1]", period[1], minimum=1)
+    if min(image.shape[:2]) < patch:
+        raise ValueError(f"patch={patch} is larger than the image ({image.shape[1]}x{image.shape[0]})")
+    hs = _patch_hashes(image, patch)
+    hh, ww = hs.shape
+    rep = np.zeros((hh, ww), dtype=bool)
+    has = np.zeros((hh, ww), dtype=bool)
+    if py < hh:
+        rep[:-py] |= hs[:-py] == hs[py:]
+        has[:-py] = True
+    if px < ww:
+        rep[:, :-px] |= hs[:, :-px] == hs[:, px:]
+        has[:, :-px] = True
+    if not has.any():
+        return 0.0
+    return float(rep[has].mean())
+
+
+# --------------------------------------------------------------------------
+# Everything at once
+# --------------------------------------------------------------------------
+
+def compare(reference, image, *, block: int | None = None, overlap: int = 0) -> dict:
+    """All the measures of ``image`` against an exemplar ``reference``.
+
+    Parameters
+    ----------
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The exemplar (or any reference image).
+    image : ndarray, shape (H, W) or (H, W, C)
+        The texture to judge; the same number of channels.
+    block, overlap : int, optional
+        With ``block``, also the seam energy for that block layout.
+
+    Returns
+    -------
+    dict
+        ``histogram_w1`` (list per channel), ``bands`` (list of [low, high]
+        cycles per pixel), ``band_power_reference_db`` and
+        ``band_power_image_db`` (lists), ``band_power_distance_db``,
+        ``tileability_reference``, ``tileability_image``, ``verbatim_copy``,
+        ``repetition`` (at the reference's period), and ``seam_energy`` if
+        ``block`` was given. Measures an image is too small for are ``None``.
+    """
+    reference = check_image("reference", reference)
+    image = check_image("image", image)
+    out: dict = {"histogram_w1": histogram_w1(reference, image).tolist()}
+    try:
+        br, pr = band_power(reference)
+        bi, pi = band_power(image)
+        k = min(len(pr), len(pi))
+        out["bands"] = br[:k].tolist()
+        out["band_power_reference_db"] = pr[:k].tolist()
+        out["band_power_image_db"] = pi[:k].tolist()
+        out["band_power_distance_db"] = float(np.sqrt(np.mean((pr[:k] - pi[:k]) ** 2)))
+    except ValueError:
+        out["bands"] = out["band_power_reference_db"] = out["band_power_image_db"] = None
+        out["band_power_distance_db"] = None
+    for key, img in (("tileability_reference", reference), ("tileability_image", image)):
+        out[key] = tileability(img) if min(img.shape[:2]) >= 3 else None
+    if min(image.shape[:2]) >= 5 and min(reference.shape[:2]) >= 5:
+        out["verbatim_copy"] = verbatim_copy(image, reference)
+        out["repetition"] = repetition(image, reference.shape[:2])
+    else:
+        out["verbatim_copy"] = out["repetition"] = None
+    if block is not None:
+        out["seam_energy"] = seam_energy(image, block, overlap)
+    return out
