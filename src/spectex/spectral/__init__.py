@@ -1,0 +1,42 @@
+"""Spectral synthesis: octaves by filtering under magnification, 1/f noise.
+
+Octaves (Blythe et al. 1999, 6.21.3)
+    :func:`magnify`, :func:`octave`, :func:`discrete_filter`,
+    :func:`filter_passes`, ``FILTERS``.
+Spectral synthesis (6.21.4)
+    :func:`octave_sum`, :func:`octave_amplitudes`, :func:`spectral_noise`,
+    :func:`band_limit`.
+Analysis
+    :func:`radial_power_spectrum`, :func:`spectral_slope` (returns a
+    :class:`SlopeFit`), :func:`periodic_smooth_decomposition`.
+
+Frequencies are in cycles per pixel (Nyquist is 0.5). See ``docs/tiles.md``.
+"""
+
+from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
+from ._synthesis import (
+    SlopeFit,
+    band_limit,
+    octave_amplitudes,
+    octave_sum,
+    periodic_smooth_decomposition,
+    radial_power_spectrum,
+    spectral_noise,
+    spectral_slope,
+)
+
+__all__ = [
+    "FILTERS",
+    "SlopeFit",
+    "band_limit",
+    "discrete_filter",
+    "filter_passes",
+    "magnify",
+    "octave",
+    "octave_amplitudes",
+    "octave_sum",
+    "periodic_smooth_decomposition",
+    "radial_power_spectrum",
+    "spectral_noise",
+    "spectral_slope",
+]

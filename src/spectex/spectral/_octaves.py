@@ -1,0 +1,284 @@
+"""Octaves by filtering under magnification (Blythe et al., 1999, 6.21.3).
+
+An octave of ``N x N`` texels is made from a small ``n x n`` random image by
+magnifying it ``m = N / n`` times with a reconstruction filter: every input
+texel spreads its value over the ``m x m`` output texels around it, weighted
+by the filter, and everything wraps around so that the octave tiles.
+
+Definition (one axis; the 2-D filter is the product of two of these)
+--------------------------------------------------------------------
+Input texel ``k`` has its centre at ``k + 1/2`` in input-texel units and
+output texel ``p`` at ``(p + 1/2) / m``, the convention of OpenGL texture
+coordinates. Output texel ``p = q m + r`` (``r`` its *phase*, ``0 <= r < m``)
+therefore sits at ``q + phi_r`` input texels from the centre of texel ``q``,
+with ``phi_r = (r + 1/2) / m - 1/2`` in ``(-1/2, 1/2)``, and::
+
+    y[q m + r] = sum_k x[k mod n] f(q + phi_r - k) / S_r,
+    S_r        = sum_k f(phi_r - k)
+
+``S_r`` makes a constant input give a constant output. It is exactly 1 for
+box, tent, cubic B-spline and Catmull-Rom (they form a partition of unity)
+and close to 1 for the truncated Gaussian, for which it removes a faint
+ripple at the input grid's frequency.
+
+Equivalently, ``y`` is the circular convolution of the *zero-stuffed* input
+``u`` (``u[k m] = x[k]``, zero elsewhere, length ``N``) with the discretised
+filter ``h[j] = f((j + 1/2 - m/2) / m) / S_(j mod m)``; :func:`discrete_filter`
+returns ``h``. The tests check :func:`magnify` against that direct
+convolution.
+
+With the tent filter the result is exactly OpenGL's bilinear magnification
+(``GL_LINEAR``, ``GL_REPEAT``) of the small texture, and with the box filter
+exactly ``GL_NEAREST``.
+
+Cost model (the seed's point)
+-----------------------------
+Output phase ``r`` draws on the ``T`` input texels that the filter's
+footprint covers, ``T = ceil(2 R)`` for a filter of radius ``R`` input
+texels: box 1, tent 2, cubic B-spline 4, Catmull-Rom 4, Gaussian
+``ceil(2 * truncate * sigma)`` (3 with the default ``sigma = 0.5``). The
+implementation makes ``T`` *passes* per axis, as the accumulation-buffer
+algorithm of the seed does: pass ``t`` shifts the (small) input by one texel
+and adds it, weighted by the ``t``-th tap of each phase, into every output
+texel. The number of passes depends only on the filter's footprint in input
+texels, not on the input size ``n`` or on the magnification ``m``; each pass
+costs one multiply-add per output texel, so a separable 2-D octave costs
+``T`` passes over an ``N0 x n1`` array and ``T`` passes over the ``N0 x N1``
+result: about ``T N0 (n1 + N1)`` multiply-adds. (The seed's non-separable
+version makes ``T^2`` passes; 4 for its 2 x 2 footprint.)
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from .._validate import check_choice, check_float, check_int, check_seed
+
+FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
+
+#: Gaussian truncation radius, in standard deviations.
+GAUSSIAN_TRUNCATE = 3.0
+
+
+def _kernel(name: str, sigma: float):
+    """Return ``(f, radius)``: the continuous filter and its support radius."""
+    if name == "box":
+        return (lambda t: ((t >= -0.5) & (t < 0.5)).astype(np.float64)), 0.5
+    if name == "tent":
+        return (lambda t: np.maximum(0.0, 1.0 - np.abs(t))), 1.0
+    if name == "bspline":
+        def f(t):
+            a = np.abs(t)
+            return np.where(a < 1.0, (4.0 - 6.0 * a**2 + 3.0 * a**3) / 6.0,
+                            np.where(a < 2.0, (2.0 - a) ** 3 / 6.0, 0.0))
+        return f, 2.0
+    if name == "catmull-rom":
+        def f(t):
+            a = np.abs(t)
+            return np.where(a < 1.0, 1.5 * a**3 - 2.5 * a**2 + 1.0,
+                            np.where(a < 2.0, -0.5 * a**3 + 2.5 * a**2 - 4.0 * a + 2.0, 0.0))
+        return f, 2.0
+    radius = GAUSSIAN_TRUNCATE * sigma
+    return (lambda t: np.where(np.abs(t) < radius, np.exp(-0.5 * (t / sigma) ** 2), 0.0)), radius
+
+
+def _check_filter(filter, sigma):
+    filter = check_choice("filter", filter, FILTERS)
+    sigma = check_float("sigma", sigma, minimum=0.05, maximum=64.0)
+    return filter, sigma
+
+
+def _phase_weights(filter: str, factor: int, sigma: float):
+    """Polyphase weights.
+
+    Returns ``(weights, first)``: ``weights[r, t]`` is the weight of input
+    texel ``q + first[r] + t`` in output texel ``q m + r``; ``first`` holds at
+    most two distinct, consecutive values, non-decreasing in ``r``.
+    """
+    f, radius = _kernel(filter, sigma)
+    m = factor
+    phi = (np.arange(m) + 0.5) / m - 0.5
+    # Input texels k with |q + phi - k| < radius: k - q in (phi - R, phi + R).
+    first = np.floor(phi - radius).astype(np.int64) + 1
+    taps = int(math.ceil(2.0 * radius))
+    k = first[:, None] + np.arange(taps)[None, :]
+    w = f(phi[:, None] - k)
+    w = w / w.sum(axis=1, keepdims=True)
+    return w, first
+
+
+def filter_passes(filter: str = "bspline", *, sigma: float = 0.5) -> int:
+    """Number of passes per axis that :func:`magnify` makes with ``filter``.
+
+    It is the number of input texels under the filter's footprint,
+    ``ceil(2 * radius)``, independent of the input size and of the
+    magnification (see the module's cost model).
+    """
+    filter, sigma = _check_filter(filter, sigma)
+    return int(math.ceil(2.0 * _kernel(filter, sigma)[1]))
+
+
+def discrete_filter(filter: str, factor: int, *, sigma: float = 0.5):
+    """The filter discretised for magnification by ``factor``.
+
+    Parameters
+    ----------
+    filter : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+    factor : int
+        Magnification ``m`` (output texels per input texel), >= 1.
+    sigma : float
+        Standard deviation of the Gaussian, in input texels (truncated at
+        ``3 sigma``); ignored by the other filters.
+
+    Returns
+    -------
+    taps : ndarray of float64, shape (L,)
+        ``h[j]`` for ``j = start, start + 1, ..., start + L - 1``: the weight
+        that a zero-stuffed input sample puts on the output ``j`` texels
+        after it (see the module docstring).
+    start : int
+        The offset of ``taps[0]``.
+    """
+    filter, sigma = _check_filter(filter, sigma)
+    m = check_int("factor", factor, minimum=1)
+    w, first = _phase_weights(filter, m, sigma)
+    # Output q m + r reads input q + first[r] + t, i.e. j = p - k m
+    # = r - (first[r] + t) m.
+    js = np.arange(m)[:, None] - (first[:, None] + np.arange(w.shape[1])[None, :]) * m
+    start = int(js.min())
+    taps = np.zeros(int(js.max()) - start + 1)
+    np.add.at(taps, (js - start).ravel(), w.ravel())
+    return taps, start
+
+
+def _union_weights(w: np.ndarray, first: np.ndarray):
+    """Polyphase weights over the union of the phases' taps: ``(W, lo)``.
+
+    ``W[r, s]`` is the weight of input texel ``q + lo + s`` in output texel
+    ``q m + r`` (zero where phase ``r`` does not reach that texel).
+    """
+    lo = int(first.min())
+    width = int(first.max()) - lo + w.shape[1]
+    out = np.zeros((w.shape[0], width))
+    for r in range(w.shape[0]):
+        s0 = int(first[r]) - lo
+        out[r, s0:s0 + w.shape[1]] = w[r]
+    return out, lo
+
+
+def _magnify_last(x: np.ndarray, m: int, w: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """Magnify along the last axis (wrapping) with polyphase weights.
+
+    The shifted copies of the input are stacked on a new last axis and
+    multiplied by the ``(taps, m)`` weight matrix: one multiply-add per tap
+    and output texel, as many taps as the footprint covers.
+    """
+    wu, lo = _union_weights(w, first)
+    n = x.shape[-1]
+    # stack[..., q, s] = x[..., (q + lo + s) mod n]
+    idx = (np.arange(n)[:, None] + lo + np.arange(wu.shape[1])[None, :]) % n
+    stack = x[..., idx]
+    out = stack @ wu.T.astype(x.dtype)  # (..., n, m)
+    return out.reshape(x.shape[:-1] + (n * m,))
+
+
+def _factors(factor):
+    if isinstance(factor, numbers.Integral) and not isinstance(factor, bool):
+        factor = (factor, factor)
+    if not isinstance(factor, (tuple, list)) or len(factor) != 2:
+        raise ValueError(f"factor must be an int or a (rows, columns) pair of ints, got {factor!r}")
+    return (check_int("factor[0]", factor[0], minimum=1, maximum=1 << 14),
+            check_int("factor[1]", factor[1], minimum=1, maximum=1 << 14))
+
+
+def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5) -> np.ndarray:
+    """Magnify a small periodic image with a reconstruction filter, wrapping around.
+
+    Separable and vectorised: ``T`` passes per axis, ``T`` the number of
+    input texels under the filter (:func:`filter_passes`), whatever the sizes.
+
+    Parameters
+    ----------
+    image : ndarray, shape (n0, n1) or (n0, n1, C)
+        The small image, taken as one period of a periodic signal. float32
+        stays float32 and float64 stays float64; other dtypes become float64.
+    factor : int or (int, int)
+        Magnification ``m`` along rows and columns.
+    filter : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+        Box is ``GL_NEAREST``, tent is ``GL_LINEAR``; the cubic B-spline is
+        smooth and approximating, Catmull-Rom interpolating (it passes through
+        the input values and can overshoot), the Gaussian has standard
+        deviation ``sigma`` input texels, truncated at 3 sigma.
+    sigma : float
+        The Gaussian's standard deviation in input texels.
+
+    Returns
+    -------
+    ndarray, shape (n0 m0, n1 m1) or (n0 m0, n1 m1, C)
+        The magnified image; it tiles with period ``(n0 m0, n1 m1)``.
+
+    References
+    ----------
+    D. Blythe et al., "Advanced Graphics Programming Techniques Using
+    OpenGL", SIGGRAPH 1999 course, section 6.21.3.
+    """
+    filter, sigma = _check_filter(filter, sigma)
+    m0, m1 = _factors(factor)
+    x = np.asarray(image)
+    if x.ndim not in (2, 3):
+        raise ValueError(f"image must have shape (H, W) or (H, W, C), got shape {x.shape}")
+    if x.shape[0] < 1 or x.shape[1] < 1:
+        raise ValueError(f"image must not be empty, got shape {x.shape}")
+    if x.dtype not in (np.float32, np.float64):
+        x = x.astype(np.float64)
+    if not np.all(np.isfinite(x)):
+        raise ValueError("image must hold finite values, got NaN or infinity")
+    w0, f0 = _phase_weights(filter, m0, sigma)
+    w1, f1 = (w0, f0) if m1 == m0 else _phase_weights(filter, m1, sigma)
+    planes = x[None] if x.ndim == 2 else np.moveaxis(x, 2, 0)  # (C, n0, n1)
+    # Rows first, on the small input (transposed so that rows are the last
+    # axis), then columns on the (C, N0, n1) result.
+    y = _magnify_last(np.swapaxes(planes, 1, 2), m0, w0, f0)  # (C, n1, N0)
+    y = _magnify_last(np.ascontiguousarray(np.swapaxes(y, 1, 2)), m1, w1, f1)  # (C, N0, N1)
+    return y[0] if x.ndim == 2 else np.ascontiguousarray(np.moveaxis(y, 0, 2))
+
+
+def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, seed=None,
+           dtype=np.float32) -> np.ndarray:
+    """One octave: a random ``cells`` image magnified to ``shape``, tiling.
+
+    Parameters
+    ----------
+    shape : int or (int, int)
+        Output ``(height, width)``; each must be a multiple of the cells.
+    cells : int or (int, int)
+        Size of the random input image (its texels are independent standard
+        normal values), so the octave holds about ``cells / 2`` cycles per
+        period along each axis.
+    filter, sigma
+        See :func:`magnify`.
+    seed : None, int or numpy.random.Generator
+        Randomness, through ``numpy.random.default_rng(seed)``.
+    dtype : float32 or float64
+
+    Returns
+    -------
+    ndarray, shape (H, W)
+    """
+    from .._validate import check_shape
+
+    h, w = check_shape("shape", shape)
+    c0, c1 = _factors(cells) if not isinstance(cells, numbers.Integral) else (
+        check_int("cells", cells, minimum=1),) * 2
+    if h % c0 or w % c1:
+        raise ValueError(f"shape {h}x{w} (rows x columns) must be a multiple of cells {c0}x{c1}")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(
+        check_seed("seed", seed))
+    dtype = np.dtype(dtype)
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(f"dtype must be float32 or float64, got {dtype}")
+    x = rng.standard_normal((c0, c1)).astype(dtype)
+    return magnify(x, (h // c0, w // c1), filter=filter, sigma=sigma)

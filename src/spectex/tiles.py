@@ -1,0 +1,608 @@
+"""Seamless RGBA tiles, their alpha channels and their mip-map chains.
+
+The spectral texture of Berger (2006) is built from one tile: low-pass
+filtered random noise, coloured through a ramp, seamless, with an alpha
+channel derived from the colour by an emboss filter. :func:`make_tile` makes
+it; :func:`make_seamless` makes a user's photograph into such a tile;
+:func:`mip_chain` reduces a tile to the mip-map levels the renderer uploads.
+
+How a tile is made (:func:`make_tile`)
+--------------------------------------
+1. A zero-mean scalar field on a *working grid* ``m`` times coarser than the
+   tile, ``m`` the largest whole number with ``m <= 1 / (2 cutoff)`` that
+   divides both sides (2 for the default cut-off of 0.25 cycles per pixel;
+   1 for odd sizes). The working grid's Nyquist frequency is then at or above
+   the cut-off, so it holds everything the tile may hold. The field comes
+   from ``method``: ``'spectral'`` (FFT ``1/f^beta`` noise,
+   :func:`spectex.spectral.spectral_noise`), ``'octaves'`` (a sum of octaves
+   by filtering under magnification, :func:`spectex.spectral.octave_sum`) or
+   ``'noise'`` (fractal Perlin noise from :mod:`spectex.procedural`).
+2. Colour: the field is standardised and mapped to ``t = Phi(field)`` (the
+   normal CDF: uniform for Gaussian noise, so every colour of the ramp is
+   used equally, a full-contrast tile) and through the colour ramp
+   (:func:`spectex.color.apply_colormap`).
+3. Low-pass and upsample: each channel is band-limited to radial frequency
+   ``cutoff`` and sampled on the tile's grid by Fourier interpolation
+   (:func:`spectex.spectral.band_limit`); if a channel then leaves [0, 1]
+   (ringing) it is mapped back by an affine map (:func:`fit_range`), which
+   keeps the band limit.
+4. Alpha (``alpha=``): ``'emboss'`` (the paper's choice, :func:`emboss` of
+   the colour's luma), ``'luminance'`` (the colour's Rec. 709 luma),
+   ``'noise'`` (an independent field through the same steps) or ``'none'``
+   (the constant ``alpha_value``: plain detail texturing).
+
+Every step is periodic (FFTs, wrap-around differences), so the tile is
+seamless.
+
+The cut-off
+-----------
+No colour or alpha energy lies above the radial frequency ``cutoff``
+(default 0.25 cycles per pixel, half the Nyquist frequency: no wavelength
+shorter than 4 texels). Bilinear magnification reconstructs such a signal
+with at most about 1 - sinc^2(0.25) ~ 19 % attenuation at the cut-off and
+images 4 texels' worth of frequency away from it, which keeps the
+piecewise-linear facets of bilinear filtering invisible (Berger: "low-pass
+filtered to such a degree that they do not produce artifacts when
+magnified"). This holds for the float tile; quantisation to 8 bits adds a
+white noise floor about 59 dB below full scale. An emboss ``strength``
+above 1 clips the alpha channel, which is band-limited again after
+clipping.
+
+References
+----------
+D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
+2006 sketch. L. Moisan, "Periodic plus smooth image decomposition", JMIV
+39(2), 2011. L. Williams, "Pyramidal parametrics", SIGGRAPH 1983 (mip-maps).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
+
+__all__ = [
+    "METHODS",
+    "ALPHAS",
+    "make_tile",
+    "make_seamless",
+    "emboss",
+    "luma",
+    "fit_range",
+    "mip_chain",
+    "srgb_to_linear",
+    "linear_to_srgb",
+]
+
+METHODS = ("spectral", "octaves", "noise")
+ALPHAS = ("emboss", "luminance", "noise", "none")
+
+#: Largest tile side accepted by :func:`make_tile` (memory: about 1 GiB of
+#: float32 at 8192 x 8192 x 4 plus FFT work space).
+MAX_SIZE = 8192
+
+_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+
+
+# --------------------------------------------------------------------------
+# Pixel kernels (numba; compiled on first use, cached on disk)
+# --------------------------------------------------------------------------
+
+@numba.njit(cache=True, parallel=True)
+def _ramp_kernel(field, pos, col, out):  # pragma: no cover - compiled
+    """out[c, i, j] = ramp_c(Phi(field[i, j])), ramp piecewise linear (np.interp)."""
+    h, w = field.shape
+    k = pos.shape[0]
+    for i in numba.prange(h):
+        for j in range(w):
+            t = 0.5 * math.erfc(-field[i, j] * 0.7071067811865476)
+            if t <= pos[0]:
+                for c in range(3):
+                    out[c, i, j] = col[0, c]
+            elif t >= pos[k - 1]:
+                for c in range(3):
+                    out[c, i, j] = col[k - 1, c]
+            else:
+                s = 1
+                while pos[s] < t:
+                    s += 1
+                # pos[s-1] < t <= pos[s], as np.interp
+                d = pos[s] - pos[s - 1]
+                u = (t - pos[s - 1]) / d if d > 0 else 1.0
+                for c in range(3):
+                    out[c, i, j] = col[s - 1, c] + u * (col[s, c] - col[s - 1, c])
+
+
+@numba.njit(cache=True, parallel=True)
+def _interleave_kernel(planes, lo, scale, out, lum):  # pragma: no cover - compiled
+    """out[i, j, c] = (planes[c, i, j] - lo[c]) scale[c], clipped; lum = Rec. 709 luma."""
+    nc, h, w = planes.shape
+    for i in numba.prange(h):
+        for j in range(w):
+            for c in range(nc):
+                v = (planes[c, i, j] - lo[c]) * scale[c]
+                out[i, j, c] = min(max(v, 0.0), 1.0)
+            lum[i, j] = 0.2126 * out[i, j, 0] + 0.7152 * out[i, j, 1] + 0.0722 * out[i, j, 2]
+
+
+@numba.njit(cache=True, parallel=True)
+def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
+    """g = cx (h[i, j+1] - h[i, j-1]) + cy (h[i-1, j] - h[i+1, j]), wrapping."""
+    n0, n1 = h.shape
+    for i in numba.prange(n0):
+        up = i - 1 if i > 0 else n0 - 1
+        dn = i + 1 if i < n0 - 1 else 0
+        for j in range(n1):
+            lf = j - 1 if j > 0 else n1 - 1
+            rt = j + 1 if j < n1 - 1 else 0
+            g[i, j] = cx * (h[i, rt] - h[i, lf]) + cy * (h[up, j] - h[dn, j])
+
+
+# --------------------------------------------------------------------------
+# Channel helpers
+# --------------------------------------------------------------------------
+
+def luma(image) -> np.ndarray:
+    """Rec. 709 luma of the stored values: ``(H, W)`` float32.
+
+    Grey images are returned as they are; grey with alpha gives its grey;
+    RGB and RGBA give ``0.2126 R + 0.7152 G + 0.0722 B`` (alpha ignored).
+    """
+    image = check_image("image", image)
+    if image.ndim == 2:
+        return image
+    if image.shape[2] in (1, 2):
+        return np.ascontiguousarray(image[:, :, 0])
+    return (_LUMA[0] * image[:, :, 0] + _LUMA[1] * image[:, :, 1]
+            + _LUMA[2] * image[:, :, 2]).astype(np.float32, copy=False)
+
+
+def fit_range(values) -> np.ndarray:
+    """Map values into [0, 1] by an affine map, only if they leave it.
+
+    ``(v - lo) / (hi - lo)`` with ``lo = min(0, v.min())`` and
+    ``hi = max(1, v.max())``: values already in [0, 1] are returned
+    unchanged (as float32); otherwise the range is compressed just enough.
+    An affine map adds no frequencies (except at zero), so a band-limited
+    channel stays band-limited, which clipping would not.
+    """
+    v = np.asarray(values, dtype=np.float32)
+    lo, hi = float(v.min()), float(v.max())
+    if lo >= 0.0 and hi <= 1.0:
+        return v
+    lo, hi = min(lo, 0.0), max(hi, 1.0)
+    out = (v - np.float32(lo)) * np.float32(1.0 / (hi - lo))
+    np.clip(out, 0.0, 1.0, out=out)  # rounding only
+    return out
+
+
+def emboss(image, *, azimuth: float = 135.0, strength: float = 1.0) -> np.ndarray:
+    """Emboss filter: the image lit as a relief from direction ``azimuth``.
+
+    The image (its luma for colour) is taken as a height field ``h``. With
+    the light at ``L = (cos a, sin a)`` (``a`` in degrees counter-clockwise
+    from the +x axis, y pointing up, so the default 135 lights from the top
+    left), the shading of a gently sloping relief is ``g = -(L . grad h)``,
+    with the gradient by central differences that wrap around (so a
+    seamless image gives a seamless result)::
+
+        d/dx h[i, j] = (h[i, j+1] - h[i, j-1]) / 2
+        d/dy h[i, j] = (h[i-1, j] - h[i+1, j]) / 2      (row 0 is the top)
+
+    and ``alpha = 0.5 + 0.5 strength g / max|g|``, clipped to [0, 1]: slopes
+    facing the light are above 0.5. With ``strength <= 1`` nothing is
+    clipped and the map is linear, so a band-limited image gives a
+    band-limited result; ``strength = 1`` reaches 0 or 1 at the steepest
+    slope.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        At least 3 x 3.
+    azimuth : float
+        Direction of the light, degrees.
+    strength : float
+        Contrast, >= 0 (0 gives a constant 0.5).
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32 in [0, 1]
+    """
+    image = check_image("image", image, min_size=3)
+    azimuth = check_float("azimuth", azimuth)
+    strength = check_float("strength", strength, minimum=0.0, maximum=1e6)
+    return _emboss(luma(image), azimuth, strength)
+
+
+def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
+    a = math.radians(azimuth)
+    g = np.empty(h.shape, dtype=np.float32)
+    _gradient_kernel(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
+                     np.float32(-0.5 * math.sin(a)), g)
+    top = max(float(g.max()), -float(g.min()))
+    if top == 0.0 or strength == 0.0:
+        return np.full(h.shape, 0.5, dtype=np.float32)
+    g *= np.float32(0.5 * strength / top)
+    g += np.float32(0.5)
+    if strength > 1.0:
+        np.clip(g, 0.0, 1.0, out=g)
+    return g.astype(np.float32, copy=False)
+
+
+# --------------------------------------------------------------------------
+# Tiles from noise
+# --------------------------------------------------------------------------
+
+def _working_factor(h: int, w: int, cutoff: float) -> int:
+    """Largest m <= 1 / (2 cutoff) dividing h and w (the working grid step)."""
+    top = max(1, int(math.floor(0.5 / cutoff + 1e-9)))
+    for m in range(top, 0, -1):
+        if h % m == 0 and w % m == 0 and min(h, w) // m >= 4:
+            return m
+    return 1
+
+
+def _standardise(field: np.ndarray) -> np.ndarray:
+    field = field.astype(np.float32, copy=False)
+    field = field - np.float32(field.mean(dtype=np.float64))
+    std = float(np.sqrt(np.mean(np.square(field, dtype=np.float64))))
+    if std > 0:
+        field *= np.float32(1.0 / std)
+    return field
+
+
+def _to_unit(field: np.ndarray) -> np.ndarray:
+    """Standardise and map through the normal CDF: uniform for Gaussian noise."""
+    from scipy.special import ndtr
+
+    return ndtr(_standardise(field)).astype(np.float32, copy=False)
+
+
+def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
+    """The scalar field on the working grid ``shape``; frequencies per tile pixel."""
+    from .spectral import octave_sum, spectral_noise
+
+    if method == "spectral":
+        return spectral_noise(shape, beta=beta, low=None if low is None else low * m, seed=rng)
+    if method == "octaves":
+        return octave_sum(shape, amplitudes=beta, octaves=octaves, filter=filter, seed=rng)
+    try:
+        from .procedural import noise_image
+    except ImportError as exc:
+        raise ValueError(f"method='noise' needs spectex.procedural, which is not available ({exc})") from None
+    seed = int(rng.integers(0, 2**31 - 1))
+    return noise_image(shape, kind="fbm", scale=noise_scale, octaves=octaves if octaves else 6,
+                       seed=seed, tileable=True)
+
+
+def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "emboss",
+              colormap="earth", cutoff: float = 0.25, beta: float = 2.0, low: float | None = None,
+              octaves: int | None = None, filter: str = "bspline", noise_scale: float = 4.0,
+              azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5) -> np.ndarray:
+    """A seamless, low-pass RGBA tile of coloured random noise (Berger 2006).
+
+    See the module docstring for the steps and the cut-off.
+
+    Parameters
+    ----------
+    size : int or (int, int)
+        Tile side, or ``(height, width)``; 8 to ``MAX_SIZE`` (8192).
+        ``method='octaves'`` needs sides that are multiples of its finest
+        octave's cells on the working grid (powers of two always work).
+    seed : None or int
+        Randomness (``numpy.random.default_rng(seed)``); the same seed gives
+        the same tile. The colour field and the alpha noise use independent
+        streams spawned from it.
+    method : {'spectral', 'octaves', 'noise'}
+        Where the scalar field comes from (step 1).
+    alpha : {'emboss', 'luminance', 'noise', 'none'}
+        How the alpha channel is made (step 4).
+    colormap : str or sequence of (float, (r, g, b))
+        A ramp for :func:`spectex.color.apply_colormap` (``'earth'``,
+        ``'stone'``, ``'moss'``, ... or any Matplotlib name, or stops).
+    cutoff : float
+        The low-pass cut-off in cycles per pixel, in (0, 0.5]: no energy
+        above it. The default 0.25 is half the Nyquist frequency.
+    beta : float
+        Spectral exponent of the field (power ``~ 1/f^beta``) for
+        ``'spectral'`` and ``'octaves'``.
+    low : float or None
+        Low cut-off of the field, cycles per pixel (``'spectral'`` only):
+        removes the largest blobs, which make repetition easier to see.
+    octaves : int or None
+        Number of octaves for ``'octaves'`` and ``'noise'``.
+    filter : str
+        Magnification filter for ``'octaves'`` (see
+        :func:`spectex.spectral.magnify`).
+    noise_scale : float
+        Lattice cells across the tile for ``'noise'``.
+    azimuth, strength : float
+        Emboss light direction (degrees) and contrast (see :func:`emboss`).
+    alpha_value : float
+        The constant alpha of ``alpha='none'``, in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape (H, W, 4), float32 in [0, 1]
+        Straight (not premultiplied) RGBA.
+    """
+    from .color import get_ramp
+    from .spectral._synthesis import _band_limit_planes
+
+    h, w = check_shape("size", size)
+    if min(h, w) < 8 or max(h, w) > MAX_SIZE:
+        raise ValueError(f"size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
+    seed = check_seed("seed", seed)
+    method = check_choice("method", method, METHODS)
+    alpha = check_choice("alpha", alpha, ALPHAS)
+    cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
+    beta = check_float("beta", beta, minimum=-2.0, maximum=8.0)
+    if low is not None:
+        low = check_float("low", low, minimum=0.0, maximum=0.5)
+        if not low < cutoff:
+            raise ValueError(f"low must be below cutoff={cutoff}, got {low}")
+    if octaves is not None:
+        octaves = check_int("octaves", octaves, minimum=1, maximum=16)
+    noise_scale = check_float("noise_scale", noise_scale, minimum=0.0, exclusive_minimum=True,
+                              maximum=float(min(h, w)))
+    azimuth = check_float("azimuth", azimuth)
+    strength = check_float("strength", strength, minimum=0.0, maximum=1e6)
+    alpha_value = check_float("alpha_value", alpha_value, minimum=0.0, maximum=1.0)
+
+    m = _working_factor(h, w, cutoff)
+    small = (h // m, w // m)
+    rng_colour, rng_alpha = np.random.default_rng(seed).spawn(2)
+    kw = dict(beta=beta, low=low, octaves=octaves, filter=filter, noise_scale=noise_scale)
+    try:
+        field = _field(method, small, m, rng_colour, **kw)
+    except ValueError as exc:
+        if method == "octaves":
+            raise ValueError(f"size {w}x{h} does not suit method='octaves' (its working grid is "
+                             f"{small[1]}x{small[0]}): {exc}") from None
+        raise
+    pos, col = get_ramp(colormap)
+    nplanes = 4 if alpha == "noise" else 3
+    planes = np.empty((nplanes,) + small, dtype=np.float32)
+    _ramp_kernel(_standardise(field), pos.astype(np.float32), col[:, :3].astype(np.float32), planes)
+    if alpha == "noise":
+        planes[3] = _to_unit(_field(method, small, m, rng_alpha, **kw))
+    planes = _band_limit_planes(planes, None, cutoff, (h, w))
+    # fit_range per channel, fused with the interleaving.
+    lo = np.zeros(4, dtype=np.float32)
+    scale = np.ones(4, dtype=np.float32)
+    for c in range(nplanes):
+        a, b = float(planes[c].min()), float(planes[c].max())
+        if a < 0.0 or b > 1.0:
+            lo[c], scale[c] = min(a, 0.0), 1.0 / (max(b, 1.0) - min(a, 0.0))
+    out = np.empty((h, w, 4), dtype=np.float32)
+    lum = np.empty((h, w), dtype=np.float32)
+    _interleave_kernel(planes, lo, scale, out, lum)
+    del planes
+    if alpha == "emboss":
+        a = _emboss(lum, azimuth, strength)
+        if strength > 1.0:  # clipped: band-limit again
+            a = fit_range(_band_limit_planes(a[None], None, cutoff, (h, w))[0])
+        out[:, :, 3] = a
+    elif alpha == "luminance":
+        out[:, :, 3] = lum
+    elif alpha == "none":
+        out[:, :, 3] = alpha_value
+    return out
+
+
+# --------------------------------------------------------------------------
+# Tiles from photographs
+# --------------------------------------------------------------------------
+
+def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None = None, seed=0,
+                  azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 1.0) -> np.ndarray:
+    """Make a photograph into a seamless RGBA tile.
+
+    The photograph (cropped about its centre to ``size`` if given) is
+    replaced by the periodic component of Moisan's periodic-plus-smooth
+    decomposition (:func:`spectex.spectral.periodic_smooth_decomposition`):
+    the smooth component removed is the harmonic image that takes up the
+    jumps across the wrap edges, so the step across the edge becomes like
+    any interior step (``spectex.metrics.tileability`` about 1) while the
+    interior keeps all its detail; only a gentle, smooth shading changes.
+    Cross-fading shifted copies, the usual alternative, halves the contrast
+    of fine detail over the blend region and doubles features.
+
+    Conversions: grey is repeated into R, G and B; a photograph's own alpha
+    channel (grey + alpha, RGBA) is dropped unless ``alpha='keep'``; integer
+    images are scaled by their dtype's maximum (so 16-bit images keep their
+    precision). Values that the decomposition pushes out of [0, 1] are
+    clipped, or, when ``cutoff`` is given, compressed by :func:`fit_range`
+    so that the band limit holds.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C), C in 1..4
+        At least 8 x 8.
+    size : None, int or (int, int)
+        Tile ``(height, width)`` cropped from the centre; the photograph
+        must be at least that large (it is never upsampled).
+    alpha : {'none', 'emboss', 'luminance', 'noise', 'keep'}
+        As in :func:`make_tile`; ``'keep'`` makes the photograph's own alpha
+        channel seamless too (and needs one). ``'none'`` gives
+        ``alpha_value`` (default 1, opaque).
+    cutoff : float or None
+        Optional low-pass, cycles per pixel (see :func:`make_tile`).
+    seed : None or int
+        For ``alpha='noise'``.
+    azimuth, strength, alpha_value
+        As in :func:`make_tile`.
+
+    Returns
+    -------
+    ndarray, shape (h, w, 4), float32 in [0, 1]
+    """
+    from .spectral import band_limit, periodic_smooth_decomposition, spectral_noise
+
+    image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8)
+    alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
+    seed = check_seed("seed", seed)
+    if cutoff is not None:
+        cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
+    azimuth = check_float("azimuth", azimuth)
+    strength = check_float("strength", strength, minimum=0.0, maximum=1e6)
+    alpha_value = check_float("alpha_value", alpha_value, minimum=0.0, maximum=1.0)
+    img = image[:, :, None] if image.ndim == 2 else image
+    nch = img.shape[2]
+    own_alpha = img[:, :, nch - 1] if nch in (2, 4) else None
+    colour = img[:, :, :3] if nch >= 3 else np.repeat(img[:, :, :1], 3, axis=2)
+    if alpha == "keep" and own_alpha is None:
+        raise ValueError(f"alpha='keep' needs an image with an alpha channel, got {nch} channel(s)")
+    H, W = img.shape[:2]
+    if size is not None:
+        th, tw = check_shape("size", size)
+        if th > H or tw > W:
+            raise ValueError(f"image of {W}x{H} is smaller than the tile size {tw}x{th}; "
+                             f"choose a smaller size (the image is never upsampled)")
+        if min(th, tw) < 8:
+            raise ValueError(f"size must be at least 8x8, got {tw}x{th}")
+        y0, x0 = (H - th) // 2, (W - tw) // 2
+        colour = colour[y0:y0 + th, x0:x0 + tw]
+        if own_alpha is not None:
+            own_alpha = own_alpha[y0:y0 + th, x0:x0 + tw]
+        H, W = th, tw
+
+    def finish(channel_stack):
+        p = periodic_smooth_decomposition(channel_stack)[0]
+        if cutoff is None:
+            return np.clip(p, 0.0, 1.0)
+        p = band_limit(p, high=cutoff)
+        if p.ndim == 2:
+            return fit_range(p)
+        return np.stack([fit_range(p[:, :, c]) for c in range(p.shape[2])], axis=2)
+
+    out = np.empty((H, W, 4), dtype=np.float32)
+    out[:, :, :3] = finish(colour)
+    if alpha == "keep":
+        out[:, :, 3] = finish(own_alpha)
+    elif alpha == "emboss":
+        out[:, :, 3] = _emboss(luma(out[:, :, :3]), azimuth, strength)
+        if cutoff is not None and strength > 1.0:
+            out[:, :, 3] = fit_range(band_limit(out[:, :, 3], high=cutoff))
+    elif alpha == "luminance":
+        out[:, :, 3] = luma(out[:, :, :3])
+    elif alpha == "noise":
+        field = spectral_noise((H, W), beta=2.0, seed=seed, high=cutoff)
+        a = _to_unit(field)
+        out[:, :, 3] = a if cutoff is None else fit_range(band_limit(a, high=cutoff))
+    else:
+        out[:, :, 3] = alpha_value
+    return out
+
+
+# --------------------------------------------------------------------------
+# Mip-map chains
+# --------------------------------------------------------------------------
+
+def srgb_to_linear(values) -> np.ndarray:
+    """sRGB transfer function, decoding (IEC 61966-2-1): float32 in [0, 1]."""
+    v = np.asarray(values, dtype=np.float32)
+    return np.where(v <= 0.04045, v / np.float32(12.92),
+                    ((v + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4)).astype(np.float32)
+
+
+def linear_to_srgb(values) -> np.ndarray:
+    """sRGB transfer function, encoding (IEC 61966-2-1): float32 in [0, 1]."""
+    v = np.clip(np.asarray(values, dtype=np.float32), 0.0, 1.0)
+    return np.where(v <= 0.0031308, v * np.float32(12.92),
+                    np.float32(1.055) * v ** np.float32(1.0 / 2.4) - np.float32(0.055)).astype(np.float32)
+
+
+def _reduce_matrix(n: int) -> np.ndarray:
+    """(floor(n/2) or 1) x n area weights: output texel i averages [i r, (i+1) r)."""
+    m = max(1, n // 2)
+    r = n / m
+    a = np.zeros((m, n))
+    for i in range(m):
+        lo, hi = i * r, (i + 1) * r
+        for k in range(int(math.floor(lo)), min(n, int(math.ceil(hi)))):
+            a[i, k] = (min(hi, k + 1) - max(lo, k)) / r
+    return a
+
+
+def _reduce(level: np.ndarray) -> np.ndarray:
+    """One mip reduction of an (h, w, C) float32 level."""
+    h, w, c = level.shape
+    if h % 2 == 0 and w % 2 == 0:
+        x = level.reshape(h // 2, 2, w // 2, 2, c).astype(np.float64)
+        return ((x[:, 0, :, 0] + x[:, 0, :, 1] + x[:, 1, :, 0] + x[:, 1, :, 1]) * 0.25).astype(np.float32)
+    x = level.astype(np.float64)
+    if h > 1:
+        x = np.einsum("ik,kjc->ijc", _reduce_matrix(h), x)
+    if w > 1:
+        x = np.einsum("jk,ikc->ijc", _reduce_matrix(w), x)
+    return x.astype(np.float32)
+
+
+def mip_chain(tile, *, space: str = "stored") -> list[np.ndarray]:
+    """The mip-map chain of a tile: box reductions down to 1 x 1.
+
+    Level 0 is the tile itself (as float32); level ``k + 1`` has
+    ``max(1, floor(n / 2))`` texels along each side of ``n`` texels
+    (OpenGL's rule for the sizes of mip levels), and is computed from level
+    ``k`` (not from the tile), as ``glGenerateMipmap`` does.
+
+    Filtering. For even sides, each texel of the next level is the mean of a
+    2 x 2 block (exactly). For an odd side ``n``, texel ``i`` of the next
+    level averages the interval ``[i r, (i + 1) r)`` of the level, with
+    ``r = n / floor(n / 2)``, weighting the texels it covers partly by the
+    part covered: the footprints of a level's texels partition one period
+    of the tile exactly, so every level tiles with the same world period and
+    keeps the tile's mean (no row or column is dropped, as a plain 2 x 2 box
+    on an odd side would drop one; OpenGL leaves the filter for
+    non-power-of-two sides to the implementation, so the renderer uploads
+    these levels rather than calling ``glGenerateMipmap``). Because the
+    footprints never cross the wrap edge, the chain is exact for a
+    repeating texture: a texel straddling the edge would mix the last and
+    the first texels, which is the same thing for a seamless tile.
+
+    Averaging space. ``'stored'`` (default) averages the stored values, as
+    ``glGenerateMipmap`` does for non-sRGB formats such as ``GL_RGBA8``: use
+    it when the tile is uploaded as a plain (linear-format) texture, so that
+    these levels are exactly what the GPU would make. ``'linear'`` decodes
+    the colour channels from sRGB, averages in linear light and encodes
+    again, as GL does for ``GL_SRGB8_ALPHA8`` textures; use it with sRGB
+    textures. Alpha is always averaged as stored. Averaging in linear light
+    keeps the perceived brightness of fine contrast at a distance (a
+    black-and-white checkerboard becomes sRGB 0.735, not 0.5); averaging
+    stored values darkens high-contrast detail in the distance but matches
+    the plain-texture pipeline.
+
+    Parameters
+    ----------
+    tile : ndarray, shape (H, W) or (H, W, C)
+    space : {'stored', 'linear'}
+        Averaging space (see above). ``'linear'`` treats channels 0-2 of an
+        RGB(A) tile, or channel 0 of a grey(+alpha) tile, as sRGB.
+
+    Returns
+    -------
+    list of ndarray, each float32 of shape (h_k, w_k, C)
+        ``1 + floor(log2(max(H, W)))`` levels, the last 1 x 1. A 2-D tile
+        gives levels of shape (h_k, w_k, 1).
+    """
+    tile = check_image("tile", tile)
+    space = check_choice("space", space, ("stored", "linear"))
+    level = tile[:, :, None] if tile.ndim == 2 else tile
+    c = level.shape[2]
+    colour = slice(0, 3) if c >= 3 else slice(0, 1)
+    chain = [level]
+    while level.shape[0] > 1 or level.shape[1] > 1:
+        if space == "linear":
+            lin = level.copy()
+            lin[:, :, colour] = srgb_to_linear(level[:, :, colour])
+            nxt = _reduce(lin)
+            nxt[:, :, colour] = linear_to_srgb(nxt[:, :, colour])
+        else:
+            nxt = _reduce(level)
+        chain.append(nxt)
+        level = nxt
+    return chain
