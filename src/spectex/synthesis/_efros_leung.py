@@ -204,48 +204,53 @@ def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, k
 
 
 @numba.njit(cache=True, nogil=True)
-def _nearest(features, k, exclude_radius, vw):
+def _nearest(features, k, exclude_radius, vw, stride):
     """The ``k`` nearest feature vectors of each row (squared distance).
 
-    Neighbours within ``exclude_radius`` pixels (Chebyshev) of the point
-    itself are skipped: they are the trivial shifted copies that the
-    coherent candidates already provide.
+    Rows are exemplar positions in raster order, ``vw`` per row. Positions
+    within ``exclude_radius`` pixels (Chebyshev) of the point itself are
+    skipped: they are the trivial shifted copies that the coherent
+    candidates already provide. Only positions on a grid of ``stride``
+    pixels are searched. The features are principal components, largest
+    variance first, so most candidates are rejected after the first four
+    (exact, just faster).
     """
     n, d = features.shape
+    vh = n // vw
     out = np.empty((n, k), dtype=np.int64)
     dist = np.empty(k, dtype=np.float64)
     for i in range(n):
         iy = i // vw
         ix = i % vw
         m = 0
-        for j in range(n):
-            jy = j // vw
-            jx = j % vw
-            if abs(jy - iy) <= exclude_radius and abs(jx - ix) <= exclude_radius:
-                continue
-            s = 0.0
-            for t in range(d):
-                diff = features[i, t] - features[j, t]
-                s += diff * diff
-            if m < k:
-                # insertion into the sorted list
-                pos = m
+        for jy in range(0, vh, stride):
+            near_row = abs(jy - iy) <= exclude_radius
+            for jx in range(0, vw, stride):
+                if near_row and abs(jx - ix) <= exclude_radius:
+                    continue
+                j = jy * vw + jx
+                bound = dist[k - 1] if m == k else np.inf
+                s = 0.0
+                for t in range(min(4, d)):
+                    diff = features[i, t] - features[j, t]
+                    s += diff * diff
+                if s >= bound:
+                    continue
+                for t in range(4, d):
+                    diff = features[i, t] - features[j, t]
+                    s += diff * diff
+                if s >= bound:
+                    continue
+                pos = m if m < k else k - 1
+                if m < k:
+                    m += 1
                 while pos > 0 and dist[pos - 1] > s:
                     dist[pos] = dist[pos - 1]
                     out[i, pos] = out[i, pos - 1]
                     pos -= 1
                 dist[pos] = s
                 out[i, pos] = j
-                m += 1
-            elif s < dist[k - 1]:
-                pos = k - 1
-                while pos > 0 and dist[pos - 1] > s:
-                    dist[pos] = dist[pos - 1]
-                    out[i, pos] = out[i, pos - 1]
-                    pos -= 1
-                dist[pos] = s
-                out[i, pos] = j
-        for t in range(m, k):  # fewer than k points far enough: repeat the last
+        for t in range(m, k):  # fewer than k positions far enough: repeat the last
             out[i, t] = out[i, m - 1] if m > 0 else i
     return out
 
@@ -287,7 +292,10 @@ def _coherence_sets(ex: np.ndarray, window: int, k: int, rng) -> np.ndarray:
     vals, vecs = np.linalg.eigh(cov)
     feats = np.ascontiguousarray(vec @ vecs[:, ::-1][:, :dims].astype(np.float32), dtype=np.float64)
     radius = max(1, half // 2)
-    return _nearest(feats, min(k, n - 1), radius, vw)
+    # Large exemplars: look for neighbours on a sparser grid of positions,
+    # so that the all-pairs search stays near 16384 x n distance checks.
+    stride = max(1, math.ceil(math.sqrt(n / 16384.0)))
+    return _nearest(feats, min(k, n - 1), radius, vw, stride)
 
 
 def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, method: str = "fast",

@@ -31,11 +31,16 @@ def _layout(n: int, block: int, overlap: int, tileable: bool, name: str) -> tupl
     return starts, n
 
 
-def _continuations(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, shape_x, exclude):
-    """Mark in ``exclude`` the candidates that continue block a verbatim at b."""
+def _continuation_box(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, shape_x):
+    """Slices of the candidates that continue block a verbatim at block b.
+
+    The source that puts block b exactly where block a's source continues is
+    ``src_a + (pos_b - pos_a)`` (the displacement taken the short way round
+    on a torus); the box is that position +- ``radius``, clipped to the
+    candidate grid, or None if empty.
+    """
     dy = (pos_b[0] - pos_a[0]) % length_y
     dx = (pos_b[1] - pos_a[1]) % length_x
-    # the displacement between footprints on a torus is the short way round
     if dy > length_y // 2:
         dy -= length_y
     if dx > length_x // 2:
@@ -44,7 +49,48 @@ def _continuations(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, sha
     y0, y1 = max(cy - radius, 0), min(cy + radius + 1, shape_y)
     x0, x1 = max(cx - radius, 0), min(cx + radius + 1, shape_x)
     if y0 < y1 and x0 < x1:
-        exclude[y0:y1, x0:x1] = True
+        return slice(y0, y1), slice(x0, x1)
+    return None
+
+
+def _overlap_errors(f_ex, mask_term, masked, patch_pad, valid):
+    """Sum of squared differences over the overlap, for every exemplar position.
+
+    ``SSD(p) = sum_u M(u) |E(p + u) - T(u)|^2``, expanded as
+    ``corr(sum_c E_c^2, M) - 2 sum_c corr(E_c, M T_c) + sum M T^2`` with all
+    correlations done at once in the Fourier domain (channels summed there,
+    so one inverse transform per block).
+
+    Parameters
+    ----------
+    f_ex : complex ndarray, shape (C, fh, fw // 2 + 1)
+        ``rfft2`` of the exemplar's channels, zero-padded to ``(fh, fw)``.
+    mask_term : complex ndarray, shape (fh, fw // 2 + 1)
+        ``rfft2(sum_c E_c^2) * conj(rfft2(M))``.
+    masked : ndarray, shape (b, b, C)
+        The template with zeros outside the mask, ``M T``.
+    patch_pad : float32 ndarray, shape (C, fh, fw)
+        Scratch space, zero outside its top-left ``b x b`` corner.
+    valid : (int, int)
+        Number of candidate positions ``(h - b + 1, w - b + 1)``.
+
+    Returns
+    -------
+    float32 ndarray, shape ``valid``
+        The errors, clipped at 0 (rounding can make a perfect match slightly
+        negative).
+    """
+    import scipy.fft as sfft
+
+    b = masked.shape[0]
+    fh, fw = patch_pad.shape[1:]
+    patch_pad[:, :b, :b] = np.moveaxis(masked, 2, 0)
+    f_t = sfft.rfft2(patch_pad, axes=(1, 2))
+    spec = mask_term - 2.0 * np.sum(f_ex * np.conj(f_t), axis=0)
+    err = sfft.irfft2(spec, s=(fh, fw))[:valid[0], :valid[1]]
+    err += np.float32(np.sum(masked.astype(np.float64) ** 2))
+    np.maximum(err, 0, out=err)
+    return err
 
 
 def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, tolerance: float = 0.1,
@@ -161,55 +207,63 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     mask_pad = np.zeros((fh, fw), dtype=np.float32)
 
     for i in range(ny):
-        rows = (ys[i] + offsets) % canvas_h
+        y0 = int(ys[i])
         for j in range(nx):
-            cols = (xs[j] + offsets) % canvas_w
-            ix = np.ix_(rows, cols)
-            known = filled[ix]
-            if not known.any():
+            x0 = int(xs[j])
+            wraps = y0 + block > canvas_h or x0 + block > canvas_w
+            if wraps:  # only tileable quilts: gather across the wrap edge
+                ix = np.ix_((y0 + offsets) % canvas_h, (x0 + offsets) % canvas_w)
+                view, fview = canvas[ix], filled[ix]
+            else:
+                view = canvas[y0:y0 + block, x0:x0 + block]
+                fview = filled[y0:y0 + block, x0:x0 + block]
+            known = fview.copy()
+            any_known = bool(known.any())
+            if not any_known:
                 sy, sx = int(rng.integers(ph)), int(rng.integers(pw))
             else:
-                tmpl = canvas[ix]  # (b, b, C)
                 key = known.tobytes()
                 term = mask_terms.get(key)
                 if term is None:
                     mask_pad[:block, :block] = known
                     term = f_sq * np.conj(sfft.rfft2(mask_pad))
                     mask_terms[key] = term
-                masked = np.where(known[:, :, None], tmpl, np.float32(0))
-                patch_pad[:, :block, :block] = np.moveaxis(masked, 2, 0)
-                f_t = sfft.rfft2(patch_pad, axes=(1, 2))
-                spec = term - 2.0 * np.sum(f_ex * np.conj(f_t), axis=0)
-                err = sfft.irfft2(spec, s=(fh, fw))[:ph, :pw]
-                err += np.float32(np.sum(masked.astype(np.float64) ** 2))
-                np.maximum(err, 0, out=err)
+                masked = view * known[:, :, None]
+                err = _overlap_errors(f_ex, term, masked, patch_pad, (ph, pw))
                 # best error over candidates that do not continue a neighbour verbatim
-                exclude = np.zeros((ph, pw), dtype=bool)
                 neighbours = [(i, j - 1), (i - 1, j)]
                 if tileable:
                     neighbours += [(i, (j + 1) % nx), ((i + 1) % ny, j)]
+                boxes = []
                 for (ni, nj) in neighbours:
                     if (ni, nj) in sources and (ni, nj) != (i, j):
-                        _continuations(sources[(ni, nj)], (ys[ni], xs[nj]), (ys[i], xs[j]),
-                                       canvas_h, canvas_w, radius, ph, pw, exclude)
-                pool = err[~exclude] if (~exclude).any() else err
-                best = float(pool.min())
-                limit = best * (1.0 + tolerance)
-                cand = np.flatnonzero(err <= limit)
+                        box = _continuation_box(sources[(ni, nj)], (ys[ni], xs[nj]), (y0, x0),
+                                                canvas_h, canvas_w, radius, ph, pw)
+                        if box is not None:
+                            boxes.append((box, err[box].copy()))
+                            err[box] = np.inf
+                best = float(err.min())
+                for box, saved in boxes:
+                    err[box] = saved
+                if not np.isfinite(best):  # every candidate is a continuation
+                    best = float(err.min())
+                cand = np.flatnonzero(err <= best * (1.0 + tolerance))
                 if cand.size == 0:  # pragma: no cover - float safety
                     cand = np.array([int(np.argmin(err))])
                 pick = int(cand[rng.integers(cand.size)])
                 sy, sx = divmod(pick, pw)
             sources[(i, j)] = (sy, sx)
             patch = e3[sy:sy + block, sx:sx + block]
-            new = np.ones((block, block), dtype=bool)
-            if known.any():
-                diff = np.sum((canvas[ix] - patch) ** 2, axis=2, dtype=np.float64)
-                new = _cut_mask(diff, known, new, min_cut_path)
-            sub = canvas[ix]
-            sub[new] = patch[new]
-            canvas[ix] = sub
-            filled[ix] = True
+            if any_known:
+                diff = np.sum((view - patch) ** 2, axis=2, dtype=np.float64)
+                new = _cut_mask(diff, known, np.ones((block, block), dtype=bool), min_cut_path)
+                np.copyto(view, patch, where=new[:, :, None])
+            else:
+                view[...] = patch
+            fview[...] = True
+            if wraps:
+                canvas[ix] = view
+                filled[ix] = fview
             if progress is not None:
                 progress(i * nx + j + 1, total)
     out = canvas[:out_h, :out_w]

@@ -1,0 +1,68 @@
+"""``spectex synth``: texture synthesis from an example image."""
+
+from __future__ import annotations
+
+from . import _common
+
+_METHODS = ("histogram", "efros-leung", "quilting")
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "synth",
+        help="synthesise a texture from an example image",
+        description=(
+            "Synthesise a larger (or tileable) texture from an example image. "
+            "Methods: histogram (pixels drawn independently from the exemplar's colours), "
+            "efros-leung (pixel by pixel, Efros and Leung 1999), quilting (blocks with "
+            "minimum-error cuts, Efros and Freeman 2001). Palette images become RGB (RGBA "
+            "with transparency), 16-bit images keep their precision (write them back with "
+            "--bit-depth 16), an alpha channel is synthesised like a colour."
+        ),
+    )
+    p.add_argument("exemplar", type=_common.existing_file, help="example image (PNG, JPEG, ..., or .npy)")
+    p.add_argument("--method", choices=_METHODS, default="quilting", help="synthesis method (default: quilting)")
+    p.add_argument("--size", type=_common.size, default=(256, 256), metavar="WxH",
+                   help="output size (default: 256x256)")
+    p.add_argument("--window", type=_common.positive_int, default=11,
+                   help="efros-leung: odd neighbourhood size (default: 11)")
+    p.add_argument("--exhaustive", action="store_true",
+                   help="efros-leung: exact exhaustive search instead of the fast k-coherence search")
+    p.add_argument("--block", type=_common.positive_int, default=32, help="quilting: block size (default: 32)")
+    p.add_argument("--overlap", type=_common.positive_int, default=None,
+                   help="quilting: block overlap (default: block/6)")
+    p.add_argument("--tolerance", type=_common.finite_float, default=0.1,
+                   help="quilting: relative error tolerance of the block choice (default: 0.1)")
+    p.add_argument("--per-channel", action="store_true",
+                   help="histogram: draw each channel independently (default: whole colours)")
+    p.add_argument("--tileable", action="store_true", help="make the output tile seamlessly (histogram output, white noise, always does)")
+    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
+    p.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, .tif, ..., or .npy)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int | None:
+    from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, read_image, write_image
+    from spectex import synthesis
+
+    output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES)
+    if args.bit_depth == 16 and output.suffix.lower() != ".png":
+        raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
+    exemplar = read_image(args.exemplar, name="exemplar")
+    if args.method == "histogram":
+        result = synthesis.sample_histogram(exemplar, args.size, joint=not args.per_channel, seed=args.seed)
+    elif args.method == "efros-leung":
+        with _common.Progress("efros-leung") as bar:
+            result = synthesis.efros_leung(exemplar, args.size, window=args.window, seed=args.seed,
+                                           method="exhaustive" if args.exhaustive else "fast",
+                                           tileable=args.tileable, progress=bar)
+    else:
+        with _common.Progress("quilting") as bar:
+            result = synthesis.quilt(exemplar, args.size, block=args.block, overlap=args.overlap,
+                                     tolerance=args.tolerance, seed=args.seed, tileable=args.tileable,
+                                     progress=bar)
+    write_image(output, result, bit_depth=args.bit_depth)
+    h, w = result.shape[:2]
+    _common.report(f"wrote {output} ({w}x{h}, {args.method})")
+    return 0
