@@ -291,7 +291,12 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
 
     Octave ``k`` is :func:`spectex.spectral.octave` with
     ``base_cells * 2^k`` cells along each axis (independent random input per
-    octave), weighted by :func:`octave_amplitudes`. The sum tiles.
+    octave), weighted by :func:`octave_amplitudes` and shifted by a random
+    whole number of pixels (periodically), so that the octaves' lattices do
+    not line up: lattice noise is not stationary (its local smoothness
+    depends on the position within a cell), and aligned lattices would make
+    every cell boundary of the coarsest octave, the wrap edge among them,
+    statistically different from the rest. The sum tiles.
 
     Parameters
     ----------
@@ -340,7 +345,10 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
     total = np.zeros((h, w), dtype=dtype)
     for c, a in zip(cells, amp):
         part = octave((h, w), c, filter=filter, sigma=sigma, seed=rng, dtype=dtype)
-        total += dtype.type(a) * part
+        # A random whole-pixel shift per octave, so that the octaves' lattices
+        # do not all line up (at the wrap edge, or anywhere else).
+        shift = (int(rng.integers(0, h)), int(rng.integers(0, w)))
+        total += dtype.type(a) * np.roll(part, shift, axis=(0, 1))
     return total
 
 
