@@ -134,6 +134,13 @@ def band_power(image, *, min_cycles: int = 4):
     the band contributes, so it does not depend on the image size and images
     of different sizes can be compared band by band.
 
+    Like any spectral estimate it scatters: for white noise the standard
+    deviation is about ``4.3 sqrt(2 / (0.27 N))`` dB for a band holding
+    ``N`` frequency bins (the Hann window keeps about 27% of the pixels'
+    information), so about 0.1 dB for the finest band of a 128 x 128 image
+    but 0.7 to 0.9 dB for a lowest band with 4 cycles across. Raise
+    ``min_cycles`` for steadier (fewer) bands.
+
     Parameters
     ----------
     image : ndarray, shape (H, W) or (H, W, C)

@@ -1,0 +1,150 @@
+"""spectex.metrics: reference values, independent routes, and controls that fail."""
+
+import numpy as np
+import pytest
+import skimage.data
+
+from spectex import metrics
+
+
+@pytest.fixture(scope="module")
+def gravel():
+    return (skimage.data.gravel()[:128, :128] / 255.0).astype(np.float32)
+
+
+def _periodic_noise(n, seed, smooth=4.0):
+    """Band-limited noise built in the Fourier domain: exactly periodic."""
+    rng = np.random.default_rng(seed)
+    f = np.fft.fftfreq(n)
+    r = np.sqrt(f[:, None] ** 2 + f[None, :] ** 2)
+    spec = np.fft.fft2(rng.standard_normal((n, n))) * np.exp(-(r * n / smooth) ** 2 / 50.0)
+    field = np.real(np.fft.ifft2(spec))
+    field = (field - field.min()) / (field.max() - field.min())
+    return field.astype(np.float32)
+
+
+# ---------------------------------------------------------------- histogram W1
+
+def test_w1_reference_values():
+    zeros = np.zeros((8, 8))
+    ones = np.ones((4, 6))
+    assert metrics.histogram_w1(zeros, ones) == pytest.approx([1.0])
+    a = np.random.default_rng(0).random((16, 16))
+    assert metrics.histogram_w1(a, a + 0.1) == pytest.approx([0.1], abs=1e-6)
+    assert metrics.histogram_w1(a, a[::-1, ::-1]) == pytest.approx([0.0], abs=1e-12)
+
+
+def test_w1_agrees_with_scipy():
+    from scipy.stats import wasserstein_distance
+
+    rng = np.random.default_rng(1)
+    a = rng.random((20, 30, 3)) ** 2
+    b = rng.random((17, 11, 3))
+    ours = metrics.histogram_w1(a, b)
+    for c in range(3):
+        ref = wasserstein_distance(a[:, :, c].ravel(), b[:, :, c].ravel())
+        assert ours[c] == pytest.approx(ref, rel=1e-5)
+
+
+def test_w1_channel_mismatch_names_both():
+    with pytest.raises(ValueError, match="same number of channels"):
+        metrics.histogram_w1(np.zeros((4, 4)), np.zeros((4, 4, 3)))
+
+
+# ---------------------------------------------------------------- band power
+
+def test_band_power_of_white_noise_matches_band_areas():
+    # White noise of variance s2 puts s2 * (band area / total area) in each band.
+    rng = np.random.default_rng(2)
+    s2 = 0.01
+    noise = 0.5 + rng.standard_normal((512, 512)) * np.sqrt(s2)
+    bands, power_db = metrics.band_power(noise)
+    assert len(bands) == 6  # lowest band: 1/128 cycles per pixel, 4 cycles across
+    areas = []
+    for k, (lo, hi) in enumerate(bands):
+        outer = 1.0 if k == 0 else np.pi * hi * hi
+        areas.append(outer - np.pi * lo * lo)
+    expected = 10 * np.log10(s2 * np.array(areas))
+    # the estimate's own scatter grows as the bands narrow (about 0.7 dB for
+    # the lowest); a forgotten window normalisation would be 8.5 dB off
+    assert np.max(np.abs(power_db[:5] - expected[:5])) < 0.5
+    assert abs(power_db[5] - expected[5]) < 1.5
+
+
+def test_band_power_is_size_independent_and_scales_by_6db(gravel):
+    _, p128 = metrics.band_power(gravel)
+    _, p64 = metrics.band_power(gravel[32:96, 32:96])
+    assert np.max(np.abs(p128[:len(p64)] - p64)) < 2.0
+    half = 0.5 + 0.5 * (gravel - gravel.mean())
+    assert metrics.band_power_distance(gravel, half) == pytest.approx(20 * np.log10(2), abs=1e-6)
+    assert metrics.band_power_distance(gravel, gravel) == 0.0
+
+
+def test_band_power_too_small_is_an_error():
+    with pytest.raises(ValueError, match="at least 32 pixels"):
+        metrics.band_power(np.zeros((20, 20)))
+
+
+def test_white_noise_fails_band_power_but_passes_w1(gravel):
+    # The control for the band-power check: a shuffled exemplar has exactly
+    # the exemplar's histogram and none of its spectrum.
+    shuffled = np.random.default_rng(3).permutation(gravel.ravel()).reshape(gravel.shape)
+    assert metrics.histogram_w1(gravel, shuffled)[0] < 1e-9
+    assert metrics.band_power_distance(gravel, shuffled) > 1.5
+
+
+# ---------------------------------------------------------------- seams and wrap
+
+def _random_blocks(ex, n, block, seed):
+    rng = np.random.default_rng(seed)
+    out = np.zeros((n, n), dtype=np.float32)
+    for y in range(0, n, block):
+        for x in range(0, n, block):
+            sy, sx = rng.integers(0, ex.shape[0] - block + 1, size=2)
+            out[y:y + block, x:x + block] = ex[sy:sy + block, sx:sx + block]
+    return out
+
+
+def test_seam_energy_control(gravel):
+    assert metrics.seam_energy(gravel, 32) == pytest.approx(1.0, abs=0.3)
+    assert metrics.seam_energy(_random_blocks(gravel, 128, 32, 0), 32) > 2.0
+
+
+def test_seam_energy_checks_arguments(gravel):
+    with pytest.raises(ValueError, match="overlap must be smaller than block=8, got 8"):
+        metrics.seam_energy(gravel, 8, 8)
+
+
+def test_tileability_periodic_vs_crop():
+    field = _periodic_noise(128, 4)
+    assert metrics.tileability(field) == pytest.approx(1.0, abs=0.35)
+    crop = field[:80, :80]  # not periodic any more
+    assert metrics.tileability(crop) > 3.0
+    assert metrics.tileability(field, axis=0) <= metrics.tileability(field) + 1e-12
+
+
+# ---------------------------------------------------------------- copies
+
+def test_verbatim_copy_reference_values(gravel):
+    assert metrics.verbatim_copy(gravel[10:90, 20:100], gravel) == pytest.approx(1.0)
+    tiled = np.tile(gravel, (2, 2))
+    assert metrics.verbatim_copy(tiled, gravel) == pytest.approx(0.25, abs=0.02)
+    mosaic = _random_blocks(gravel, 128, 32, 1)
+    assert metrics.verbatim_copy(mosaic, gravel) == pytest.approx(1 / 16, abs=0.02)
+    noise = np.random.default_rng(5).random((64, 64)).astype(np.float32)
+    assert metrics.verbatim_copy(noise, gravel) == 0.0
+
+
+def test_repetition_tiling_vs_noise(gravel):
+    tiled = np.tile(gravel[:64, :64], (3, 3))
+    assert metrics.repetition(tiled, 64) == pytest.approx(1.0)
+    assert metrics.repetition(gravel, (64, 64)) == 0.0
+    with pytest.raises(ValueError, match="patch must be odd, got 4"):
+        metrics.repetition(gravel, 8, patch=4)
+
+
+def test_compare_collects_everything(gravel):
+    result = metrics.compare(gravel[:64, :64], gravel, block=32)
+    assert set(result) >= {"histogram_w1", "band_power_distance_db", "tileability_image",
+                           "verbatim_copy", "repetition", "seam_energy"}
+    assert result["verbatim_copy"] > 0.2  # the reference is a crop of the image
