@@ -416,7 +416,22 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     images are scaled by their dtype's maximum (so 16-bit images keep their
     precision). Values that the decomposition pushes out of [0, 1] are
     clipped, or, when ``cutoff`` is given, compressed by :func:`fit_range`
-    so that the band limit holds.
+    so that the band limit holds. ``alpha='emboss'`` embosses the
+    photograph (see :func:`emboss`; one-sided differences at its edges) and
+    makes that seamless the same way; ``'luminance'`` is the luma of the
+    seamless colour.
+
+    Seam metric (mean absolute step across the wrap edge over the mean
+    interior step, per channel; 1 is ideal). On scikit-image's pictures the
+    raw images give 2 to 18 (brick 5.7, grass 2.1, gravel 3.2, astronaut
+    15-18, coffee 8-14); their periodic components give 0.65 to 0.86: the
+    wrap edge becomes a little smoother than the interior (Moisan's
+    solution takes up the whole jump, the pixel-scale detail across the
+    edge included), never a step. Variants that re-inject interior detail
+    at the edge (copying the neighbouring step into the boundary condition,
+    or transplanting high frequencies from the image's centre) moved some
+    pictures to 1.0 but others to 1.3-1.8, so the plain decomposition is
+    kept.
 
     Parameters
     ----------
@@ -484,9 +499,16 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     if alpha == "keep":
         out[:, :, 3] = finish(own_alpha)
     elif alpha == "emboss":
-        out[:, :, 3] = _emboss(luma(out[:, :, :3]), azimuth, strength)
-        if cutoff is not None and strength > 1.0:
-            out[:, :, 3] = fit_range(band_limit(out[:, :, 3], high=cutoff))
+        # Emboss the photograph itself (one-sided differences at its edges,
+        # no wrap), then make the result seamless like the colour: the
+        # gradient of the periodic component jumps at the wrap edge.
+        lum = luma(colour)
+        a = math.radians(azimuth)
+        gy, gx = np.gradient(lum.astype(np.float64))
+        g = -(math.cos(a) * gx - math.sin(a) * gy)  # y up: d/dy = -d/d(row)
+        top = float(np.abs(g).max())
+        g = 0.5 + (0.5 * strength / top) * g if top > 0 and strength > 0 else np.full(g.shape, 0.5)
+        out[:, :, 3] = finish(g.astype(np.float32))
     elif alpha == "luminance":
         out[:, :, 3] = luma(out[:, :, :3])
     elif alpha == "noise":

@@ -1,0 +1,300 @@
+"""Tests for spectex.tiles: seamless low-pass RGBA tiles, photos, emboss, mip chains."""
+
+import numpy as np
+import pytest
+
+from spectex.tiles import (
+    ALPHAS,
+    emboss,
+    fit_range,
+    linear_to_srgb,
+    luma,
+    make_seamless,
+    make_tile,
+    mip_chain,
+    srgb_to_linear,
+)
+
+
+def seam_ratio(image):
+    """Per channel: mean |step| across the wrap edges / mean |step| inside (the issue's test)."""
+    img = image[:, :, None] if image.ndim == 2 else image
+    out = []
+    for c in range(img.shape[2]):
+        a = img[:, :, c].astype(np.float64)
+        wrap = np.concatenate([np.abs(a[:, 0] - a[:, -1]), np.abs(a[0] - a[-1])]).mean()
+        inner = np.concatenate([np.abs(np.diff(a, axis=1)).ravel(), np.abs(np.diff(a, axis=0)).ravel()]).mean()
+        out.append(wrap / inner)
+    return np.array(out)
+
+
+def energy_above(image, cutoff):
+    """Fraction of each channel's energy above radial frequency ``cutoff``."""
+    img = image[:, :, None] if image.ndim == 2 else image
+    h, w = img.shape[:2]
+    f = np.sqrt(np.fft.fftfreq(h)[:, None] ** 2 + np.fft.fftfreq(w)[None, :] ** 2)
+    out = []
+    for c in range(img.shape[2]):
+        p = np.abs(np.fft.fft2(img[:, :, c].astype(np.float64))) ** 2
+        out.append(p[f > cutoff * (1 + 1e-9)].sum() / p.sum())  # of all energy, DC included
+    return np.array(out)
+
+
+@pytest.fixture(scope="module")
+def tile512():
+    return make_tile(512, seed=0)
+
+
+def test_tile_shape_range_and_determinism(tile512):
+    t = tile512
+    assert t.shape == (512, 512, 4) and t.dtype == np.float32
+    assert t.min() >= 0.0 and t.max() <= 1.0
+    np.testing.assert_array_equal(t, make_tile(512, seed=0))
+    assert not np.array_equal(t[:, :, :3], make_tile(512, seed=1)[:, :, :3])
+    # full-contrast colour: the ramp is used over most of its range
+    assert float(t[:, :, 1].max() - t[:, :, 1].min()) > 0.6
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_tile_is_seamless_every_channel(seed):
+    t = make_tile(512, seed=seed)
+    r = seam_ratio(t)
+    assert np.all(np.abs(r - 1.0) <= 0.10), r
+
+
+def test_octave_tiles_are_seamless_on_average():
+    # Octave noise varies more over large scales, so one 512 tile's wrap edge
+    # scatters more; its mean over seeds must still be within 10 %.
+    r = np.mean([seam_ratio(make_tile(512, seed=s, method="octaves")) for s in range(4)], axis=0)
+    assert np.all(np.abs(r - 1.0) <= 0.10), r
+
+
+def test_seam_test_can_fail_on_a_crop():
+    crop = make_tile(1024, seed=0)[100:612, 300:812]
+    assert np.all(seam_ratio(crop)[:3] > 1.5)
+
+
+def test_metrics_tileability_agrees(tile512):
+    from spectex.metrics import tileability
+
+    assert tileability(tile512) < 1.25
+    assert tileability(make_tile(1024, seed=0)[100:612, 300:812]) > 3.0
+
+
+@pytest.mark.parametrize("alpha", ALPHAS)
+@pytest.mark.parametrize("size,cutoff", [(256, 0.25), ((96, 130), 0.125), (101, 0.25), (128, 0.4)])
+def test_no_energy_above_cutoff(alpha, size, cutoff):
+    t = make_tile(size, seed=3, alpha=alpha, cutoff=cutoff)
+    assert np.all(energy_above(t, cutoff) < 1e-9)
+
+
+def test_cutoff_test_can_fail():
+    t = make_tile(128, seed=0, cutoff=0.3)
+    assert np.all(energy_above(t[:, :, :3], 0.15) > 1e-4)
+
+
+def test_strong_emboss_is_clipped_then_band_limited_again():
+    t = make_tile(256, seed=1, strength=4.0)
+    assert energy_above(t[:, :, 3], 0.25)[0] < 1e-9
+    assert t[:, :, 3].min() >= 0 and t[:, :, 3].max() <= 1
+    assert t[:, :, 3].std() > make_tile(256, seed=1)[:, :, 3].std()
+
+
+def test_alpha_modes():
+    base = make_tile(128, seed=4, alpha="emboss")
+    lum = make_tile(128, seed=4, alpha="luminance")
+    none = make_tile(128, seed=4, alpha="none", alpha_value=0.25)
+    noise = make_tile(128, seed=4, alpha="noise")
+    for t in (lum, none, noise):  # colour does not depend on the alpha mode
+        np.testing.assert_array_equal(t[:, :, :3], base[:, :, :3])
+    np.testing.assert_allclose(lum[:, :, 3], luma(base[:, :, :3]), atol=1e-6)
+    assert np.all(none[:, :, 3] == 0.25)
+    np.testing.assert_allclose(base[:, :, 3], emboss(base[:, :, :3]), atol=1e-6)
+    assert abs(float(base[:, :, 3].mean()) - 0.5) < 0.01
+    assert abs(float(np.abs(base[:, :, 3] - 0.5).max()) - 0.5) < 1e-6  # strength 1 reaches 0 or 1
+    # independent noise alpha: uncorrelated with the colour
+    c = np.corrcoef(noise[:, :, 3].ravel(), luma(noise[:, :, :3]).ravel())[0, 1]
+    assert abs(c) < 0.2 and noise[:, :, 3].std() > 0.1
+
+
+def test_grey_ramp_gives_grey_and_ramp_kernel_matches_apply_colormap():
+    from scipy.special import ndtr
+
+    from spectex.color import apply_colormap, get_ramp
+    from spectex.tiles import _ramp_kernel
+
+    t = make_tile(64, seed=0, colormap="grey")
+    np.testing.assert_allclose(t[:, :, 0], t[:, :, 1], atol=1e-6)
+    np.testing.assert_allclose(t[:, :, 0], t[:, :, 2], atol=1e-6)
+    x = np.random.default_rng(0).standard_normal((32, 40)).astype(np.float32) * 2
+    for cmap in ("earth", "fire", "viridis"):
+        pos, col = get_ramp(cmap)
+        out = np.empty((3, 32, 40), dtype=np.float32)
+        _ramp_kernel(x, pos.astype(np.float32), col[:, :3].astype(np.float32), out)
+        want = apply_colormap(ndtr(x.astype(np.float64)), cmap, vmin=0.0, vmax=1.0)
+        np.testing.assert_allclose(np.moveaxis(out, 0, 2), want, atol=2e-6)
+
+
+def test_emboss_direction_and_symmetry():
+    yy, xx = np.mgrid[0:32, 0:32]
+    h = (np.sin(2 * np.pi * xx / 32) + np.cos(2 * np.pi * 2 * yy / 32)).astype(np.float32) * 0.25 + 0.5
+    a = emboss(h, azimuth=30.0)
+    np.testing.assert_allclose(emboss(h, azimuth=210.0), 1.0 - a, atol=1e-6)
+    # height rising to the right, light from the left (azimuth 180): bright
+    ramp = np.tile(np.linspace(0.0, 1.0, 16, dtype=np.float32), (16, 1))
+    e = emboss(ramp, azimuth=180.0)
+    assert np.all(e[:, 1:-1] > 0.5) and np.all(emboss(ramp, azimuth=0.0)[:, 1:-1] < 0.5)
+    # light from the top (azimuth 90) on height rising downwards: the slope
+    # faces up, towards the light: bright
+    assert np.all(emboss(ramp.T, azimuth=90.0)[1:-1] > 0.5)
+    np.testing.assert_array_equal(emboss(h, strength=0.0), 0.5)
+    assert np.all(emboss(np.full((8, 8), 0.3)) == 0.5)
+    with pytest.raises(ValueError, match="strength"):
+        emboss(h, strength=-1.0)
+
+
+def test_fit_range():
+    v = np.array([0.2, 0.5], dtype=np.float32)
+    assert fit_range(v) is v or np.array_equal(fit_range(v), v)
+    np.testing.assert_allclose(fit_range(np.array([-0.5, 0.0, 1.0])), [0.0, 1 / 3, 1.0], atol=1e-7)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(size=7), "size"),
+    (dict(size=9000), "size"),
+    (dict(size=500, method="octaves"), "octaves"),
+    (dict(method="perlin2"), "method"),
+    (dict(alpha="bump"), "alpha"),
+    (dict(cutoff=0.0), "cutoff"),
+    (dict(cutoff=0.6), "cutoff"),
+    (dict(low=0.3), "low"),
+    (dict(seed=-1), "seed"),
+    (dict(colormap="no-such-ramp"), "colormap"),
+    (dict(alpha_value=1.5), "alpha_value"),
+])
+def test_make_tile_bad_input(kwargs, match):
+    kwargs = dict(dict(size=64), **kwargs)
+    with pytest.raises((ValueError, TypeError), match=match):
+        make_tile(**kwargs)
+
+
+def test_octave_method_sizes():
+    t = make_tile(384, seed=0, method="octaves", filter="catmull-rom")
+    assert t.shape == (384, 384, 4)
+    assert np.all(energy_above(t, 0.25) < 1e-9)
+
+
+def test_noise_method_uses_procedural_or_says_what_is_missing():
+    try:
+        import spectex.procedural  # noqa: F401
+    except ImportError:
+        with pytest.raises(ValueError, match="procedural"):
+            make_tile(64, method="noise")
+        return
+    t = make_tile(128, seed=0, method="noise")
+    assert t.shape == (128, 128, 4)
+    assert np.all(np.abs(seam_ratio(t) - 1.0) < 0.25)
+    assert np.all(energy_above(t, 0.25) < 1e-9)
+
+
+# --------------------------------------------------------------------------
+# Photographs
+# --------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def photo():
+    from skimage import data
+
+    return data.astronaut()  # (512, 512, 3) uint8, not periodic
+
+
+def test_make_seamless_photo(photo):
+    before = seam_ratio(photo.astype(np.float32) / 255)
+    assert np.all(before > 1.5)
+    t = make_seamless(photo)
+    assert t.shape == (512, 512, 4) and t.dtype == np.float32
+    assert np.all(t[:, :, 3] == 1.0)
+    # Moisan's periodic component: no step at the wrap edge, at most a
+    # slightly smoother line (see make_seamless's docstring for the numbers)
+    assert np.all((seam_ratio(t[:, :, :3]) > 0.6) & (seam_ratio(t[:, :, :3]) < 1.1))
+    # the interior detail is kept: only a smooth image was removed
+    d = t[:, :, :3] - photo.astype(np.float32) / 255
+    assert np.abs(np.diff(d, axis=1)).mean() < 0.15 * np.abs(np.diff(photo / 255.0, axis=1)).mean()
+
+
+def test_make_seamless_crop_alpha_and_cutoff(photo):
+    t = make_seamless(photo, size=(200, 256), alpha="emboss", cutoff=0.25)
+    assert t.shape == (200, 256, 4)
+    assert np.all(energy_above(t, 0.25) < 1e-9)
+    assert np.all((seam_ratio(t) > 0.6) & (seam_ratio(t) < 1.1))
+    n = make_seamless(photo, size=128, alpha="noise", seed=3)
+    assert n[:, :, 3].std() > 0.1
+    with pytest.raises(ValueError, match="smaller than the tile"):
+        make_seamless(photo, size=600)
+
+
+def test_make_seamless_conversions():
+    from skimage import data
+
+    grey = data.brick()  # (512, 512) uint8
+    t = make_seamless(grey, size=128)
+    np.testing.assert_array_equal(t[:, :, 0], t[:, :, 1])
+    # 16-bit keeps its precision: the same picture at 16 bits gives the same tile
+    t16 = make_seamless(grey.astype(np.uint16) * 257, size=128)
+    np.testing.assert_allclose(t16, t, atol=1e-6)
+    # RGBA: own alpha dropped, or kept and made seamless
+    rgba = np.dstack([grey, grey, grey, np.tile(np.linspace(0, 255, 512).astype(np.uint8), (512, 1))])
+    assert np.all(make_seamless(rgba, size=128)[:, :, 3] == 1.0)
+    kept = make_seamless(rgba, alpha="keep")
+    assert seam_ratio(rgba[:, :, 3:] / 255.0)[0] > 50  # a horizontal ramp: a big seam
+    assert seam_ratio(kept[:, :, 3:])[0] < 1.1
+    with pytest.raises(ValueError, match="alpha='keep'"):
+        make_seamless(grey, alpha="keep")
+    with pytest.raises(ValueError, match="at least 8x8"):
+        make_seamless(np.zeros((4, 4)))
+
+
+# --------------------------------------------------------------------------
+# Mip chains
+# --------------------------------------------------------------------------
+
+def test_mip_chain_power_of_two():
+    t = make_tile(64, seed=0)
+    chain = mip_chain(t)
+    assert len(chain) == 7
+    np.testing.assert_array_equal(chain[0], t)
+    for k in range(1, len(chain)):
+        prev, cur = chain[k - 1].astype(np.float64), chain[k]
+        assert cur.dtype == np.float32 and cur.shape == (64 >> k, 64 >> k, 4)
+        want = (prev[0::2, 0::2] + prev[1::2, 0::2] + prev[0::2, 1::2] + prev[1::2, 1::2]) / 4
+        np.testing.assert_allclose(cur, want, atol=1e-7)
+    assert chain[-1].shape == (1, 1, 4)
+    np.testing.assert_allclose(chain[-1][0, 0], t.astype(np.float64).mean(axis=(0, 1)), atol=1e-6)
+
+
+def test_mip_chain_npot_sizes_and_mean():
+    x = np.random.default_rng(0).random((37, 100, 2)).astype(np.float32)
+    chain = mip_chain(x)
+    shapes = [c.shape[:2] for c in chain]
+    assert shapes == [(37, 100), (18, 50), (9, 25), (4, 12), (2, 6), (1, 3), (1, 1)]
+    for c in chain:  # every level keeps the mean (its texels partition the period)
+        np.testing.assert_allclose(c.mean(axis=(0, 1)), x.mean(axis=(0, 1)), atol=1e-6)
+    # odd side: texel 0 of 5 -> 2 averages [0, 2.5)
+    row = np.array([[1.0, 2.0, 3.0, 4.0, 5.0]], dtype=np.float32)
+    np.testing.assert_allclose(mip_chain(row)[1][0, :, 0], [(1 + 2 + 1.5) / 2.5, (1.5 + 4 + 5) / 2.5])
+    assert mip_chain(np.ones((1, 1)))[0].shape == (1, 1, 1) and len(mip_chain(np.ones((1, 1)))) == 1
+
+
+def test_mip_chain_linear_light():
+    check = np.indices((4, 4)).sum(axis=0) % 2
+    rgba = np.dstack([check, check, check, check]).astype(np.float32)
+    stored = mip_chain(rgba)[1]
+    linear = mip_chain(rgba, space="linear")[1]
+    np.testing.assert_allclose(stored, 0.5)
+    np.testing.assert_allclose(linear[:, :, :3], linear_to_srgb(0.5), atol=1e-6)
+    assert abs(float(linear_to_srgb(0.5)) - 0.7354) < 1e-3
+    np.testing.assert_allclose(linear[:, :, 3], 0.5)  # alpha is averaged as stored
+    v = np.linspace(0, 1, 101, dtype=np.float32)
+    np.testing.assert_allclose(linear_to_srgb(srgb_to_linear(v)), v, atol=1e-5)
+    with pytest.raises(ValueError, match="space"):
+        mip_chain(rgba, space="gamma")
