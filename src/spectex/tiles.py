@@ -278,6 +278,21 @@ def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
                        seed=seed, tileable=True)
 
 
+def _check_octave_size(h, w, small, octaves):
+    n = min(small)
+    count = octaves
+    if count is None:
+        count = 0
+        while 4 * 2 ** count <= n // 2:
+            count += 1
+    finest = 4 * 2 ** max(count - 1, 0)
+    if count == 0 or small[0] % finest or small[1] % finest:
+        step = finest * (h // small[0])
+        raise ValueError(f"size {w}x{h} does not suit method='octaves' with {max(count, 1)} octaves: "
+                         f"each side must be a multiple of {step} (powers of two always work); "
+                         f"method='spectral' takes any size")
+
+
 def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "emboss",
               colormap="earth", cutoff: float = 0.25, beta: float = 2.0, low: float | None = None,
               octaves: int | None = None, filter: str = "bspline", noise_scale: float = 4.0,
@@ -356,13 +371,9 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
     small = (h // m, w // m)
     rng_colour, rng_alpha = np.random.default_rng(seed).spawn(2)
     kw = dict(beta=beta, low=low, octaves=octaves, filter=filter, noise_scale=noise_scale)
-    try:
-        field = _field(method, small, m, rng_colour, **kw)
-    except ValueError as exc:
-        if method == "octaves":
-            raise ValueError(f"size {w}x{h} does not suit method='octaves' (its working grid is "
-                             f"{small[1]}x{small[0]}): {exc}") from None
-        raise
+    if method == "octaves":
+        _check_octave_size(h, w, small, octaves)
+    field = _field(method, small, m, rng_colour, **kw)
     pos, col = get_ramp(colormap)
     nplanes = 4 if alpha == "noise" else 3
     planes = np.empty((nplanes,) + small, dtype=np.float32)

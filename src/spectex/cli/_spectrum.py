@@ -1,0 +1,79 @@
+"""``spectex spectrum``: an image's radially averaged power spectrum and its slope."""
+
+from __future__ import annotations
+
+from . import _common
+
+_WINDOWS = ("periodic", "hann", "none")
+_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "spectrum",
+        help="plot an image's radially averaged power spectrum and its log-log slope",
+        description=(
+            "Compute the radially averaged power spectrum of an image (its Rec. 709 luma for "
+            "colour; alpha is ignored), fit a line in log-log coordinates and print its slope "
+            "(-beta for 1/f^beta noise; natural images are near -2). With -o, plot it "
+            "(matplotlib) with the fit. The default window, periodic, analyses the image's "
+            "periodic component (Moisan), which suits photographs and tiles alike; hann is the "
+            "classical window, none takes the image as one period."
+        ),
+    )
+    p.add_argument("image", help="image file (PNG, JPEG, ..., or .npy)")
+    p.add_argument("-o", "--output", default=None, help="plot file (.png, .pdf or .svg)")
+    p.add_argument("--window", choices=_WINDOWS, default="periodic", help="leakage control (default: periodic)")
+    p.add_argument("--fmin", type=_common.positive_float, default=None,
+                   help="fit from this frequency, cycles per pixel (default: 2 cycles across the image)")
+    p.add_argument("--fmax", type=_common.positive_float, default=0.25,
+                   help="fit up to this frequency (default: 0.25, half the Nyquist frequency, "
+                        "clear of sensor noise, JPEG blocks and 8-bit quantisation)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int | None:
+    import numpy as np
+
+    from spectex.io import atomic_path, check_output_path, read_image
+    from spectex.spectral import radial_power_spectrum, spectral_slope
+    from spectex.tiles import luma
+
+    output = None if args.output is None else check_output_path("output", args.output, _SUFFIXES)
+    image = read_image(args.image, name="image")
+    if min(image.shape[:2]) < 8:
+        raise ValueError(f"image must be at least 8x8 pixels for a spectrum, got "
+                         f"{image.shape[1]}x{image.shape[0]}")
+    grey = luma(image)
+    if float(grey.max() - grey.min()) == 0.0:
+        raise ValueError(f"image is constant (every pixel {float(grey.flat[0]):g}): it has no spectrum")
+    freqs, power = radial_power_spectrum(grey, window=args.window)
+    fmin = 2.0 / min(grey.shape) if args.fmin is None else args.fmin
+    fit = spectral_slope(freqs, power, fmin=fmin, fmax=args.fmax)
+    h, w = grey.shape
+    _common.report(f"{args.image}: {w}x{h}, slope {fit.slope:.3f} (beta {-fit.slope:.3f}), fit over "
+                   f"{fit.fmin:.4g} to {fit.fmax:.4g} cycles/pixel, window {args.window}")
+    if output is None:
+        return 0
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 4.4), dpi=100)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    good = power > 0
+    ax.loglog(freqs[good], power[good], ".", ms=3, color="0.3", label="radially averaged power")
+    fx = np.array([fit.fmin, fit.fmax])
+    ax.loglog(fx, 10.0 ** (fit.slope * np.log10(fx) + fit.intercept), "-", color="C3", lw=2,
+              label=f"fit: slope {fit.slope:.2f}")
+    ax.axvline(0.5, color="0.7", lw=1, ls=":")
+    ax.set_xlabel("radial frequency (cycles per pixel)")
+    ax.set_ylabel("power")
+    ax.set_title(f"{args.image} ({w}x{h}): slope {fit.slope:.2f}, beta {-fit.slope:.2f}", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="lower left", fontsize=9)
+    fig.tight_layout()
+    with atomic_path(output) as tmp:
+        fig.savefig(tmp, format=output.suffix.lower()[1:])
+    _common.report(f"wrote {output}")
+    return 0

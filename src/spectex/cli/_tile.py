@@ -1,0 +1,125 @@
+"""``spectex tile``: a seamless RGBA tile from noise, or from a photograph."""
+
+from __future__ import annotations
+
+from . import _common
+
+_METHODS = ("spectral", "octaves", "noise")
+_ALPHAS = ("emboss", "luminance", "noise", "none", "keep")
+_FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
+_SUFFIXES = (".png", ".tif", ".tiff", ".webp", ".npy")
+#: Largest side of the preview's tiles: bigger tiles are shown by a mip level.
+_PREVIEW_SIDE = 1024
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "tile",
+        help="make a seamless RGBA tile (coloured low-pass noise, or a photograph made tileable)",
+        description=(
+            "Make the seamless, low-pass RGBA tile of a spectral texture: random noise "
+            "(--method), coloured through a ramp (--colormap), band-limited to --cutoff cycles "
+            "per pixel, with an alpha channel from an emboss filter (the paper's choice), the "
+            "luminance, independent noise, or a constant (none). With --from, a photograph is "
+            "made tileable instead (Moisan's periodic-plus-smooth decomposition), cropped about "
+            "its centre to --size if given; grey is repeated into RGB, a palette is expanded, "
+            "16-bit keeps its precision, and the photograph's own alpha is dropped unless "
+            "--alpha keep. --preview also writes NAME_preview.png: the colour repeated 3 x 3 "
+            "beside the alpha repeated 3 x 3, to show that the tile is seamless."
+        ),
+    )
+    p.add_argument("--method", choices=_METHODS, default="spectral",
+                   help="noise: spectral (FFT 1/f^beta), octaves (sum of magnified octaves) or "
+                        "noise (fractal Perlin) (default: spectral)")
+    p.add_argument("--alpha", choices=_ALPHAS, default=None,
+                   help="alpha channel (default: emboss; none, i.e. opaque, with --from; keep: the "
+                        "photograph's own)")
+    p.add_argument("--size", type=_common.size, default=None, metavar="N|WxH",
+                   help="tile size (default: 512; with --from: the whole photograph)")
+    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--from", dest="source", default=None, metavar="IMAGE",
+                   help="make this photograph tileable instead of making noise")
+    p.add_argument("--colormap", default="earth",
+                   help="colour ramp: earth, stone, sand, moss, marble, wood, clouds, fire, lava, "
+                        "ocean, rust, grey, blue or a Matplotlib name (default: earth)")
+    p.add_argument("--cutoff", type=_common.positive_float, default=None,
+                   help="low-pass cut-off, cycles per pixel, at most 0.5 (default: 0.25; with "
+                        "--from: none)")
+    p.add_argument("--beta", type=_common.finite_float, default=2.0,
+                   help="spectral exponent of the noise, power ~ 1/f^beta (default: 2)")
+    p.add_argument("--low", type=_common.positive_float, default=None,
+                   help="spectral: low cut-off of the noise, cycles per pixel")
+    p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves: how many")
+    p.add_argument("--filter", choices=_FILTERS, default="bspline",
+                   help="octaves: magnification filter (default: bspline)")
+    p.add_argument("--azimuth", type=_common.finite_float, default=135.0,
+                   help="emboss: light direction, degrees counter-clockwise from +x (default: 135)")
+    p.add_argument("--strength", type=_common.finite_float, default=1.0,
+                   help="emboss: contrast; 1 reaches 0 or 1 at the steepest slope (default: 1)")
+    p.add_argument("--alpha-value", type=_common.finite_float, default=None,
+                   help="alpha for --alpha none (default: 0.5; with --from: 1)")
+    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
+    p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
+    p.add_argument("-o", "--output", required=True, help="output RGBA image (.png, .tif, .webp, or .npy)")
+    p.set_defaults(func=run)
+
+
+def _preview(tile):
+    """Colour 3 x 3 beside alpha 3 x 3, RGB; big tiles shown by a mip level."""
+    import numpy as np
+
+    from spectex.tiles import mip_chain
+
+    if max(tile.shape[:2]) > _PREVIEW_SIDE:
+        tile = next(level for level in mip_chain(tile) if max(level.shape[:2]) <= _PREVIEW_SIDE)
+    colour = np.tile(tile[:, :, :3], (3, 3, 1))
+    alpha = np.repeat(np.tile(tile[:, :, 3:4], (3, 3, 1)), 3, axis=2)
+    gap = np.ones((colour.shape[0], max(4, tile.shape[1] // 16), 3), dtype=np.float32)
+    return np.concatenate([colour, gap, alpha], axis=1)
+
+
+def run(args) -> int | None:
+    import contextlib
+    import os
+
+    from spectex.io import check_output_path, read_image, write_image
+    from spectex.tiles import make_seamless, make_tile
+
+    output = check_output_path("output", args.output, _SUFFIXES)
+    if args.bit_depth == 16 and output.suffix.lower() != ".png":
+        raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
+    preview = output.with_name(f"{output.stem}_preview.png") if args.preview else None
+
+    if args.source is not None:
+        photo = read_image(args.source, name="--from image")
+        tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
+                             seed=args.seed, azimuth=args.azimuth, strength=args.strength,
+                             alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
+        what = f"from {args.source}"
+    else:
+        if args.alpha == "keep":
+            raise ValueError("--alpha keep needs --from IMAGE (a photograph with an alpha channel)")
+        tile = make_tile(512 if args.size is None else args.size, seed=args.seed, method=args.method,
+                         alpha=args.alpha or "emboss", colormap=args.colormap,
+                         cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
+                         low=args.low, octaves=args.octaves, filter=args.filter,
+                         azimuth=args.azimuth, strength=args.strength,
+                         alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
+        what = f"{args.method} noise"
+    # Both files or neither: the preview first, removed again if the tile fails.
+    if preview is not None:
+        write_image(preview, _preview(tile))
+    try:
+        write_image(output, tile, bit_depth=args.bit_depth)
+    except BaseException:
+        if preview is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(preview)
+        raise
+    h, w = tile.shape[:2]
+    cutoff = args.cutoff if args.cutoff is not None else (None if args.source else 0.25)
+    band = f", cut-off {cutoff:g} cycles/pixel" if cutoff else ""
+    _common.report(f"wrote {output} ({w}x{h} RGBA, {what}, alpha {args.alpha or ('none' if args.source else 'emboss')}{band})")
+    if preview is not None:
+        _common.report(f"wrote {preview} (3x3 colour | 3x3 alpha)")
+    return 0
