@@ -90,11 +90,8 @@ def test_tile_from_photo(kind, photos, tmp_path, capsys):
     run_ok(["tile", "--from", str(photos[kind]), "--size", "96", "--alpha", "emboss", "-o", str(out)], capsys)
     img = read_image(out)
     assert img.shape == (96, 96, 4)
-    src = read_image(photos[kind])
     wrap = np.abs(img[:, 0, :3] - img[:, -1, :3]).mean()
-    raw = src[:96, :96] if src.ndim == 2 else src[:96, :96, :3]
     assert wrap < np.abs(np.diff(img[:, :, :3], axis=1)).mean() * 1.2
-    assert raw.size > 0
 
 
 def test_tile_from_photo_keeps_its_alpha(photos, tmp_path, capsys):
