@@ -19,8 +19,9 @@ How a tile is made (:func:`make_tile`)
    ``'noise'`` (fractal Perlin noise from :mod:`spectex.procedural`).
 2. Colour: the field is standardised and mapped to ``t = Phi(field)`` (the
    normal CDF: uniform for Gaussian noise, so every colour of the ramp is
-   used equally, a full-contrast tile) and through the colour ramp
-   (:func:`spectex.color.apply_colormap`).
+   used equally, a full-contrast tile) and through the colour ramp (the
+   piecewise-linear interpolation of :func:`spectex.color.apply_colormap`,
+   fused with ``Phi`` in one numba kernel; the tests check they agree).
 3. Low-pass and upsample: each channel is band-limited to radial frequency
    ``cutoff`` and sampled on the tile's grid by Fourier interpolation
    (:func:`spectex.spectral.band_limit`); if a channel then leaves [0, 1]
@@ -38,12 +39,15 @@ The cut-off
 -----------
 No colour or alpha energy lies above the radial frequency ``cutoff``
 (default 0.25 cycles per pixel, half the Nyquist frequency: no wavelength
-shorter than 4 texels). Bilinear magnification reconstructs such a signal
-with at most about 1 - sinc^2(0.25) ~ 19 % attenuation at the cut-off and
-images 4 texels' worth of frequency away from it, which keeps the
-piecewise-linear facets of bilinear filtering invisible (Berger: "low-pass
-filtered to such a degree that they do not produce artifacts when
-magnified"). This holds for the float tile; quantisation to 8 bits adds a
+shorter than 4 texels). Bilinear magnification multiplies the spectrum by
+``sinc^2(f)`` (``f`` in cycles per texel) and adds images of it at
+``1 - f``, ``1 + f``, ...: a component at the cut-off keeps 81 % of its
+amplitude and its strongest image, at 0.75, has ``sinc^2(0.75) = 0.09``
+(-21 dB), whereas content at the Nyquist frequency would have an image as
+strong as itself (0.41 each), which is what the facets and the diamond
+pattern of bilinear magnification are. So the tile shows no magnification
+artefacts (Berger: "low-pass filtered to such a degree that they do not
+produce artifacts when magnified"). This holds for the float tile; quantisation to 8 bits adds a
 white noise floor about 59 dB below full scale. An emboss ``strength``
 above 1 clips the alpha channel, which is band-limited again after
 clipping.
@@ -353,6 +357,9 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
     seed = check_seed("seed", seed)
     method = check_choice("method", method, METHODS)
     alpha = check_choice("alpha", alpha, ALPHAS)
+    from .spectral import FILTERS
+
+    filter = check_choice("filter", filter, FILTERS)
     cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
     beta = check_float("beta", beta, minimum=-2.0, maximum=8.0)
     if low is not None:
