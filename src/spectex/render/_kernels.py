@@ -1,0 +1,169 @@
+"""numba kernels shared by the CPU renderer and ``SpectralTexture.bake``.
+
+The compositing of layers (:func:`shade_ground`) and the camera model of
+:func:`render_kernel` are the executable form of ``docs/sampling.md``; the
+GLSL shader ``shaders/ground.frag.glsl`` implements the same text. Compiled
+on first use (``cache=True``), never at import.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ..sampling import sample_grad
+
+_jit = numba.njit(cache=True, nogil=True, fastmath=True)
+
+_ALPHA, _DETAIL, _VARIANCE = 0, 1, 2
+
+
+@_jit
+def shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
+                 min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, dx, dy, jxx, jyx, jxy, jyy):
+    """The spectral texture's colour at a ground point.
+
+    ``(dx, dy)``: world displacement (metres) from the anchor whose per-layer
+    tile coordinates are ``anchor``; ``(jxx, jyx)`` and ``(jxy, jyy)``: the
+    world derivatives of the point along the screen's x and y.
+    Returns RGB clamped to [0, 1].
+    """
+    first = True
+    cr = 0.0
+    cg = 0.0
+    cb = 0.0
+    for k in range(tile_idx.shape[0]):
+        if not on[k]:
+            continue
+        m00 = mats[k, 0, 0]
+        m01 = mats[k, 0, 1]
+        m10 = mats[k, 1, 0]
+        m11 = mats[k, 1, 1]
+        s = anchor[k, 0] + (m00 * dx + m01 * dy)
+        t = anchor[k, 1] + (m10 * dx + m11 * dy)
+        dsdx = m00 * jxx + m01 * jyx
+        dtdx = m10 * jxx + m11 * jyx
+        dsdy = m00 * jxy + m01 * jyy
+        dtdy = m10 * jxy + m11 * jyy
+        r, g, b, a = sample_grad(data, tile_idx[k] * stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
+                                 mag_filter, max_aniso, bias, min_lod, max_lod, s, t, dsdx, dtdx, dsdy, dtdy)
+        if first:
+            cr = r
+            cg = g
+            cb = b
+            first = False
+        elif blends[k] == _ALPHA:
+            cr = a * r + (1.0 - a) * cr
+            cg = a * g + (1.0 - a) * cg
+            cb = a * b + (1.0 - a) * cb
+        elif blends[k] == _DETAIL:
+            cr = 2.0 * r * cr
+            cg = 2.0 * g * cg
+            cb = 2.0 * b * cb
+        else:
+            n = 1.0 / math.sqrt(a * a + (1.0 - a) * (1.0 - a))
+            mr = means[k, 0]
+            mg = means[k, 1]
+            mb = means[k, 2]
+            cr = mr + (a * (r - mr) + (1.0 - a) * (cr - mr)) * n
+            cg = mg + (a * (g - mg) + (1.0 - a) * (cg - mg)) * n
+            cb = mb + (a * (b - mb) + (1.0 - a) * (cb - mb)) * n
+    return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)
+
+
+@numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
+def bake_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
+                min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, pixel_size, n, out):
+    """Top-down orthographic bake; ``n x n`` box-filtered samples per pixel."""
+    h, w = out.shape[0], out.shape[1]
+    step = pixel_size / n
+    inv = 1.0 / (n * n)
+    for r in numba.prange(h):
+        for c in range(w):
+            ar = 0.0
+            ag = 0.0
+            ab = 0.0
+            for j in range(n):
+                dy = (r + (j + 0.5) / n) * pixel_size
+                for i in range(n):
+                    dx = (c + (i + 0.5) / n) * pixel_size
+                    sr, sg, sb = shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
+                                              mag_filter, max_aniso, bias, min_lod, max_lod, tile_idx, mats,
+                                              blends, means, on, anchor, dx, dy, step, 0.0, 0.0, step)
+                    ar += sr
+                    ag += sg
+                    ab += sb
+            out[r, c, 0] = ar * inv
+            out[r, c, 1] = ag * inv
+            out[r, c, 2] = ab * inv
+
+
+@numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
+def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
+                  min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, height, fwd, right, up,
+                  tan_x, tan_y, horizon, zenith, haze_distance, far, n, out):
+    """Perspective view of the textured ground plane with sky and haze.
+
+    Pixel ``(r, c)`` and sub-sample ``(j, i)`` look along ``d = fwd + ndc_x
+    tan_x right + ndc_y tan_y up`` with ``ndc_x = 2 px / W - 1``, ``ndc_y = 1 -
+    2 py / H``, ``px = c + (i + 0.5) / n``, ``py = r + (j + 0.5) / n``.
+    """
+    H, W = out.shape[0], out.shape[1]
+    inv = 1.0 / (n * n)
+    kx = 2.0 * tan_x / W
+    ky = -2.0 * tan_y / H
+    # derivatives of the (unnormalised) ray direction along screen x and y
+    ddx0 = right[0] * kx
+    ddx1 = right[1] * kx
+    ddx2 = right[2] * kx
+    ddy0 = up[0] * ky
+    ddy1 = up[1] * ky
+    ddy2 = up[2] * ky
+    for r in numba.prange(H):
+        for c in range(W):
+            ar = 0.0
+            ag = 0.0
+            ab = 0.0
+            for j in range(n):
+                py = r + (j + 0.5) / n
+                ny = (1.0 - 2.0 * py / H) * tan_y
+                for i in range(n):
+                    px = c + (i + 0.5) / n
+                    nx = (2.0 * px / W - 1.0) * tan_x
+                    d0 = fwd[0] + nx * right[0] + ny * up[0]
+                    d1 = fwd[1] + nx * right[1] + ny * up[1]
+                    d2 = fwd[2] + nx * right[2] + ny * up[2]
+                    dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                    sr = horizon[0]
+                    sg = horizon[1]
+                    sb = horizon[2]
+                    if d2 < 0.0 and height * dlen < -d2 * far:
+                        tt = height / -d2
+                        dist = tt * dlen
+                        # ground point G = C + tt d; dG/dp = -height (d_z dd_xy - d_xy dd_z) / d_z^2
+                        q = -height / (d2 * d2)
+                        jxx = q * (d2 * ddx0 - d0 * ddx2) / n
+                        jyx = q * (d2 * ddx1 - d1 * ddx2) / n
+                        jxy = q * (d2 * ddy0 - d0 * ddy2) / n
+                        jyy = q * (d2 * ddy1 - d1 * ddy2) / n
+                        gr, gg, gb = shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
+                                                  mag_filter, max_aniso, bias, min_lod, max_lod, tile_idx, mats,
+                                                  blends, means, on, anchor, tt * d0, tt * d1,
+                                                  jxx, jyx, jxy, jyy)
+                        f = math.exp(-dist / haze_distance)
+                        sr = horizon[0] + f * (gr - horizon[0])
+                        sg = horizon[1] + f * (gg - horizon[1])
+                        sb = horizon[2] + f * (gb - horizon[2])
+                    elif d2 > 0.0:
+                        e = 1.0 - math.exp(-4.0 * d2 / dlen)
+                        sr = horizon[0] + e * (zenith[0] - horizon[0])
+                        sg = horizon[1] + e * (zenith[1] - horizon[1])
+                        sb = horizon[2] + e * (zenith[2] - horizon[2])
+                    ar += sr
+                    ag += sg
+                    ab += sb
+            out[r, c, 0] = ar * inv
+            out[r, c, 1] = ag * inv
+            out[r, c, 2] = ab * inv

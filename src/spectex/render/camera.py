@@ -1,0 +1,137 @@
+"""The perspective camera over the ground plane, and the sky and haze around it.
+
+Conventions (shared by the CPU and GL renderers, ``docs/sampling.md``):
+world metres, ``x`` east, ``y`` north, ``z`` up, the ground is ``z = 0``.
+``yaw`` is a compass heading in degrees (0 looks north along +y, 90 east
+along +x); ``pitch`` is degrees above the horizontal (negative looks down,
+-90 straight down); ``fov`` is the vertical field of view in degrees. Image
+row 0 is the top of the picture.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validate import check_float
+
+__all__ = ["Camera", "Atmosphere", "MAX_RENDER_PIXELS", "check_size"]
+
+#: Largest render, pixels times supersample squared: 64 Mpx (the CPU work
+#: arrays and the GL framebuffer of such a render take about 1 GiB).
+MAX_RENDER_PIXELS = 1 << 26
+#: Largest side of a render (a common GL_MAX_RENDERBUFFER_SIZE).
+MAX_RENDER_SIDE = 16384
+
+
+def check_size(size, supersample=1) -> tuple[int, int]:
+    """``(height, width)`` of a render, checked against the memory budget."""
+    from .._validate import check_int, check_shape
+
+    n = check_int("supersample", supersample, minimum=1, maximum=16)
+    h, w = check_shape("size", size, maximum_pixels=MAX_RENDER_PIXELS)
+    if h * w * n * n > MAX_RENDER_PIXELS:
+        raise ValueError(f"size {w}x{h} with supersample {n} is {h * w * n * n} samples, over the budget "
+                         f"of {MAX_RENDER_PIXELS} (about 1 GiB of work memory)")
+    if max(h, w) * n > MAX_RENDER_SIDE:
+        raise ValueError(f"size {w}x{h} with supersample {n} has a side over {MAX_RENDER_SIDE} pixels")
+    return h, w
+
+
+@dataclass(frozen=True)
+class Camera:
+    """A pinhole camera above the ground plane.
+
+    Parameters
+    ----------
+    position : (float, float, float)
+        World position, metres; ``z`` (the altitude) must be > 0.
+    yaw : float
+        Compass heading, degrees (0 north, 90 east).
+    pitch : float
+        Degrees above the horizontal, in [-90, 90].
+    fov : float
+        Vertical field of view, degrees, in [1, 170].
+    """
+
+    position: tuple[float, float, float]
+    yaw: float = 0.0
+    pitch: float = -10.0
+    fov: float = 60.0
+
+    def __post_init__(self):
+        p = self.position
+        if not isinstance(p, (tuple, list, np.ndarray)) or len(p) != 3:
+            raise ValueError(f"camera position must be (x, y, z), got {p!r}")
+        x = check_float("camera x", p[0])
+        y = check_float("camera y", p[1])
+        z = check_float("camera z", p[2])
+        if z <= 0:
+            raise ValueError(f"camera z must be > 0 (above the ground plane z = 0), got {z}")
+        object.__setattr__(self, "position", (x, y, z))
+        object.__setattr__(self, "yaw", check_float("camera yaw", self.yaw))
+        object.__setattr__(self, "pitch", check_float("camera pitch", self.pitch, minimum=-90.0, maximum=90.0))
+        object.__setattr__(self, "fov", check_float("fov", self.fov, minimum=1.0, maximum=170.0))
+
+    @classmethod
+    def from_tuple(cls, values, *, fov=60.0) -> "Camera":
+        """From ``(x, y, z, yaw, pitch)`` as the command line gives it."""
+        if len(values) != 5:
+            raise ValueError(f"camera must be X,Y,Z,YAW,PITCH, got {values!r}")
+        x, y, z, yaw, pitch = values
+        return cls((x, y, z), yaw=yaw, pitch=pitch, fov=fov)
+
+    def basis(self):
+        """Unit vectors ``forward``, ``right``, ``up`` (float64, shape (3,) each)."""
+        yaw = math.radians(self.yaw)
+        pitch = math.radians(self.pitch)
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        cp, sp = math.cos(pitch), math.sin(pitch)
+        forward = np.array([cp * sy, cp * cy, sp])
+        right = np.array([cy, -sy, 0.0])
+        up = np.cross(right, forward)
+        return forward, right, up
+
+    def tangents(self, height: int, width: int) -> tuple[float, float]:
+        """Half-extents ``(tan_x, tan_y)`` of the image plane at distance 1."""
+        tan_y = math.tan(math.radians(self.fov) / 2.0)
+        return tan_y * width / height, tan_y
+
+    def moved(self, **changes) -> "Camera":
+        """A copy with some fields changed."""
+        from dataclasses import replace
+
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class Atmosphere:
+    """Sky gradient and distance haze.
+
+    The ground colour at distance ``D`` along the ray becomes ``horizon + exp(-D /
+    haze_distance) (ground - horizon)``; beyond ``far = 50 haze_distance`` it is
+    the horizon colour (the texture is not sampled there). The sky at
+    elevation ``e`` (sine of the ray's angle above the horizon) is ``horizon +
+    (1 - exp(-4 e)) (zenith - horizon)``, continuous with the hazed ground at
+    the horizon.
+    """
+
+    horizon: tuple[float, float, float] = (0.78, 0.82, 0.86)
+    zenith: tuple[float, float, float] = (0.32, 0.50, 0.78)
+    haze_distance: float = 4000.0
+
+    def __post_init__(self):
+        for name in ("horizon", "zenith"):
+            v = getattr(self, name)
+            if len(v) != 3:
+                raise ValueError(f"{name} must be an RGB triple, got {v!r}")
+            object.__setattr__(self, name, tuple(check_float(f"{name}[{i}]", v[i], minimum=0.0, maximum=1.0)
+                                                 for i in range(3)))
+        object.__setattr__(self, "haze_distance", check_float("haze_distance", self.haze_distance, minimum=0.0,
+                                                              exclusive_minimum=True))
+
+    @property
+    def far(self) -> float:
+        return 50.0 * self.haze_distance
