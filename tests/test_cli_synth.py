@@ -46,6 +46,22 @@ def test_synth_methods_write_the_requested_size(folder, capsys, method, extra):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_synth_histogram_match(folder, capsys):
+    from spectex import metrics
+
+    out = folder / "matched.png"
+    assert main(["synth", str(folder / "rgb.png"), "--method", "histogram", "--match", str(folder / "rgba.png"),
+                 "--colours", "per-channel", "-o", str(out)]) == 2  # 4 channels against 3
+    assert "same number of channels" in _error_line(capsys)
+    assert not out.exists()
+    noise = np.random.default_rng(0).integers(0, 256, (50, 70), dtype=np.uint8)
+    Image.fromarray(noise).save(folder / "noise.png")
+    assert main(["synth", str(folder / "grey.png"), "--method", "histogram", "--match",
+                 str(folder / "noise.png"), "-o", str(out)]) == 0
+    assert read_image(out).shape == (50, 70)
+    assert metrics.histogram_w1(read_image(folder / "grey.png"), read_image(out))[0] < 0.002
+
+
 def test_synth_tileable_quilt(folder):
     from spectex import metrics
 

@@ -33,8 +33,11 @@ def register(subparsers) -> None:
                    help="quilting: block overlap (default: block/6)")
     p.add_argument("--tolerance", type=_common.finite_float, default=0.1,
                    help="quilting: relative error tolerance of the block choice (default: 0.1)")
-    p.add_argument("--per-channel", action="store_true",
-                   help="histogram: draw each channel independently (default: whole colours)")
+    p.add_argument("--colours", choices=("joint", "per-channel"), default="joint",
+                   help="histogram: keep the joint colour distribution (default) or only each channel's")
+    p.add_argument("--match", type=_common.existing_file, default=None, metavar="IMAGE",
+                   help="histogram: instead of sampling, give IMAGE the exemplar's histogram exactly "
+                        "(its structure is kept; --size is ignored)")
     p.add_argument("--tileable", action="store_true", help="make the output tile seamlessly (histogram output, white noise, always does)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
@@ -50,8 +53,14 @@ def run(args) -> int | None:
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
     exemplar = read_image(args.exemplar, name="exemplar")
-    if args.method == "histogram":
-        result = synthesis.sample_histogram(exemplar, args.size, joint=not args.per_channel, seed=args.seed)
+    if args.match is not None and args.method != "histogram":
+        raise ValueError(f"--match works with --method histogram, got --method {args.method}")
+    joint = args.colours == "joint"
+    if args.match is not None:
+        image = read_image(args.match, name="match image")
+        result = synthesis.match_histogram(image, exemplar, joint=joint, seed=args.seed)
+    elif args.method == "histogram":
+        result = synthesis.sample_histogram(exemplar, args.size, joint=joint, seed=args.seed)
     elif args.method == "efros-leung":
         with _common.Progress("efros-leung") as bar:
             result = synthesis.efros_leung(exemplar, args.size, window=args.window, seed=args.seed,

@@ -70,7 +70,8 @@ def _overlap_errors(f_ex, mask_term, masked, patch_pad, valid):
     masked : ndarray, shape (b, b, C)
         The template with zeros outside the mask, ``M T``.
     patch_pad : float32 ndarray, shape (C, fh, fw)
-        Scratch space, zero outside its top-left ``b x b`` corner.
+        Scratch space; its top-left ``b x b`` corner is overwritten and
+        only that corner is read (the transform pads with zeros).
     valid : (int, int)
         Number of candidate positions ``(h - b + 1, w - b + 1)``.
 
@@ -85,9 +86,14 @@ def _overlap_errors(f_ex, mask_term, masked, patch_pad, valid):
     b = masked.shape[0]
     fh, fw = patch_pad.shape[1:]
     patch_pad[:, :b, :b] = np.moveaxis(masked, 2, 0)
-    f_t = sfft.rfft2(patch_pad, axes=(1, 2))
-    spec = mask_term - 2.0 * np.sum(f_ex * np.conj(f_t), axis=0)
-    err = sfft.irfft2(spec, s=(fh, fw))[:valid[0], :valid[1]]
+    # rfft2 done by hand, pruned: the row transforms only of the b non-zero
+    # rows, then the column transforms with zero padding to fh
+    f_t = sfft.fft(sfft.rfft(patch_pad[:, :b, :b], n=fw, axis=-1), n=fh, axis=-2)
+    np.conjugate(f_t, out=f_t)
+    f_t *= f_ex
+    spec = mask_term - 2.0 * f_t.sum(axis=0)
+    # inverse: all columns, then only the rows of valid positions
+    err = sfft.irfft(sfft.ifft(spec, axis=0)[:valid[0]], n=fw, axis=-1)[:, :valid[1]]
     err += np.float32(np.sum(masked.astype(np.float64) ** 2))
     np.maximum(err, 0, out=err)
     return err
