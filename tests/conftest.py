@@ -27,34 +27,6 @@ def gl(_gl_context):
     assert _gl_context.error == "GL_NO_ERROR"
 
 
-def _box_mip_chain(image):
-    """Stand-in for spectex.tiles.mip_chain (2 x 2 box means down to 1 x 1)."""
-    levels = [np.asarray(image, dtype=np.float32)]
-    while levels[-1].shape[:2] != (1, 1):
-        a = levels[-1]
-        if a.shape[0] > 1:
-            a = 0.5 * (a[0::2] + a[1::2])
-        if a.shape[1] > 1:
-            a = 0.5 * (a[:, 0::2] + a[:, 1::2])
-        levels.append(a.astype(np.float32))
-    return levels
-
-
-@pytest.fixture(autouse=True, scope="session")
-def _mip_chain_standin():
-    """Use spectex.tiles.mip_chain where it exists; a box chain until it lands."""
-    try:
-        from spectex.tiles import mip_chain  # noqa: F401
-        yield
-        return
-    except ImportError:
-        pass
-    mp = pytest.MonkeyPatch()
-    mp.setattr("spectex.sampling.default_mip_chain", _box_mip_chain)
-    yield
-    mp.undo()
-
-
 def make_test_tile(n=256, seed=0, *, cutoff=0.25, beta=1.5):
     """A seamless, full-contrast RGBA tile: FFT-filtered noise, each channel
     stretched to [0, 1]; alpha is an emboss (wrap-around directional

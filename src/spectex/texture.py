@@ -130,7 +130,7 @@ class SpectralTexture:
     ----------
     tiles : ndarray or sequence of ndarray
         Seamless tiles, each ``(H, W, 4)`` float in [0, 1] (RGB gets alpha 1),
-        all of the same power-of-two shape. Usually one, from
+        all of the same shape (powers of two sample fastest). Usually one, from
         ``spectex.tiles.make_tile``.
     layers : sequence of Layer or dict
         Drawing order: the first (usually the finest) is drawn opaque, each
@@ -161,9 +161,6 @@ class SpectralTexture:
             tile = check_image(f"tiles[{i}]", tile, channels=(3, 4), min_size=1)
             if tile.shape[2] == 3:
                 tile = np.concatenate([tile, np.ones(tile.shape[:2] + (1,), np.float32)], axis=2)
-            h, w = tile.shape[:2]
-            if h & (h - 1) or w & (w - 1):
-                raise ValueError(f"tiles[{i}] sides must be powers of two, got {w}x{h}")
             if tile.shape != checked[0].shape if checked else False:
                 raise ValueError(f"tiles[{i}] has shape {tile.shape}, tiles[0] has {checked[0].shape}; "
                                  "all tiles must have the same shape")
