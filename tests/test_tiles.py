@@ -12,6 +12,7 @@ from spectex.tiles import (
     make_seamless,
     make_tile,
     mip_chain,
+    preview,
     srgb_to_linear,
 )
 
@@ -298,3 +299,14 @@ def test_mip_chain_linear_light():
     np.testing.assert_allclose(linear_to_srgb(srgb_to_linear(v)), v, atol=1e-5)
     with pytest.raises(ValueError, match="space"):
         mip_chain(rgba, space="gamma")
+
+
+def test_preview_layout():
+    t = make_tile(32, seed=0)
+    p = preview(t)
+    assert p.shape == (96, 96 + 4 + 96, 3) and p.dtype == np.float32
+    np.testing.assert_array_equal(p[32:64, 64:96], t[:, :, :3])
+    np.testing.assert_array_equal(p[:32, 100:132, 1], t[:, :, 3])
+    assert preview(t[:, :, :3], repeat=2).shape == (64, 64, 3)
+    big = preview(np.zeros((40, 20, 4), dtype=np.float32), max_side=16)
+    assert big.shape == (30, 15 + 4 + 15, 3)  # the 10 x 5 mip level

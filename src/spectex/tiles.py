@@ -77,6 +77,7 @@ __all__ = [
     "luma",
     "fit_range",
     "mip_chain",
+    "preview",
     "srgb_to_linear",
     "linear_to_srgb",
 ]
@@ -646,3 +647,40 @@ def mip_chain(tile, *, space: str = "stored") -> list[np.ndarray]:
         chain.append(nxt)
         level = nxt
     return chain
+
+
+def preview(tile, *, repeat: int = 3, max_side: int = 1024) -> np.ndarray:
+    """A picture that shows whether a tile is seamless.
+
+    The colour repeated ``repeat x repeat`` times, a white gap, and the
+    alpha channel (as grey) repeated the same way, side by side. Tiles with
+    a side above ``max_side`` are shown by the first level of
+    :func:`mip_chain` that fits.
+
+    Parameters
+    ----------
+    tile : ndarray, shape (H, W, 4), (H, W, 3) or (H, W)
+        Without alpha, only the colour part is drawn.
+    repeat : int
+        Repetitions along each axis, 1 to 8.
+    max_side : int
+        Largest tile side drawn at full resolution.
+
+    Returns
+    -------
+    ndarray, float32, shape (repeat h, repeat w [+ gap + repeat w], 3)
+    """
+    tile = check_image("tile", tile)
+    repeat = check_int("repeat", repeat, minimum=1, maximum=8)
+    max_side = check_int("max_side", max_side, minimum=1)
+    if tile.ndim == 2:
+        tile = tile[:, :, None]
+    if max(tile.shape[:2]) > max_side:
+        tile = next(level for level in mip_chain(tile) if max(level.shape[:2]) <= max_side)
+    c = tile.shape[2]
+    colour = tile[:, :, :3] if c >= 3 else np.repeat(tile[:, :, :1], 3, axis=2)
+    parts = [np.tile(colour, (repeat, repeat, 1))]
+    if c in (2, 4):
+        gap = np.ones((parts[0].shape[0], max(4, tile.shape[1] // 16), 3), dtype=np.float32)
+        parts += [gap, np.repeat(np.tile(tile[:, :, c - 1:c], (repeat, repeat, 1)), 3, axis=2)]
+    return np.concatenate(parts, axis=1).astype(np.float32, copy=False)

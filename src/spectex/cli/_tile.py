@@ -8,8 +8,6 @@ _METHODS = ("spectral", "octaves", "noise")
 _ALPHAS = ("emboss", "luminance", "noise", "none", "keep")
 _FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
 _SUFFIXES = (".png", ".tif", ".tiff", ".webp", ".npy")
-#: Largest side of the preview's tiles: bigger tiles are shown by a mip level.
-_PREVIEW_SIDE = 1024
 
 
 def register(subparsers) -> None:
@@ -64,26 +62,12 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _preview(tile):
-    """Colour 3 x 3 beside alpha 3 x 3, RGB; big tiles shown by a mip level."""
-    import numpy as np
-
-    from spectex.tiles import mip_chain
-
-    if max(tile.shape[:2]) > _PREVIEW_SIDE:
-        tile = next(level for level in mip_chain(tile) if max(level.shape[:2]) <= _PREVIEW_SIDE)
-    colour = np.tile(tile[:, :, :3], (3, 3, 1))
-    alpha = np.repeat(np.tile(tile[:, :, 3:4], (3, 3, 1)), 3, axis=2)
-    gap = np.ones((colour.shape[0], max(4, tile.shape[1] // 16), 3), dtype=np.float32)
-    return np.concatenate([colour, gap, alpha], axis=1)
-
-
 def run(args) -> int | None:
     import contextlib
     import os
 
     from spectex.io import check_output_path, read_image, write_image
-    from spectex.tiles import make_seamless, make_tile
+    from spectex.tiles import make_seamless, make_tile, preview as make_preview
 
     output = check_output_path("output", args.output, _SUFFIXES)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
@@ -108,7 +92,7 @@ def run(args) -> int | None:
         what = f"{args.method} noise"
     # Both files or neither: the preview first, removed again if the tile fails.
     if preview is not None:
-        write_image(preview, _preview(tile))
+        write_image(preview, make_preview(tile))
     try:
         write_image(output, tile, bit_depth=args.bit_depth)
     except BaseException:
