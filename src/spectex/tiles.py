@@ -503,6 +503,9 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
         if own_alpha is not None:
             own_alpha = own_alpha[y0:y0 + th, x0:x0 + tw]
         H, W = th, tw
+    if max(H, W) > MAX_SIZE:
+        raise ValueError(f"image of {W}x{H} is larger than {MAX_SIZE} on a side; pass size= "
+                         f"(--size) to crop a tile from it")
 
     def finish(channel_stack):
         p = periodic_smooth_decomposition(channel_stack)[0]

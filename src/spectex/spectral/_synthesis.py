@@ -389,14 +389,17 @@ def periodic_smooth_decomposition(image):
     dh = u[:, -1] - u[:, 0]    # columns
     v[:, 0] += dh
     v[:, -1] -= dh
-    vh = np.fft.fft2(v, axes=(0, 1))
+    import scipy.fft as sfft
+
+    vh = sfft.rfft2(v, axes=(0, 1), workers=_WORKERS)
+    del v
     cy = np.cos(2.0 * np.pi * np.arange(h) / h)[:, None]
-    cx = np.cos(2.0 * np.pi * np.arange(w) / w)[None, :]
+    cx = np.cos(2.0 * np.pi * np.arange(w // 2 + 1) / w)[None, :]
     den = 2.0 * cx + 2.0 * cy - 4.0
     den[0, 0] = 1.0
-    sh = vh / den[:, :, None]
-    sh[0, 0] = 0.0
-    s = np.real(np.fft.ifft2(sh, axes=(0, 1)))
+    vh /= den[:, :, None]
+    vh[0, 0] = 0.0
+    s = sfft.irfft2(vh, s=(h, w), axes=(0, 1), workers=_WORKERS)
     p = u - s
     if image.ndim == 2:
         p, s = p[:, :, 0], s[:, :, 0]
