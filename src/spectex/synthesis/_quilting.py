@@ -22,12 +22,18 @@ def _layout(n: int, block: int, overlap: int, tileable: bool, name: str) -> tupl
     if not tileable:
         k = max(1, math.ceil((n - overlap) / step))
         return np.arange(k, dtype=np.int64) * step, k * step + overlap
-    k = max(2, math.ceil(n / step))
-    starts = (np.arange(k, dtype=np.int64) * n) // k
-    min_step = int(np.min(np.diff(np.append(starts, n))))
-    if 2 * (block - min_step) >= block or block > n:
+    def torus(length):
+        k = max(2, math.ceil(length / step))
+        starts = (np.arange(k, dtype=np.int64) * length) // k
+        min_step = int(np.min(np.diff(np.append(starts, length))))
+        # every block must fit, and its two overlaps must not meet
+        return starts, block <= length and 2 * (block - min_step) < block
+
+    starts, ok = torus(n)
+    if not ok:
+        least = next((m for m in range(n + 1, 4 * block + 1) if torus(m)[1]), 4 * block)
         raise ValueError(f"{name}={n} is too small for a tileable quilt with block={block} and "
-                         f"overlap={overlap}: need at least {2 * block} pixels")
+                         f"overlap={overlap}: it needs at least {least} pixels")
     return starts, n
 
 
