@@ -267,7 +267,7 @@ def _gaussian(window: int) -> np.ndarray:
     return g / g.sum()
 
 
-def _coherence_sets(ex: np.ndarray, window: int, k: int, rng) -> np.ndarray:
+def _coherence_sets(ex: np.ndarray, window: int, k: int) -> np.ndarray:
     """k-coherence sets: for every valid centre, the k most similar others.
 
     Similarity is the Gaussian-weighted distance between full windows,
@@ -283,18 +283,29 @@ def _coherence_sets(ex: np.ndarray, window: int, k: int, rng) -> np.ndarray:
     from numpy.lib.stride_tricks import sliding_window_view
 
     wins = sliding_window_view(ex, (window, window), axis=(0, 1))  # (vh, vw, C, win, win)
+    wins = wins.reshape(n, nch, window, window)  # a view: rows in raster order
     weights = np.sqrt(_gaussian(window)).astype(np.float32)
-    vec = (wins * weights).reshape(n, -1).astype(np.float32)
-    vec -= vec.mean(axis=0)
-    dims = min(24, vec.shape[1], n)
-    # principal axes from the (small) covariance matrix
-    cov = (vec.T.astype(np.float64) @ vec.astype(np.float64)) / n
-    vals, vecs = np.linalg.eigh(cov)
-    feats = np.ascontiguousarray(vec @ vecs[:, ::-1][:, :dims].astype(np.float32), dtype=np.float64)
+
+    def vectors(rows):
+        return (wins[rows] * weights).reshape(len(rows), -1).astype(np.float32)
+
+    # principal axes from (at most 20000 evenly spaced) windows, then the
+    # projection in chunks, so a large exemplar never holds all its windows
+    sample = vectors(np.linspace(0, n - 1, min(n, 20000)).astype(np.int64))
+    mean = sample.mean(axis=0)
+    sample -= mean
+    cov = (sample.T @ sample).astype(np.float64) / len(sample)
+    dims = min(24, cov.shape[0], n)
+    axes = np.linalg.eigh(cov)[1][:, ::-1][:, :dims].astype(np.float32)
+    feats = np.empty((n, dims), dtype=np.float64)
+    for a in range(0, n, 16384):
+        rows = np.arange(a, min(a + 16384, n))
+        feats[rows] = (vectors(rows) - mean) @ axes
     radius = max(1, half // 2)
     # Large exemplars: look for neighbours on a sparser grid of positions,
-    # so that the all-pairs search stays near 16384 x n distance checks.
-    stride = max(1, math.ceil(math.sqrt(n / 16384.0)))
+    # so that the all-pairs search stays below about 3e8 distance checks
+    # (all pairs up to 128 x 128 exemplars with window 11).
+    stride = max(1, math.ceil(math.sqrt(n * n / 3e8)))
     return _nearest(feats, min(k, n - 1), radius, vw, stride)
 
 
@@ -399,7 +410,7 @@ def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, meth
 
     exhaustive = method == "exhaustive"
     knn = (np.zeros((vh * vw, 0), dtype=np.int64) if exhaustive
-           else _coherence_sets(e3, window, k, rng))
+           else _coherence_sets(e3, window, k))
     gauss = _gaussian(window)
 
     out = np.zeros((out_h, out_w, nch), dtype=np.float32)
