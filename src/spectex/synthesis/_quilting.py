@@ -26,8 +26,8 @@ def _layout(n: int, block: int, overlap: int, tileable: bool, name: str) -> tupl
         k = max(2, math.ceil(length / step))
         starts = (np.arange(k, dtype=np.int64) * length) // k
         min_step = int(np.min(np.diff(np.append(starts, length))))
-        # every block must fit, and its two overlaps must not meet
-        return starts, block <= length and 2 * (block - min_step) < block
+        # every block must fit, and its two overlaps must not cross
+        return starts, block <= length and 2 * (block - min_step) <= block
 
     starts, ok = torus(n)
     if not ok:
