@@ -19,7 +19,8 @@ def register(subparsers) -> None:
             "(--method), coloured through a ramp (--colormap), band-limited to --cutoff cycles "
             "per pixel, with an alpha channel from an emboss filter (the paper's choice), the "
             "luminance, independent noise, or a constant (none). With --from, a photograph is "
-            "made tileable instead (Moisan's periodic-plus-smooth decomposition), cropped about "
+            "made tileable instead (Moisan's periodic-plus-smooth decomposition, with the "
+            "seams' detail matched to their neighbourhood), cropped about "
             "its centre to --size if given; grey is repeated into RGB, a palette is expanded, "
             "16-bit keeps its precision, and the photograph's own alpha is dropped unless "
             "--alpha keep. --preview also writes NAME_preview.png: the colour repeated 3 x 3 "
@@ -37,6 +38,9 @@ def register(subparsers) -> None:
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.add_argument("--from", dest="source", default=None, metavar="IMAGE",
                    help="make this photograph tileable instead of making noise")
+    p.add_argument("--seam", choices=("matched", "moisan"), default="matched",
+                   help="with --from: join the wrap edges with detail like their neighbourhood "
+                        "(matched) or plain Moisan periodic component (moisan) (default: matched)")
     p.add_argument("--colormap", default="earth",
                    help="colour ramp: earth, stone, sand, moss, marble, wood, clouds, fire, lava, "
                         "ocean, rust, grey, blue or a Matplotlib name (default: earth)")
@@ -77,7 +81,8 @@ def run(args) -> int | None:
     if args.source is not None:
         photo = read_image(args.source, name="--from image")
         tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
-                             seed=args.seed, azimuth=args.azimuth, strength=args.strength,
+                             seed=args.seed, seam=args.seam, azimuth=args.azimuth,
+                             strength=args.strength,
                              alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
         what = f"from {args.source}"
     else:

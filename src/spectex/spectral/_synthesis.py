@@ -382,28 +382,43 @@ def periodic_smooth_decomposition(image):
     image = check_image("image", image, min_size=2)
     u = (image[:, :, None] if image.ndim == 2 else image).astype(np.float64)
     h, w = u.shape[:2]
-    v = np.zeros_like(u)
-    dv = u[-1] - u[0]          # rows: last minus first
-    v[0] += dv
-    v[-1] -= dv
-    dh = u[:, -1] - u[:, 0]    # columns
-    v[:, 0] += dh
-    v[:, -1] -= dh
+    s = _solve_periodic_poisson(_edge_source(u, u[0] - u[-1], u[:, 0] - u[:, -1]))
+    p = u - s
+    if image.ndim == 2:
+        p, s = p[:, :, 0], s[:, :, 0]
+    return p.astype(np.float32), s.astype(np.float32)
+
+
+def _edge_source(u: np.ndarray, row_step: np.ndarray, col_step: np.ndarray) -> np.ndarray:
+    """Boundary source image for steps across the wrap edges.
+
+    ``row_step`` (shape (W, C)) is a step from the last row to the first,
+    ``col_step`` (shape (H, C)) from the last column to the first. The
+    periodic solution of ``Laplacian s = source`` has (about) these steps
+    across the wrap edges and is smooth elsewhere; with the image's own
+    jumps it is Moisan's smooth component.
+    """
+    v = np.zeros(u.shape, dtype=np.float64)
+    v[0] -= row_step
+    v[-1] += row_step
+    v[:, 0] -= col_step
+    v[:, -1] += col_step
+    return v
+
+
+def _solve_periodic_poisson(v: np.ndarray) -> np.ndarray:
+    """Zero-mean periodic ``s`` with the 5-point Laplacian ``v``; (H, W, C) float64."""
     import scipy.fft as sfft
 
+    h, w = v.shape[:2]
     vh = sfft.rfft2(v, axes=(0, 1), workers=_WORKERS)
-    del v
     cy = np.cos(2.0 * np.pi * np.arange(h) / h)[:, None]
     cx = np.cos(2.0 * np.pi * np.arange(w // 2 + 1) / w)[None, :]
     den = 2.0 * cx + 2.0 * cy - 4.0
     den[0, 0] = 1.0
     vh /= den[:, :, None]
     vh[0, 0] = 0.0
-    s = sfft.irfft2(vh, s=(h, w), axes=(0, 1), workers=_WORKERS)
-    p = u - s
-    if image.ndim == 2:
-        p, s = p[:, :, 0], s[:, :, 0]
-    return p.astype(np.float32), s.astype(np.float32)
+    return sfft.irfft2(vh, s=(h, w), axes=(0, 1), workers=_WORKERS)
 
 
 _WINDOWS = ("none", "hann", "periodic")
