@@ -24,7 +24,8 @@ def seam_ratio(image):
     for c in range(img.shape[2]):
         a = img[:, :, c].astype(np.float64)
         wrap = np.concatenate([np.abs(a[:, 0] - a[:, -1]), np.abs(a[0] - a[-1])]).mean()
-        inner = np.concatenate([np.abs(np.diff(a, axis=1)).ravel(), np.abs(np.diff(a, axis=0)).ravel()]).mean()
+        inner = np.concatenate([np.abs(np.diff(a, axis=1)).ravel(),
+                                np.abs(np.diff(a, axis=0)).ravel()]).mean()
         out.append(wrap / inner)
     return np.array(out)
 

@@ -23,7 +23,8 @@ def register(subparsers) -> None:
     )
     p.add_argument("image", help="image file (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", default=None, help="plot file (.png, .pdf or .svg)")
-    p.add_argument("--window", choices=_WINDOWS, default="periodic", help="leakage control (default: periodic)")
+    p.add_argument("--window", choices=_WINDOWS, default="periodic",
+                   help="leakage control (default: periodic)")
     p.add_argument("--fmin", type=_common.positive_float, default=None,
                    help="fit from this frequency, cycles per pixel (default: 2 cycles across the image)")
     p.add_argument("--fmax", type=_common.positive_float, default=0.25,

@@ -60,7 +60,8 @@ def register(subparsers) -> None:
                    help="emboss: contrast; 1 reaches 0 or 1 at the steepest slope (default: 1)")
     p.add_argument("--alpha-value", type=_common.finite_float, default=None,
                    help="alpha for --alpha none (default: 0.5; with --from: 1)")
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
+    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
+                   help="PNG bits per channel (default: 8)")
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
     p.add_argument("-o", "--output", required=True, help="output RGBA image (.png, .tif, .webp, or .npy)")
     p.set_defaults(func=run)
@@ -108,7 +109,8 @@ def run(args) -> int | None:
     h, w = tile.shape[:2]
     cutoff = args.cutoff if args.cutoff is not None else (None if args.source else 0.25)
     band = f", cut-off {cutoff:g} cycles/pixel" if cutoff else ""
-    _common.report(f"wrote {output} ({w}x{h} RGBA, {what}, alpha {args.alpha or ('none' if args.source else 'emboss')}{band})")
+    alpha = args.alpha or ("none" if args.source else "emboss")
+    _common.report(f"wrote {output} ({w}x{h} RGBA, {what}, alpha {alpha}{band})")
     if preview is not None:
         _common.report(f"wrote {preview} (3x3 colour | 3x3 alpha)")
     return 0
