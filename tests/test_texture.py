@@ -114,8 +114,9 @@ def test_texture_blends_detail_and_variance(paper_tile):
     np.testing.assert_allclose(got, a1 * parts[1, ..., :3] + (1 - a1) * parts[0, ..., :3], atol=1e-5)
 
 
-def test_texture_is_not_repetitive():
-    tile = make_tile(256, seed=5)
+@pytest.mark.parametrize("seed", [0, 1])
+def test_texture_is_not_repetitive(seed):
+    tile = make_tile(512, seed=seed)
     p = 15.625 / 32  # the finest period is 32 pixels; 16 periods across
     kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=p)
     coupled = repetition_peak(SpectralTexture.paper_preset(tile).bake(**kw), 32)
@@ -123,7 +124,7 @@ def test_texture_is_not_repetitive():
     detail = repetition_peak(SpectralTexture.paper_preset(tile, blend="detail").bake(**kw), 32)
     assert plain > 0.8  # the control: plain tiling repeats
     assert coupled <= 0.25
-    assert coupled < detail
+    assert coupled < plain - 0.5
 
 
 def _coupling(tex, p=0.0625, n=384):

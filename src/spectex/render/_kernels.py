@@ -22,7 +22,7 @@ _ALPHA, _DETAIL, _VARIANCE = 0, 1, 2
 
 @_jit
 def shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
-                 min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, dx, dy, jxx, jyx, jxy, jyy):
+                 min_lod, max_lod, tile_idx, mats, blends, means, opacity, on, anchor, dx, dy, jxx, jyx, jxy, jyy):
     """The spectral texture's colour at a ground point.
 
     ``(dx, dy)``: world displacement (metres) from the anchor whose per-layer
@@ -49,6 +49,7 @@ def shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fil
         dtdy = m10 * jxy + m11 * jyy
         r, g, b, a = sample_grad(data, tile_idx[k] * stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                  mag_filter, max_aniso, bias, min_lod, max_lod, s, t, dsdx, dtdx, dsdy, dtdy)
+        a *= opacity[k]
         if first:
             cr = r
             cg = g
@@ -75,7 +76,7 @@ def shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fil
 
 @numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
 def bake_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
-                min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, pixel_size, n, out):
+                min_lod, max_lod, tile_idx, mats, blends, means, opacity, on, anchor, pixel_size, n, out):
     """Top-down orthographic bake; ``n x n`` box-filtered samples per pixel."""
     h, w = out.shape[0], out.shape[1]
     step = pixel_size / n
@@ -91,7 +92,7 @@ def bake_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filt
                     dx = (c + (i + 0.5) / n) * pixel_size
                     sr, sg, sb = shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                               mag_filter, max_aniso, bias, min_lod, max_lod, tile_idx, mats,
-                                              blends, means, on, anchor, dx, dy, step, 0.0, 0.0, step)
+                                              blends, means, opacity, on, anchor, dx, dy, step, 0.0, 0.0, step)
                     ar += sr
                     ag += sg
                     ab += sb
@@ -102,7 +103,7 @@ def bake_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filt
 
 @numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
 def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
-                  min_lod, max_lod, tile_idx, mats, blends, means, on, anchor, height, fwd, right, up,
+                  min_lod, max_lod, tile_idx, mats, blends, means, opacity, on, anchor, height, fwd, right, up,
                   tan_x, tan_y, horizon, zenith, haze_distance, far, n, out):
     """Perspective view of the textured ground plane with sky and haze.
 
@@ -150,7 +151,7 @@ def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fi
                         jyy = q * (d2 * ddy1 - d1 * ddy2) / n
                         gr, gg, gb = shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                                   mag_filter, max_aniso, bias, min_lod, max_lod, tile_idx, mats,
-                                                  blends, means, on, anchor, tt * d0, tt * d1,
+                                                  blends, means, opacity, on, anchor, tt * d0, tt * d1,
                                                   jxx, jyx, jxy, jyy)
                         f = math.exp(-dist / haze_distance)
                         sr = horizon[0] + f * (gr - horizon[0])

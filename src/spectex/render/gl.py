@@ -30,7 +30,7 @@ import numpy as np
 from .._validate import check_float
 from .camera import Atmosphere, Camera, check_size
 
-__all__ = ["GLRenderer", "GLUnavailable", "create_context", "gl_available"]
+__all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
 
 
 class GLUnavailable(OSError):
@@ -157,6 +157,7 @@ class GLRenderer:
         self._set_uniform("u_mat", [tuple(float(v) for v in layer.matrix().reshape(-1)) for layer in texture.layers])
         self._set_uniform("u_blend", [("alpha", "detail", "variance").index(layer.blend)
                                       for layer in texture.layers])
+        self._set_uniform("u_opacity", [float(layer.opacity) for layer in texture.layers])
         means = texture.mean_colours()
         self._set_uniform("u_mean", [tuple(float(v) for v in means[layer.tile]) for layer in texture.layers])
 
@@ -315,3 +316,63 @@ class GLRenderer:
             self.draw(camera, (h, w), **kwargs)
         self.ctx.finish()
         return (time.perf_counter() - t0) / frames
+
+
+_OVERLAY_VERT = """#version 330 core
+uniform vec4 u_rect;  // x0, y0, x1, y1 in normalised device coordinates
+out vec2 v_uv;
+void main() {
+    vec2 c = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1));
+    v_uv = vec2(c.x, 1.0 - c.y);  // image row 0 (t = 0) at the top of the rectangle
+    gl_Position = vec4(mix(u_rect.xy, u_rect.zw, c), 0.0, 1.0);
+}"""
+
+_OVERLAY_FRAG = """#version 330 core
+uniform sampler2D u_text;
+in vec2 v_uv;
+out vec4 frag;
+void main() { frag = texture(u_text, v_uv); }"""
+
+
+class TextOverlay:
+    """An RGBA image (row 0 at the top) drawn, alpha-blended, in the top-left corner.
+
+    The viewer's frames-per-second line.
+    """
+
+    def __init__(self, ctx):
+        import moderngl
+
+        self._mgl = moderngl
+        self.ctx = ctx
+        self.program = ctx.program(vertex_shader=_OVERLAY_VERT, fragment_shader=_OVERLAY_FRAG)
+        self.vao = ctx.vertex_array(self.program, [])
+        self.texture = None
+
+    def set_image(self, image: np.ndarray) -> None:
+        """``image``: (h, w, 4) uint8, row 0 at the top."""
+        if self.texture is not None:
+            self.texture.release()
+        h, w = image.shape[:2]
+        self.texture = self.ctx.texture((w, h), 4, np.ascontiguousarray(image, dtype=np.uint8).tobytes())
+        self.texture.filter = (self._mgl.NEAREST, self._mgl.NEAREST)
+
+    def draw(self, fb_width: int, fb_height: int, *, margin: int = 8) -> None:
+        if self.texture is None:
+            return
+        tw, th = self.texture.size
+        x0 = -1.0 + 2.0 * margin / fb_width
+        y1 = 1.0 - 2.0 * margin / fb_height  # GL's y points up: the top edge is +1
+        self.program["u_rect"].value = (x0, y1 - 2.0 * th / fb_height, x0 + 2.0 * tw / fb_width, y1)
+        self.program["u_text"].value = 0
+        self.texture.use(0)
+        self.ctx.enable(self._mgl.BLEND)
+        self.ctx.blend_func = self._mgl.SRC_ALPHA, self._mgl.ONE_MINUS_SRC_ALPHA
+        self.vao.render(self._mgl.TRIANGLE_STRIP, vertices=4)
+        self.ctx.disable(self._mgl.BLEND)
+
+    def release(self) -> None:
+        for obj in (self.texture, self.vao, self.program):
+            if obj is not None:
+                obj.release()
+        self.texture = self.vao = self.program = None

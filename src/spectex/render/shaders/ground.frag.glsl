@@ -27,6 +27,7 @@ uniform vec2 u_anchor[N_LAYERS];  // per layer: tile coords of the camera's grou
 uniform vec4 u_mat[N_LAYERS];     // per layer: (m00, m01, m10, m11), world -> tile coords
 uniform int u_blend[N_LAYERS];    // 0 alpha, 1 detail, 2 variance
 uniform vec3 u_mean[N_LAYERS];    // per layer: its tile's mean colour (1 x 1 level)
+uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
 uniform int u_on[N_LAYERS];       // layer toggles
 
 out vec4 frag_colour;
@@ -64,7 +65,7 @@ void shade_layer(int k, sampler2D tex, inout bool first, inout vec3 c, vec2 p, v
     vec2 dx = vec2(m.x * jx.x + m.y * jx.y, m.z * jx.x + m.w * jx.y);
     vec2 dy = vec2(m.x * jy.x + m.y * jy.y, m.z * jy.x + m.w * jy.y);
     vec4 x = sample_grad(tex, st, dx, dy);
-    float a = x.a;
+    float a = x.a * u_opacity[k];
     if (first) {
         c = x.rgb;
         first = false;
