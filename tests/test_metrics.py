@@ -148,3 +148,20 @@ def test_compare_collects_everything(gravel):
     assert set(result) >= {"histogram_w1", "band_power_distance_db", "tileability_image",
                            "verbatim_copy", "repetition", "seam_energy"}
     assert result["verbatim_copy"] > 0.2  # the reference is a crop of the image
+
+
+def test_band_power_segments_compare_sizes_at_one_resolution():
+    # The same brick wall at two sizes: compared at the smaller size (Welch
+    # segments) the lowest band no longer depends on where the brick period
+    # falls against the window's resolution.
+    full = skimage.data.brick() / 255.0
+    full = full.reshape(256, 2, 256, 2).mean(axis=(1, 3))
+    crop = full[:128, :128]
+    _, p_crop = metrics.band_power(crop)
+    _, p_full = metrics.band_power(full)
+    naive = np.sqrt(np.mean((p_crop - p_full[:4]) ** 2))
+    assert metrics.band_power_distance(crop, full) < naive - 0.4
+    bands, p_seg = metrics.band_power(full, segment=(128, 128))
+    assert len(bands) == 4
+    with pytest.raises(ValueError, match="segment\\[0\\] must be <= 128, got 200"):
+        metrics.band_power(crop, segment=(200, 64))

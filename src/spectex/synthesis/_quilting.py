@@ -9,6 +9,16 @@ import numpy as np
 from .._validate import check_float, check_image, check_int, check_seed, check_shape
 
 
+def _workers() -> int:
+    """Threads for the FFTs: the CPUs this process may use."""
+    import os
+
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
 def _layout(n: int, block: int, overlap: int, tileable: bool, name: str) -> tuple[np.ndarray, int]:
     """Block start positions along one axis and the canvas length.
 
@@ -59,48 +69,49 @@ def _continuation_box(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, 
     return None
 
 
-def _overlap_errors(f_ex, mask_term, masked, patch_pad, valid):
+def _overlap_errors(f_ex, mask_terms, masked, fft_shape, valid, workers=1):
     """Sum of squared differences over the overlap, for every exemplar position.
 
     ``SSD(p) = sum_u M(u) |E(p + u) - T(u)|^2``, expanded as
     ``corr(sum_c E_c^2, M) - 2 sum_c corr(E_c, M T_c) + sum M T^2`` with all
     correlations done at once in the Fourier domain (channels summed there,
-    so one inverse transform per block).
+    so one inverse transform per block), for a batch of blocks.
 
     Parameters
     ----------
     f_ex : complex ndarray, shape (C, fh, fw // 2 + 1)
         ``rfft2`` of the exemplar's channels, zero-padded to ``(fh, fw)``.
-    mask_term : complex ndarray, shape (fh, fw // 2 + 1)
-        ``rfft2(sum_c E_c^2) * conj(rfft2(M))``.
-    masked : ndarray, shape (b, b, C)
-        The template with zeros outside the mask, ``M T``.
-    patch_pad : float32 ndarray, shape (C, fh, fw)
-        Scratch space; its top-left ``b x b`` corner is overwritten and
-        only that corner is read (the transform pads with zeros).
+    mask_terms : complex ndarray, shape (n, fh, fw // 2 + 1)
+        ``rfft2(sum_c E_c^2) * conj(rfft2(M))`` for each block's mask.
+    masked : ndarray, shape (n, b, b, C)
+        The templates with zeros outside their masks, ``M T``.
+    fft_shape : (int, int)
+        ``(fh, fw)``.
     valid : (int, int)
         Number of candidate positions ``(h - b + 1, w - b + 1)``.
+    workers : int
+        Threads for the transforms (scipy.fft).
 
     Returns
     -------
-    float32 ndarray, shape ``valid``
+    float32 ndarray, shape ``(n,) + valid``
         The errors, clipped at 0 (rounding can make a perfect match slightly
         negative).
     """
     import scipy.fft as sfft
 
-    b = masked.shape[0]
-    fh, fw = patch_pad.shape[1:]
-    patch_pad[:, :b, :b] = np.moveaxis(masked, 2, 0)
+    fh, fw = fft_shape
+    patch = np.moveaxis(masked, 3, 1)  # (n, C, b, b)
     # rfft2 done by hand, pruned: the row transforms only of the b non-zero
     # rows, then the column transforms with zero padding to fh
-    f_t = sfft.fft(sfft.rfft(patch_pad[:, :b, :b], n=fw, axis=-1), n=fh, axis=-2)
+    f_t = sfft.fft(sfft.rfft(patch, n=fw, axis=-1, workers=workers), n=fh, axis=-2, workers=workers)
     np.conjugate(f_t, out=f_t)
     f_t *= f_ex
-    spec = mask_term - 2.0 * f_t.sum(axis=0)
+    spec = mask_terms - 2.0 * f_t.sum(axis=1)
     # inverse: all columns, then only the rows of valid positions
-    err = sfft.irfft(sfft.ifft(spec, axis=0)[:valid[0]], n=fw, axis=-1)[:, :valid[1]]
-    err += np.float32(np.sum(masked.astype(np.float64) ** 2))
+    cols = sfft.ifft(spec, axis=-2, workers=workers)[:, :valid[0]]
+    err = sfft.irfft(cols, n=fw, axis=-1, workers=workers)[:, :, :valid[1]]
+    err += np.sum(masked.astype(np.float64) ** 2, axis=(1, 2, 3)).astype(np.float32)[:, None, None]
     np.maximum(err, 0, out=err)
     return err
 
@@ -215,33 +226,54 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     ny, nx = len(ys), len(xs)
     total = ny * nx
     offsets = np.arange(block)
-    patch_pad = np.zeros((nch, fh, fw), dtype=np.float32)
     mask_pad = np.zeros((fh, fw), dtype=np.float32)
+    first = (int(rng.integers(ph)), int(rng.integers(pw)))
+    uniform = rng.random((ny, nx))  # one draw per block, whatever the order of work
+    workers = _workers()
 
-    for i in range(ny):
-        y0 = int(ys[i])
-        for j in range(nx):
-            x0 = int(xs[j])
-            wraps = y0 + block > canvas_h or x0 + block > canvas_w
-            if wraps:  # only tileable quilts: gather across the wrap edge
+    # Block (i, j) depends on its left, upper and upper-right neighbours (the
+    # last overlaps its top-right corner), so the blocks with the same
+    # 2 i + j are independent when overlap < block / 2: their errors are
+    # computed in one batch of transforms. Tileable quilts (whose last blocks
+    # depend on the first ones) and wide overlaps go block by block.
+    if not tileable and 2 * overlap < block:
+        waves = [[(i, t - 2 * i) for i in range(ny) if 0 <= t - 2 * i < nx] for t in range(2 * (ny - 1) + nx)]
+    else:
+        waves = [[(i, j)] for i in range(ny) for j in range(nx)]
+    done = 0
+    for wave in waves:
+        items = []
+        for (i, j) in wave:
+            y0, x0 = int(ys[i]), int(xs[j])
+            if y0 + block > canvas_h or x0 + block > canvas_w:  # tileable: across the wrap edge
                 ix = np.ix_((y0 + offsets) % canvas_h, (x0 + offsets) % canvas_w)
                 view, fview = canvas[ix], filled[ix]
             else:
+                ix = None
                 view = canvas[y0:y0 + block, x0:x0 + block]
                 fview = filled[y0:y0 + block, x0:x0 + block]
-            known = fview.copy()
-            any_known = bool(known.any())
-            if not any_known:
-                sy, sx = int(rng.integers(ph)), int(rng.integers(pw))
-            else:
-                key = known.tobytes()
+            items.append((i, j, y0, x0, ix, view, fview, fview.copy()))
+        need = [it for it in items if it[7].any()]
+        errors = {}
+        if need:
+            terms = []
+            for it in need:
+                key = it[7].tobytes()
                 term = mask_terms.get(key)
                 if term is None:
-                    mask_pad[:block, :block] = known
+                    mask_pad[:block, :block] = it[7]
                     term = f_sq * np.conj(sfft.rfft2(mask_pad))
                     mask_terms[key] = term
-                masked = view * known[:, :, None]
-                err = _overlap_errors(f_ex, term, masked, patch_pad, (ph, pw))
+                terms.append(term)
+            masked = np.stack([it[5] * it[7][:, :, None] for it in need])
+            errs = _overlap_errors(f_ex, np.stack(terms), masked, (fh, fw), (ph, pw),
+                                   workers if len(need) > 1 else 1)
+            errors = {(it[0], it[1]): e for it, e in zip(need, errs)}
+        for (i, j, y0, x0, ix, view, fview, known) in items:
+            err = errors.get((i, j))
+            if err is None:
+                sy, sx = first
+            else:
                 # best error over candidates that do not continue a neighbour verbatim
                 neighbours = [(i, j - 1), (i - 1, j)]
                 if tileable:
@@ -262,22 +294,23 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                 cand = np.flatnonzero(err <= best * (1.0 + tolerance))
                 if cand.size == 0:  # pragma: no cover - float safety
                     cand = np.array([int(np.argmin(err))])
-                pick = int(cand[rng.integers(cand.size)])
+                pick = int(cand[min(int(uniform[i, j] * cand.size), cand.size - 1)])
                 sy, sx = divmod(pick, pw)
             sources[(i, j)] = (sy, sx)
             patch = e3[sy:sy + block, sx:sx + block]
-            if any_known:
+            if err is not None:
                 diff = np.sum((view - patch) ** 2, axis=2, dtype=np.float64)
                 new = _cut_mask(diff, known, np.ones((block, block), dtype=bool), min_cut_path)
                 np.copyto(view, patch, where=new[:, :, None])
             else:
                 view[...] = patch
             fview[...] = True
-            if wraps:
+            if ix is not None:
                 canvas[ix] = view
                 filled[ix] = fview
+            done += 1
             if progress is not None:
-                progress(i * nx + j + 1, total)
+                progress(done, total)
     out = canvas[:out_h, :out_w]
     return np.ascontiguousarray(out[:, :, 0] if grey else out)
 
