@@ -81,6 +81,15 @@ def test_same_seed_same_output_colour():
     assert np.all(metrics.histogram_w1(ex, a) <= 0.05)
 
 
+def test_batched_blocks_give_the_block_by_block_quilt(monkeypatch):
+    import spectex.synthesis._quilting as module
+
+    ex = np.stack([_exemplar("gravel", 64), _exemplar("grass", 64), _exemplar("brick", 64)], axis=2)
+    batched = quilt(ex, (90, 110), block=16, overlap=3, seed=4)
+    monkeypatch.setattr(module, "_BATCH", False)
+    np.testing.assert_array_equal(batched, quilt(ex, (90, 110), block=16, overlap=3, seed=4))
+
+
 def test_every_pixel_comes_from_the_exemplar():
     ex = _exemplar("gravel", 48)
     out = quilt(ex, (70, 70), block=12, overlap=3, seed=3)

@@ -9,6 +9,11 @@ import numpy as np
 from .._validate import check_float, check_image, check_int, check_seed, check_shape
 
 
+# Batch independent blocks (see quilt); False forces block-by-block work, which
+# must give the same quilt (a test compares the two).
+_BATCH = True
+
+
 def _workers() -> int:
     """Threads for the FFTs: the CPUs this process may use."""
     import os
@@ -236,7 +241,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     # 2 i + j are independent when overlap < block / 2: their errors are
     # computed in one batch of transforms. Tileable quilts (whose last blocks
     # depend on the first ones) and wide overlaps go block by block.
-    if not tileable and 2 * overlap < block:
+    if _BATCH and not tileable and 2 * overlap < block:
         waves = [[(i, t - 2 * i) for i in range(ny) if 0 <= t - 2 * i < nx] for t in range(2 * (ny - 1) + nx)]
     else:
         waves = [[(i, j)] for i in range(ny) for j in range(nx)]
