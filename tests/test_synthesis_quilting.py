@@ -42,7 +42,7 @@ def test_no_repetition_at_the_exemplar_period_and_tiling_fails(case):
     assert metrics.verbatim_copy(tiled, ex) > 0.2
 
 
-@pytest.mark.parametrize("name", ["grass", "gravel"])
+@pytest.mark.parametrize("name", ["brick", "grass", "gravel"])
 def test_seams_like_the_interior_and_random_blocks_fail(name):
     ex = _exemplar(name)
     out = quilt(ex, (256, 256), block=32, overlap=5, seed=1)
@@ -56,7 +56,7 @@ def test_seams_like_the_interior_and_random_blocks_fail(name):
     assert metrics.seam_energy(mosaic, 32) > 1.5
 
 
-@pytest.mark.parametrize("name", ["grass", "gravel"])
+@pytest.mark.parametrize("name", ["brick", "grass", "gravel"])
 def test_tileable_when_asked(name):
     ex = _exemplar(name)
     plain = quilt(ex, (160, 192), block=32, seed=2)
