@@ -41,7 +41,9 @@ def run(args) -> int | None:
         folder = Path(args.output).parent
         if str(folder) and not folder.is_dir():
             raise ValueError(f"output is in a folder that does not exist: '{args.output}'")
-    text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, seed=args.seed)
+    with _common.Progress("markov text") as bar:
+        text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, seed=args.seed,
+                           progress=bar)
     if args.output is None:
         print(text)
     else:

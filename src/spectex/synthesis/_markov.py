@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import bisect
+import itertools
 import re
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,6 +13,43 @@ import numpy as np
 from .._validate import check_choice, check_int, check_seed
 
 _UNITS = ("char", "word")
+
+
+class _NgramTable:
+    """Sorted (k+1)-grams and their counts; continuations of a context on demand.
+
+    ``get(ctx)`` returns ``(symbols, cumulative_counts)`` for the k-symbol
+    context ``ctx`` (symbols sorted), or None if the corpus never continues
+    it. The grams starting with ``ctx`` are one run of the sorted list: from
+    ``ctx`` itself (a prefix sorts first) to ``ctx[:-1] + (ctx[-1] + NUL,)``
+    (nothing sorts between a string and itself followed by NUL). Answers are
+    cached, so building the model costs one sort, not one object per context.
+    """
+
+    __slots__ = ("keys", "counts", "cache")
+
+    def __init__(self, keys, counts):
+        self.keys = keys
+        self.counts = counts
+        self.cache = {}
+
+    def get(self, ctx):
+        hit = self.cache.get(ctx, False)
+        if hit is not False:
+            return hit
+        if ctx:
+            lo = bisect.bisect_left(self.keys, ctx)
+            hi = bisect.bisect_left(self.keys, ctx[:-1] + (ctx[-1] + "\x00",), lo)
+        else:
+            lo, hi = 0, len(self.keys)
+        entry = None
+        if lo < hi:
+            entry = (tuple(g[-1] for g in self.keys[lo:hi]), list(itertools.accumulate(self.counts[lo:hi])))
+        self.cache[ctx] = entry
+        return entry
+
+    def __len__(self):
+        return len(self.keys)
 
 
 @dataclass(frozen=True)
@@ -22,24 +62,26 @@ class MarkovModel:
         What one symbol is.
     order : int
         How many preceding symbols the next one depends on.
-    tables : tuple of dict
-        ``tables[k]`` maps a context of ``k`` symbols (a tuple) to
-        ``(symbols, cumulative_counts)``, for ``k = 0 .. order``: the model
-        and every shorter one, used to back off from a context that was
-        never followed by anything in the corpus (the end of the text).
-    starts : tuple
-        The contexts of length ``order`` in corpus order, to start from.
+    tables : tuple
+        ``tables[k].get(context)`` gives, for a context of ``k`` symbols (a
+        tuple), ``(symbols, cumulative_counts)`` (a tuple and a list,
+        symbols sorted) or None, for ``k = 0 .. order``: the model and every
+        shorter one, used to back off from a context that was never followed
+        by anything in the corpus (the end of the text). ``len(tables[k])``
+        is the number of distinct ``(k + 1)``-grams.
+    symbols : tuple of str
+        The corpus as symbols, where generation takes its first context.
     """
 
     unit: str
     order: int
     tables: tuple = field(repr=False)
-    starts: tuple = field(repr=False)
+    symbols: tuple = field(repr=False)
 
     @property
     def vocabulary_size(self) -> int:
         """Number of distinct symbols in the corpus."""
-        return len(self.tables[0][()][0])
+        return len(self.tables[0].get(())[0])
 
 
 def _tokenise(text: str, unit: str) -> list[str]:
@@ -48,7 +90,7 @@ def _tokenise(text: str, unit: str) -> list[str]:
     return text.split()
 
 
-def train_markov(corpus: str, *, unit: str = "char", order: int = 3) -> MarkovModel:
+def train_markov(corpus: str, *, unit: str = "char", order: int = 3, progress=None) -> MarkovModel:
     """Count the n-grams of a text.
 
     Parameters
@@ -65,6 +107,8 @@ def train_markov(corpus: str, *, unit: str = "char", order: int = 3) -> MarkovMo
         (Shannon's "first-order approximation"); order ``n`` uses the
         ``(n + 1)``-gram counts (Shannon's "(n+1)-th order"), so ``order=2``
         on letters gives his trigram text "IN NO IST LAT WHEY CRATICT...".
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each n-gram table.
 
     Returns
     -------
@@ -90,23 +134,19 @@ def train_markov(corpus: str, *, unit: str = "char", order: int = 3) -> MarkovMo
     if len(symbols) <= order:
         raise ValueError(f"corpus has {len(symbols)} {unit}s, too few for order={order} "
                          f"(needs at least {order + 1})")
+    n = len(symbols)
     tables = []
     for k in range(order + 1):
-        counts: dict[tuple, dict[str, int]] = {}
-        for i in range(k, len(symbols)):
-            ctx = tuple(symbols[i - k:i])
-            nxt = counts.setdefault(ctx, {})
-            nxt[symbols[i]] = nxt.get(symbols[i], 0) + 1
-        table = {}
-        for ctx, nxt in counts.items():
-            keys = sorted(nxt)
-            table[ctx] = (tuple(keys), np.cumsum([nxt[s] for s in keys]))
-        tables.append(table)
-    starts = tuple(tuple(symbols[i:i + order]) for i in range(len(symbols) - order))
-    return MarkovModel(unit=unit, order=order, tables=tuple(tables), starts=starts)
+        # every (k+1)-gram, counted and sorted at C speed
+        grams = Counter(zip(*(symbols[i:n - k + i] for i in range(k + 1))))
+        keys = sorted(grams)
+        tables.append(_NgramTable(keys, [grams[g] for g in keys]))
+        if progress is not None:
+            progress(k + 1, order + 1)
+    return MarkovModel(unit=unit, order=order, tables=tuple(tables), symbols=tuple(symbols))
 
 
-def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0) -> str:
+def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, progress=None) -> str:
     """Sample text from a Markov model.
 
     The first ``order`` symbols are a context drawn at random from the
@@ -123,6 +163,8 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0) -> s
         Number of symbols (characters or words) to produce, >= 0.
     seed : int or None
         Seed of the random generator; the same seed gives the same text.
+    progress : callable, optional
+        Called as ``progress(done, total)`` every 10000 symbols.
 
     Returns
     -------
@@ -137,22 +179,29 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0) -> s
     order = model.order
     out: list[str] = []
     if order > 0:
-        out.extend(model.starts[int(rng.integers(len(model.starts)))])
+        start = int(rng.integers(len(model.symbols) - order + 1))
+        out.extend(model.symbols[start:start + order])
     out = out[:length]
-    while len(out) < length:
+    # uniform draws in batches (one per symbol)
+    draws = rng.random(max(length - len(out), 0))
+    for t in range(len(draws)):
         for k in range(min(order, len(out)), -1, -1):
             entry = model.tables[k].get(tuple(out[len(out) - k:]))
             if entry is not None:
                 break
         keys, cum = entry
-        out.append(keys[int(np.searchsorted(cum, rng.integers(cum[-1]), side="right"))])
+        out.append(keys[bisect.bisect_right(cum, int(draws[t] * cum[-1]))])
+        if progress is not None and (t + 1) % 10000 == 0:
+            progress(t + 1, len(draws))
     return ("" if model.unit == "char" else " ").join(out)
 
 
 def markov_text(corpus: str, *, unit: str = "char", order: int = 3, length: int = 500,
-                seed: int | None = 0) -> str:
+                seed: int | None = 0, progress=None) -> str:
     """Train on ``corpus`` and generate ``length`` symbols in one call.
 
-    See :func:`train_markov` and :func:`generate_text` for the parameters.
+    See :func:`train_markov` and :func:`generate_text` for the parameters;
+    ``progress`` counts the training tables, then the generated symbols.
     """
-    return generate_text(train_markov(corpus, unit=unit, order=order), length, seed=seed)
+    model = train_markov(corpus, unit=unit, order=order, progress=progress)
+    return generate_text(model, length, seed=seed, progress=progress)
