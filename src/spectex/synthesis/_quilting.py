@@ -143,6 +143,14 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     quilt would degenerate into copies of the exemplar; here it stays one
     candidate among the others within tolerance.
 
+    Speed: the exemplar's spectra are computed once, the mask terms once per
+    mask shape, channels are summed in the Fourier domain and the template
+    transform is pruned to its non-zero rows. A block depends only on its
+    left, upper and upper-right neighbours, so the blocks with the same
+    ``2 i + j`` (row i, column j) are independent: their transforms run as
+    one batch, threaded over the CPUs. Each block's random draw is made in
+    advance, so the quilt is exactly the one block-by-block work gives.
+
     Parameters
     ----------
     exemplar : ndarray, shape (h, w) or (h, w, C)
