@@ -150,6 +150,13 @@ def test_compare_prints_measures_and_side_by_side(folder, capsys):
     assert len(data["histogram_w1"]) == 1  # grey against colour: compared on luma
 
 
+def test_compare_flat_images_give_strict_json(folder, capsys):
+    Image.fromarray(np.full((40, 40), 90, np.uint8)).save(folder / "flat.png")
+    assert main(["compare", str(folder / "flat.png"), str(folder / "flat.png"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["tileability_image"] is None and data["histogram_w1"] == [0.0]
+
+
 def test_compare_bad_output_is_exit_2(folder, capsys):
     assert main(["compare", str(folder / "grey.png"), str(folder / "rgb.png"), "-o", str(folder / "x.txt")]) == 2
     assert "output must end in one of" in _error_line(capsys)

@@ -69,14 +69,26 @@ def run(args) -> int | None:
     b = read_image(args.b, name="B")
     a, b = _as_common_channels(a, b)
     result = metrics.compare(a, b, block=args.block, overlap=args.overlap)
-    if args.json:
-        print(json.dumps(result, indent=2))
+    if args.json:  # strict JSON: NaN and infinity (flat images) become null
+        print(json.dumps(_finite(result), indent=2, allow_nan=False))
     else:
         _print_table(result, a, b)
     if output is not None:
         write_image(output, side_by_side(a, b))
         _common.report(f"wrote {output}")
     return 0
+
+
+def _finite(value):
+    import math
+
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_finite(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _print_table(r, a, b) -> None:
