@@ -1,0 +1,292 @@
+"""Numba kernels for lattice noise (compiled on first use, cached on disk).
+
+Layout for speed: the points are cut into fixed blocks of ``BLOCK``; a
+parallel loop runs over blocks, the octave loop over each block, and the
+innermost loop over the block's points. That innermost loop is straight-line
+code (lattice wrapping and gradient choice are arithmetic selects, not
+branches), so LLVM vectorises it with SIMD gathers for the permutation table.
+Block boundaries do not depend on the number of threads, and every element
+gets the same operations, so results are bit-identical whatever the thread
+count.
+
+Constants arrive in the tuple ``K`` typed like the output (float32 or
+float64), so float32 inputs are computed in float32 throughout:
+``K = (0, 1, 2, 3, 6, 10, 15, scale1, scale2, scale3, c0, c1, c2, c3)`` with
+``c_k = cos((k + 0.5) * pi / 8)`` for the 2-D gradients.
+
+Fast-math is limited to flags that cannot turn a NaN into a number or change
+a value beyond rounding (``nsz``, ``arcp``, ``contract``): NaN coordinates
+give NaN, and Perlin's 3-D reference is matched to rounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+FASTMATH = {"nsz", "arcp", "contract"}
+BLOCK = 2048
+
+# Interpolation modes.
+LINEAR, CUBIC, QUINTIC = 0, 1, 2
+# Bases.
+PERLIN, VALUE = 0, 1
+
+
+@njit(inline="always")
+def _u(i):
+    # Unsigned indices skip numba's negative-index wraparound, which would
+    # otherwise turn contiguous loads into gathers and block vectorisation.
+    return np.uint64(i)
+
+
+@njit(inline="always")
+def _fade(t, mode, K):
+    quintic = t * t * t * (t * (t * K[4] - K[6]) + K[5])
+    cubic = t * t * (K[3] - K[2] * t)
+    return quintic if mode == QUINTIC else (cubic if mode == CUBIC else t)
+
+
+@njit(inline="always")
+def _lerp(t, a, b):
+    return a + t * (b - a)
+
+
+@njit(inline="always")
+def _cell(x, pf, ip, K, periodic):
+    """Lattice cell of ``x``: ``(i0, i1, frac)``, indices reduced to 0..255.
+
+    Not periodic: ``i0 = floor(x) & 255`` as in Perlin's reference (the cast
+    is to int64, exact for every float64 coordinate below 2**63; NaN and
+    larger values map to a valid index, and the fraction stays NaN or 0).
+    Periodic with period ``pf`` (a float; ``ip = 1/pf``): the lattice index
+    is reduced modulo ``pf`` first, ``m = fl - pf * floor(fl * ip)``,
+    corrected by one period where rounding of ``fl * ip`` lands on the wrong
+    side, and the far end wraps to 0 at ``pf``.
+    ``periodic`` is a compile-time constant at every call site, so each kernel
+    loop holds only one of the two paths.
+    """
+    fl = np.floor(x)
+    if periodic:
+        m = fl - pf * np.floor(fl * ip)
+        m = m + pf if m < K[0] else m
+        m = m - pf if m >= pf else m
+        i0 = np.int64(m)
+        i1 = i0 + 1
+        i1 = 0 if m + K[1] >= pf else i1
+        return i0 & 255, i1 & 255, x - fl
+    i = np.int64(fl)
+    return i & 255, (i + 1) & 255, x - fl
+
+
+@njit(inline="always")
+def _grad2(h, x, y, K):
+    # Four angles from bits 0-1 (sin(a_k) = cos(a_{3-k})), signs from bits 2-3.
+    c = (K[13] if h & 2 else K[11]) if h & 1 else (K[12] if h & 2 else K[10])
+    s = (K[10] if h & 2 else K[12]) if h & 1 else (K[11] if h & 2 else K[13])
+    gx = -c if h & 4 else c
+    gy = -s if h & 8 else s
+    return gx * x + gy * y
+
+
+@njit(inline="always")
+def _grad3(h, x, y, z):
+    # Ken Perlin's grad() with the 2003 fix; (h | 2) == 14 means h is 12 or 14.
+    u = x if h < 8 else y
+    v = y if h < 4 else (x if (h | 2) == 14 else z)
+    return (-u if h & 1 else u) + (-v if h & 2 else v)
+
+
+# ---------------------------------------------------------------- point functions
+
+@njit(inline="always")
+def _perlin1(x, p, ip, P, b, G, K, periodic):
+    X0, X1, fx = _cell(x, p, ip, K, periodic)
+    g0 = G[_u(P[_u(b + X0)] & 15)] * fx
+    g1 = G[_u(P[_u(b + X1)] & 15)] * (fx - K[1])
+    return _lerp(_fade(fx, QUINTIC, K), g0, g1) * K[7]
+
+
+@njit(inline="always")
+def _perlin2(x, y, px, ipx, py, ipy, P, b, K, periodic):
+    X0, X1, fx = _cell(x, px, ipx, K, periodic)
+    Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
+    a0 = P[_u(b + X0)] & 255
+    a1 = P[_u(b + X1)] & 255
+    gx = fx - K[1]
+    gy = fy - K[1]
+    n00 = _grad2(P[_u(b + a0 + Y0)] & 15, fx, fy, K)
+    n10 = _grad2(P[_u(b + a1 + Y0)] & 15, gx, fy, K)
+    n01 = _grad2(P[_u(b + a0 + Y1)] & 15, fx, gy, K)
+    n11 = _grad2(P[_u(b + a1 + Y1)] & 15, gx, gy, K)
+    u = _fade(fx, QUINTIC, K)
+    v = _fade(fy, QUINTIC, K)
+    return _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11)) * K[8]
+
+
+@njit(inline="always")
+def _perlin3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, K, periodic):
+    X0, X1, fx = _cell(x, px, ipx, K, periodic)
+    Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
+    Z0, Z1, fz = _cell(z, pz, ipz, K, periodic)
+    a0 = P[_u(b + X0)] & 255
+    a1 = P[_u(b + X1)] & 255
+    b00 = P[_u(b + a0 + Y0)] & 255
+    b10 = P[_u(b + a1 + Y0)] & 255
+    b01 = P[_u(b + a0 + Y1)] & 255
+    b11 = P[_u(b + a1 + Y1)] & 255
+    gx = fx - K[1]
+    gy = fy - K[1]
+    gz = fz - K[1]
+    n000 = _grad3(P[_u(b + b00 + Z0)] & 15, fx, fy, fz)
+    n100 = _grad3(P[_u(b + b10 + Z0)] & 15, gx, fy, fz)
+    n010 = _grad3(P[_u(b + b01 + Z0)] & 15, fx, gy, fz)
+    n110 = _grad3(P[_u(b + b11 + Z0)] & 15, gx, gy, fz)
+    n001 = _grad3(P[_u(b + b00 + Z1)] & 15, fx, fy, gz)
+    n101 = _grad3(P[_u(b + b10 + Z1)] & 15, gx, fy, gz)
+    n011 = _grad3(P[_u(b + b01 + Z1)] & 15, fx, gy, gz)
+    n111 = _grad3(P[_u(b + b11 + Z1)] & 15, gx, gy, gz)
+    u = _fade(fx, QUINTIC, K)
+    v = _fade(fy, QUINTIC, K)
+    w = _fade(fz, QUINTIC, K)
+    return _lerp(w,
+                 _lerp(v, _lerp(u, n000, n100), _lerp(u, n010, n110)),
+                 _lerp(v, _lerp(u, n001, n101), _lerp(u, n011, n111))) * K[9]
+
+
+@njit(inline="always")
+def _value1(x, p, ip, P, b, V, vb, mode, K, periodic):
+    X0, X1, fx = _cell(x, p, ip, K, periodic)
+    return _lerp(_fade(fx, mode, K), V[_u(vb + (P[_u(b + X0)] & 255))], V[_u(vb + (P[_u(b + X1)] & 255))])
+
+
+@njit(inline="always")
+def _value2(x, y, px, ipx, py, ipy, P, b, V, vb, mode, K, periodic):
+    X0, X1, fx = _cell(x, px, ipx, K, periodic)
+    Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
+    a0 = P[_u(b + X0)] & 255
+    a1 = P[_u(b + X1)] & 255
+    v00 = V[_u(vb + (P[_u(b + a0 + Y0)] & 255))]
+    v10 = V[_u(vb + (P[_u(b + a1 + Y0)] & 255))]
+    v01 = V[_u(vb + (P[_u(b + a0 + Y1)] & 255))]
+    v11 = V[_u(vb + (P[_u(b + a1 + Y1)] & 255))]
+    u = _fade(fx, mode, K)
+    v = _fade(fy, mode, K)
+    return _lerp(v, _lerp(u, v00, v10), _lerp(u, v01, v11))
+
+
+@njit(inline="always")
+def _value3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, V, vb, mode, K, periodic):
+    X0, X1, fx = _cell(x, px, ipx, K, periodic)
+    Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
+    Z0, Z1, fz = _cell(z, pz, ipz, K, periodic)
+    a0 = P[_u(b + X0)] & 255
+    a1 = P[_u(b + X1)] & 255
+    b00 = P[_u(b + a0 + Y0)] & 255
+    b10 = P[_u(b + a1 + Y0)] & 255
+    b01 = P[_u(b + a0 + Y1)] & 255
+    b11 = P[_u(b + a1 + Y1)] & 255
+    v000 = V[_u(vb + (P[_u(b + b00 + Z0)] & 255))]
+    v100 = V[_u(vb + (P[_u(b + b10 + Z0)] & 255))]
+    v010 = V[_u(vb + (P[_u(b + b01 + Z0)] & 255))]
+    v110 = V[_u(vb + (P[_u(b + b11 + Z0)] & 255))]
+    v001 = V[_u(vb + (P[_u(b + b00 + Z1)] & 255))]
+    v101 = V[_u(vb + (P[_u(b + b10 + Z1)] & 255))]
+    v011 = V[_u(vb + (P[_u(b + b01 + Z1)] & 255))]
+    v111 = V[_u(vb + (P[_u(b + b11 + Z1)] & 255))]
+    u = _fade(fx, mode, K)
+    v = _fade(fy, mode, K)
+    w = _fade(fz, mode, K)
+    return _lerp(w,
+                 _lerp(v, _lerp(u, v000, v100), _lerp(u, v010, v110)),
+                 _lerp(v, _lerp(u, v001, v101), _lerp(u, v011, v111)))
+
+
+# ---------------------------------------------------------------- kernels
+# One kernel per (dims, basis, periodic, turbulent, interpolation), made by
+# ``fractal_kernel`` on first use: those choices are compile-time constants
+# (closure variables), so each kernel's innermost loop is one straight-line
+# path that LLVM vectorises. Numba's disk cache keys closures by the values
+# they capture, so every variant is cached separately.
+#
+# Arguments: coordinate arrays x, y, z (1-D, same length; unused ones may be
+# any array), out, P (one 512-entry int32 permutation per octave), V (one
+# 256-entry value table per octave), G1 (1-D slopes), and per octave: freq,
+# amp, pf (periods as floats, shape (octaves, 3)), ip (their inverses).
+
+_KERNELS: dict = {}
+
+
+def fractal_kernel(dims: int, basis: int, periodic: bool, turbulent: bool, mode: int):
+    """Return the (lazily compiled) kernel for one combination of choices."""
+    key = (dims, basis, periodic, turbulent, mode)
+    kernel = _KERNELS.get(key)
+    if kernel is None:
+        kernel = _make_kernel(dims, basis, periodic, turbulent, mode)
+        _KERNELS[key] = kernel
+    return kernel
+
+
+def _make_kernel(dims, basis, periodic, turbulent, mode):
+    # Each octave is written to a scratch buffer by a store-only loop (a
+    # read-modify-write of ``out`` in the same loop as the table gathers does
+    # not vectorise), then added to ``out`` by a second loop.
+    @njit(inline="always")
+    def point(x, y, z, i, f, px, qx, py, qy, pz, qz, P, b, V, c, G1, K):
+        u = _u(i)
+        if dims == 1:
+            if basis == PERLIN:
+                v = _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
+            else:
+                v = _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
+        elif dims == 2:
+            if basis == PERLIN:
+                v = _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
+            else:
+                v = _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K, periodic)
+        else:
+            if basis == PERLIN:
+                v = _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, K,
+                             periodic)
+            else:
+                v = _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, V, c,
+                            mode, K, periodic)
+        if turbulent:
+            v = abs(v)
+        return v
+
+    @njit(parallel=True, cache=True, fastmath=FASTMATH)
+    def kernel(x, y, z, out, P, V, G1, freq, amp, pf, ip, K):
+        n = out.size
+        n_oct = freq.size
+        for blk in prange((n + BLOCK - 1) // BLOCK):
+            s = blk * BLOCK
+            e = min(s + BLOCK, n)
+            if n_oct == 1:
+                f = freq[0]
+                a = amp[0]
+                for i in range(s, e):
+                    out[_u(i)] = a * point(x, y, z, i, f, pf[0, 0], ip[0, 0], pf[0, 1], ip[0, 1],
+                                       pf[0, 2], ip[0, 2], P, 0, V, 0, G1, K)
+            else:
+                tmp = np.empty(e - s, dtype=out.dtype)
+                for o in range(n_oct):
+                    f = freq[o]
+                    a = amp[o]
+                    px = pf[o, 0]
+                    py = pf[o, 1]
+                    pz = pf[o, 2]
+                    qx = ip[o, 0]
+                    qy = ip[o, 1]
+                    qz = ip[o, 2]
+                    for i in range(s, e):
+                        tmp[_u(i - s)] = a * point(x, y, z, i, f, px, qx, py, qy, pz, qz, P, 512 * o,
+                                               V, 256 * o, G1, K)
+                    if o == 0:
+                        for i in range(s, e):
+                            out[_u(i)] = tmp[_u(i - s)]
+                    else:
+                        for i in range(s, e):
+                            out[_u(i)] += tmp[_u(i - s)]
+
+    return kernel
