@@ -18,8 +18,9 @@ Two tasks from issue 5, each with its peers in the same run:
 
 Every result is also measured (histogram W1, band-power distance) so that a
 speed-up is not bought with quality. Times are the best of ``--repeat`` runs
-after one warm-up run (numba compilation and caches excluded); the machine
-is printed with them.
+after one warm-up run (numba compilation and caches excluded), as wall time
+and as CPU time of all threads (steadier on a shared machine); the machine
+and its load are printed with them.
 
 Embark Studios' texture-synthesis (Rust, multi-threaded, a multi-resolution
 k-coherence/PatchMatch synthesiser) is not installable here; its README
@@ -182,14 +183,16 @@ def numpy_efros_leung(ex: np.ndarray, size: int, window: int, seed: int = 0, max
 # ---------------------------------------------------------------------------
 
 def best_time(fn, repeat: int):
+    """Best wall time and best CPU time (all threads) of ``repeat`` runs."""
     fn()  # warm-up: numba compilation, caches
-    times = []
+    walls, cpus = [], []
     result = None
     for _ in range(repeat):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         result = fn()
-        times.append(time.perf_counter() - t)
-    return min(times), result
+        walls.append(time.perf_counter() - t)
+        cpus.append(time.process_time() - c)
+    return (min(walls), min(cpus)), result
 
 
 def machine() -> str:
@@ -213,7 +216,7 @@ def quality(ex, out) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeat", type=int, default=3, help="timed runs per entry (best is kept)")
+    parser.add_argument("--repeat", type=int, default=5, help="timed runs per entry (best is kept)")
     parser.add_argument("--naive-pixels", type=int, default=2048,
                         help="time the naive Efros-Leung on this many pixels and extrapolate "
                              "(its cost per pixel is constant); 0 runs it to the end (about 4 minutes)")
@@ -225,7 +228,7 @@ def main(argv=None) -> int:
 
     ex128 = colour_exemplar(128)
     t_fast, q_fast = best_time(lambda: quilt(ex128, (512, 512), block=32, overlap=6, seed=0), args.repeat)
-    t_np, q_np = best_time(lambda: numpy_quilt(ex128, 512, 32, 6, seed=0), args.repeat)
+    t_np, q_np = best_time(lambda: numpy_quilt(ex128, 512, 32, 6, seed=0), max(1, args.repeat - 2))
     rows.append(("quilting 512x512 RGB from 128x128, block 32, overlap 6", [
         ("spectex quilt", t_fast, quality(ex128, q_fast), "target <= 0.5 s"),
         ("plain NumPy FFT quilting (baseline)", t_np, quality(ex128, q_np), ""),
@@ -233,16 +236,16 @@ def main(argv=None) -> int:
     ]))
 
     ex64 = colour_exemplar(64)
-    t_el, el = best_time(lambda: efros_leung(ex64, (128, 128), window=11, seed=0), args.repeat)
+    t_el, el = best_time(lambda: efros_leung(ex64, (128, 128), window=11, seed=0), max(1, args.repeat - 2))
     t_ex, exh = best_time(lambda: efros_leung(ex64, (128, 128), window=11, seed=0, method="exhaustive"), 1)
     total = 128 * 128
     limit = args.naive_pixels if args.naive_pixels > 0 else None
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     naive, done = numpy_efros_leung(ex64, 128, 11, seed=0, max_pixels=limit)
-    t_nv = time.perf_counter() - t0
+    t_nv = (time.perf_counter() - t0, time.process_time() - c0)
     note = ""
     if done < total:
-        t_nv = t_nv * total / done
+        t_nv = (t_nv[0] * total / done, t_nv[1] * total / done)
         note = f"extrapolated from {done} pixels"
     rows.append(("Efros-Leung 128x128 RGB from 64x64, window 11", [
         ("spectex efros_leung, fast default (k-coherence)", t_el, quality(ex64, el), "target <= 10 s"),
@@ -250,14 +253,17 @@ def main(argv=None) -> int:
         ("naive NumPy exhaustive (baseline)", t_nv, quality(ex64, naive) if done == total else "", note),
     ]))
 
+    print(f"load average at the end: {os.getloadavg()[0]:.2f} (other jobs slow the wall times down)")
+    print()
     for title, entries in rows:
         print(title)
         base = entries[0][1]
-        print(f"  {'method':52s} {'time':>9s} {'x fast':>8s}   quality / notes")
+        print(f"  {'method':50s} {'wall':>9s} {'cpu':>9s} {'x fast':>7s}   quality / notes")
         for name, t, qual, extra in entries:
-            ts = "--" if t is None else f"{t:8.3f}s"
-            ratio = "--" if t is None else f"{t / base:7.1f}x"
-            print(f"  {name:52s} {ts:>9s} {ratio:>8s}   {qual}{'; ' if qual and extra else ''}{extra}")
+            wall = "--" if t is None else f"{t[0]:8.3f}s"
+            cpu = "--" if t is None else f"{t[1]:8.3f}s"
+            ratio = "--" if t is None else f"{t[0] / base[0]:6.1f}x"
+            print(f"  {name:50s} {wall:>9s} {cpu:>9s} {ratio:>7s}   {qual}{'; ' if qual and extra else ''}{extra}")
         print()
     return 0
 
