@@ -186,6 +186,7 @@ def test_octave_method_sizes():
     assert np.all(energy_above(t, 0.25) < 1e-9)
 
 
+@pytest.mark.slow  # the first call compiles spectex.noise's kernels (about a minute, then cached)
 def test_noise_method_uses_procedural_or_says_what_is_missing():
     try:
         import spectex.procedural  # noqa: F401
@@ -193,9 +194,10 @@ def test_noise_method_uses_procedural_or_says_what_is_missing():
         with pytest.raises(ValueError, match="procedural"):
             make_tile(64, method="noise")
         return
-    t = make_tile(128, seed=0, method="noise")
-    assert t.shape == (128, 128, 4)
-    assert np.all(np.abs(seam_ratio(t) - 1.0) < 0.25)
+    t = make_tile(256, seed=0, method="noise", noise_scale=8.0)
+    assert t.shape == (256, 256, 4)
+    r = np.mean([seam_ratio(make_tile(512, seed=s, method="noise")) for s in range(4)], axis=0)
+    assert np.all(np.abs(r - 1.0) <= 0.10), r
     assert np.all(energy_above(t, 0.25) < 1e-9)
 
 

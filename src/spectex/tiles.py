@@ -279,8 +279,11 @@ def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
     except ImportError as exc:
         raise ValueError(f"method='noise' needs spectex.procedural, which is not available ({exc})") from None
     seed = int(rng.integers(0, 2**31 - 1))
-    return noise_image(shape, kind="fbm", scale=noise_scale, octaves=octaves if octaves else 6,
-                       seed=seed, tileable=True)
+    field = noise_image(shape, kind="fbm", scale=noise_scale, octaves=octaves if octaves else 6,
+                        seed=seed, tileable=True)
+    # Lattice noise is not stationary (zero on lattice lines): a random
+    # periodic shift keeps the lattice lines off the wrap edge.
+    return np.roll(field, (int(rng.integers(0, shape[0])), int(rng.integers(0, shape[1]))), axis=(0, 1))
 
 
 def _check_octave_size(h, w, small, octaves):
