@@ -189,6 +189,8 @@ def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, k
             if err[j] <= cut:
                 pool[npool] = j
                 npool += 1
+        if npool == 0:  # no finite error (cannot happen with finite inputs): leave the pixel
+            continue
         pick = pool[min(int(uniform[i] * npool), npool - 1)]
         if err[pick] <= threshold:
             p = cand[pick]
