@@ -19,7 +19,8 @@ def register(subparsers) -> None:
     )
     p.add_argument("a", type=_common.existing_file, metavar="A", help="exemplar (reference) image")
     p.add_argument("b", type=_common.existing_file, metavar="B", help="texture to judge")
-    p.add_argument("--block", type=_common.positive_int, default=None, help="quilt block size, for the seam energy")
+    p.add_argument("--block", type=_common.positive_int, default=None,
+                   help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="quilt overlap, for the seam energy")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
     p.add_argument("-o", "--output", default=None, help="also write A and B side by side to this image")

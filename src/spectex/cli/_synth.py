@@ -38,7 +38,8 @@ def register(subparsers) -> None:
     p.add_argument("--match", type=_common.existing_file, default=None, metavar="IMAGE",
                    help="histogram: instead of sampling, give IMAGE the exemplar's histogram exactly "
                         "(its structure is kept; --size is ignored)")
-    p.add_argument("--tileable", action="store_true", help="make the output tile seamlessly (histogram output, white noise, always does)")
+    p.add_argument("--tileable", action="store_true",
+                   help="make the output tile seamlessly (histogram output, white noise, always does)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
     p.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, .tif, ..., or .npy)")

@@ -18,7 +18,8 @@ def register(subparsers) -> None:
         ),
     )
     p.add_argument("corpus", type=_common.existing_file, help="training text file")
-    p.add_argument("--unit", choices=("char", "word"), default="char", help="symbol: letters or words (default: char)")
+    p.add_argument("--unit", choices=("char", "word"), default="char",
+                   help="symbol: letters or words (default: char)")
     p.add_argument("--order", type=_common.nonneg_int, default=3, help="Markov order, 0 to 12 (default: 3)")
     p.add_argument("--length", type=_common.nonneg_int, default=500,
                    help="number of letters or words to generate (default: 500)")
