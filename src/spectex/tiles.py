@@ -61,6 +61,7 @@ D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numba
@@ -95,6 +96,23 @@ _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 # --------------------------------------------------------------------------
 # Pixel kernels (numba; compiled on first use, cached on disk)
 # --------------------------------------------------------------------------
+
+@contextlib.contextmanager
+def _threads_for(n: int):
+    """Run numba's parallel kernels on one thread for small arrays (see
+    :data:`spectex.spectral._synthesis.PARALLEL_MIN`)."""
+    from .spectral._synthesis import PARALLEL_MIN
+
+    if n >= PARALLEL_MIN:
+        yield
+        return
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
 
 @numba.njit(cache=True, parallel=True)
 def _ramp_kernel(field, pos, col, out):  # pragma: no cover - compiled
@@ -225,8 +243,9 @@ def emboss(image, *, azimuth: float = 135.0, strength: float = 1.0) -> np.ndarra
 def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
     a = math.radians(azimuth)
     g = np.empty(h.shape, dtype=np.float32)
-    _gradient_kernel(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
-                     np.float32(-0.5 * math.sin(a)), g)
+    with _threads_for(h.size):
+        _gradient_kernel(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
+                         np.float32(-0.5 * math.sin(a)), g)
     top = max(float(g.max()), -float(g.min()))
     if top == 0.0 or strength == 0.0:
         return np.full(h.shape, 0.5, dtype=np.float32)
@@ -388,7 +407,8 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
     pos, col = get_ramp(colormap)
     nplanes = 4 if alpha == "noise" else 3
     planes = np.empty((nplanes,) + small, dtype=np.float32)
-    _ramp_kernel(_standardise(field), pos.astype(np.float32), col[:, :3].astype(np.float32), planes)
+    with _threads_for(planes.size):
+        _ramp_kernel(_standardise(field), pos.astype(np.float32), col[:, :3].astype(np.float32), planes)
     if alpha == "noise":
         planes[3] = _to_unit(_field(method, small, m, rng_alpha, **kw))
     planes = _band_limit_planes(planes, None, cutoff, (h, w))
@@ -401,7 +421,8 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
             lo[c], scale[c] = min(a, 0.0), 1.0 / (max(b, 1.0) - min(a, 0.0))
     out = np.empty((h, w, 4), dtype=np.float32)
     lum = np.empty((h, w), dtype=np.float32)
-    _interleave_kernel(planes, lo, scale, out, lum)
+    with _threads_for(out.size):
+        _interleave_kernel(planes, lo, scale, out, lum)
     del planes
     if alpha == "emboss":
         a = _emboss(lum, azimuth, strength)
