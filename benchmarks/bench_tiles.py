@@ -17,8 +17,10 @@ Peers in the same run:
   the FFT route to the same circular convolution of the zero-stuffed input
   (``numpy.fft``/``scipy.fft``), 128 x 128 cells to 512 x 512 and 4096 x 4096.
 
-Times are the best of ``--repeat`` runs after one warm-up call (numba
-compilation and caches excluded); the machine is printed with them.
+Times are the best of ``--repeat`` runs (three times as many at 512) after
+one warm-up call (numba compilation and caches excluded); the machine and
+its load average are printed with them: on a shared machine the best of
+several runs is the least disturbed one.
 """
 
 from __future__ import annotations
@@ -76,7 +78,7 @@ def main(argv=None):
     def add(name, seconds, target=None):
         rows.append((name, seconds, target))
 
-    for size, target, repeat in ((512, 0.050, max(args.repeat, 5)), (4096, 2.0, args.repeat)):
+    for size, target, repeat in ((512, 0.050, 3 * args.repeat), (4096, 2.0, args.repeat)):
         add(f"make_tile {size} spectral, emboss", best_of(lambda: make_tile(size, seed=0), repeat), target)
         add(f"make_tile {size} octaves, emboss",
             best_of(lambda: make_tile(size, seed=0, method="octaves"), repeat))
@@ -96,9 +98,11 @@ def main(argv=None):
         add(f"magnify 128 -> {size} bspline (FFT route)",
             best_of(lambda: fft_magnify(cells, m, "bspline"), repeat))
 
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"{platform.system()} {platform.release()}, Python {platform.python_version()}, "
-          f"NumPy {np.__version__}")
+          f"NumPy {np.__version__}; load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} "
+          f"(other work on the machine slows every number)")
     print(f"{'task':46s} {'best (ms)':>10s} {'target (ms)':>12s} {'ratio':>7s}")
     for name, seconds, target in rows:
         tgt = f"{target * 1e3:12.0f}" if target else f"{'':12s}"
