@@ -53,12 +53,12 @@ def _layout(n: int, block: int, overlap: int, tileable: bool, name: str) -> tupl
 
 
 def _continuation_box(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, shape_x):
-    """Slices of the candidates that continue block a verbatim at block b.
+    """The box of candidates that continue block a verbatim at block b.
 
     The source that puts block b exactly where block a's source continues is
     ``src_a + (pos_b - pos_a)`` (the displacement taken the short way round
     on a torus); the box is that position +- ``radius``, clipped to the
-    candidate grid, or None if empty.
+    candidate grid, as ``(y0, y1, x0, x1)``, or None if empty.
     """
     dy = (pos_b[0] - pos_a[0]) % length_y
     dx = (pos_b[1] - pos_a[1]) % length_x
@@ -70,7 +70,7 @@ def _continuation_box(src_a, pos_a, pos_b, length_y, length_x, radius, shape_y, 
     y0, y1 = max(cy - radius, 0), min(cy + radius + 1, shape_y)
     x0, x1 = max(cx - radius, 0), min(cx + radius + 1, shape_x)
     if y0 < y1 and x0 < x1:
-        return slice(y0, y1), slice(x0, x1)
+        return (y0, y1, x0, x1)
     return None
 
 
@@ -197,7 +197,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     """
     import scipy.fft as sfft
 
-    from ._cut import min_cut_path
+    from ._cut import place_block
 
     ex = check_image("exemplar", exemplar)
     out_h, out_w = check_shape("shape", shape)
@@ -216,7 +216,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     if eh < block or ew < block:
         raise ValueError(f"exemplar of {ew}x{eh} pixels is smaller than block={block}")
     grey = ex.ndim == 2
-    e3 = ex[:, :, None] if grey else ex
+    e3 = np.ascontiguousarray(ex[:, :, None] if grey else ex)
     nch = e3.shape[2]
 
     ys, canvas_h = _layout(out_h, block, overlap, tileable, "height")
@@ -286,8 +286,10 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
             err = errors.get((i, j))
             if err is None:
                 sy, sx = first
+                view[...] = e3[sy:sy + block, sx:sx + block]
             else:
-                # best error over candidates that do not continue a neighbour verbatim
+                # boxes of candidates that continue a neighbour verbatim: left
+                # out of the best error, kept as candidates
                 neighbours = [(i, j - 1), (i - 1, j)]
                 if tileable:
                     neighbours += [(i, (j + 1) % nx), ((i + 1) % ny, j)]
@@ -297,26 +299,10 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                         box = _continuation_box(sources[(ni, nj)], (ys[ni], xs[nj]), (y0, x0),
                                                 canvas_h, canvas_w, radius, ph, pw)
                         if box is not None:
-                            boxes.append((box, err[box].copy()))
-                            err[box] = np.inf
-                best = float(err.min())
-                for box, saved in boxes:
-                    err[box] = saved
-                if not np.isfinite(best):  # every candidate is a continuation
-                    best = float(err.min())
-                cand = np.flatnonzero(err <= best * (1.0 + tolerance))
-                if cand.size == 0:  # pragma: no cover - float safety
-                    cand = np.array([int(np.argmin(err))])
-                pick = int(cand[min(int(uniform[i, j] * cand.size), cand.size - 1)])
-                sy, sx = divmod(pick, pw)
-            sources[(i, j)] = (sy, sx)
-            patch = e3[sy:sy + block, sx:sx + block]
-            if err is not None:
-                diff = np.sum((view - patch) ** 2, axis=2, dtype=np.float64)
-                new = _cut_mask(diff, known, np.ones((block, block), dtype=bool), min_cut_path)
-                np.copyto(view, patch, where=new[:, :, None])
-            else:
-                view[...] = patch
+                            boxes.append(box)
+                boxes = np.array(boxes, dtype=np.int64).reshape(-1, 4)
+                sy, sx = place_block(err, boxes, tolerance, float(uniform[i, j]), view, known, e3)
+            sources[(i, j)] = (int(sy), int(sx))
             fview[...] = True
             if ix is not None:
                 canvas[ix] = view
@@ -326,40 +312,3 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                 progress(done, total)
     out = canvas[:out_h, :out_w]
     return np.ascontiguousarray(out[:, :, 0] if grey else out)
-
-
-def _cut_mask(diff: np.ndarray, known: np.ndarray, new: np.ndarray, min_cut_path) -> np.ndarray:
-    """Which pixels of the block to paste: the new side of every boundary cut.
-
-    Each side of the block whose edge pixels are all already filled gets a
-    cut through the band of filled pixels next to it (the overlap, measured
-    along the middle of the edge); the cuts are combined by AND, and pixels
-    not filled before are always pasted.
-    """
-    b = diff.shape[0]
-    mid = b // 2
-    # left: filled columns from the left edge, along the middle row
-    if known[:, 0].all():
-        width = int(np.argmin(known[mid, :])) if not known[mid, :].all() else b
-        width = max(1, min(width, b - 1))
-        path = min_cut_path(diff[:, :width])
-        new &= np.arange(b)[None, :] >= path[:, None]
-    if known[0, :].all():
-        height = int(np.argmin(known[:, mid])) if not known[:, mid].all() else b
-        height = max(1, min(height, b - 1))
-        path = min_cut_path(np.ascontiguousarray(diff[:height, :].T))
-        new &= np.arange(b)[:, None] >= path[None, :]
-    if known[:, -1].all():
-        row = known[mid, ::-1]
-        width = int(np.argmin(row)) if not row.all() else b
-        width = max(1, min(width, b - 1))
-        path = min_cut_path(np.ascontiguousarray(diff[:, b - width:]))
-        new &= np.arange(b)[None, :] <= (b - width + path)[:, None]
-    if known[-1, :].all():
-        col = known[::-1, mid]
-        height = int(np.argmin(col)) if not col.all() else b
-        height = max(1, min(height, b - 1))
-        path = min_cut_path(np.ascontiguousarray(diff[b - height:, :].T))
-        new &= np.arange(b)[:, None] <= (b - height + path)[None, :]
-    new |= ~known
-    return new
