@@ -190,8 +190,9 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
         import png
 
         try:
-            w, h, rows, info = png.Reader(filename=str(path)).asDirect()
-            data = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
+            with open(path, "rb") as fh:
+                w, h, rows, info = png.Reader(file=fh).asDirect()
+                data = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
         except Exception as exc:
             raise ValueError(f"{name} is not a readable PNG: '{path}' ({exc})") from None
         planes = info["planes"]

@@ -30,14 +30,21 @@ def _coords(x, y, z):
             raise TypeError(f"{name} must hold real numbers, got dtype {a.dtype}")
         arrays.append(a)
     # float32 stays float32, float64 stays float64, anything else -> float64.
-    dtype = np.float32 if all(a.dtype == np.float32 for a in arrays) else np.float64
+    # Python numbers are weak (as in NumPy 2): they take the arrays' dtype.
+    typed = [a for (_, c), a in zip(given, arrays) if not isinstance(c, (int, float))]
+    dtype = np.float32 if typed and all(a.dtype == np.float32 for a in typed) else np.float64
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays))
     except ValueError:
         shapes = ", ".join(f"{n}={a.shape}" for (n, _), a in zip(given, arrays))
         raise ValueError(f"coordinates do not broadcast together: {shapes}") from None
-    flat = [np.ascontiguousarray(np.broadcast_to(a.astype(dtype, copy=False), shape)).reshape(-1)
-            for a in arrays]
+    flat = []
+    for a in arrays:
+        a = a.astype(dtype, copy=False)
+        if a.shape != shape:
+            a = np.broadcast_to(a, shape).copy()
+        # Writable, C-contiguous 1-D arrays: one kernel signature for all inputs.
+        flat.append(np.require(a, requirements=("C", "W")).reshape(-1))
     return dtype, shape, flat
 
 
@@ -155,10 +162,11 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         pf3 = np.full((octaves, 3), 256.0)
         pf3[:, :dims] = pf
         mode = _INTERPOLATIONS[interpolation] if basis == "value" else _kernels.QUINTIC
-        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic), bool(turbulent), mode)
+        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic))
         xs = flat + [flat[0]] * (3 - dims)
         kernel(xs[0], xs[1], xs[2], out, P, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
-               amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), K)
+               amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), mode,
+               bool(turbulent), K)
     return _finish(out, shape)
 
 

@@ -217,76 +217,63 @@ def _value3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, V, vb, mode, K, periodic):
 _KERNELS: dict = {}
 
 
-def fractal_kernel(dims: int, basis: int, periodic: bool, turbulent: bool, mode: int):
+def fractal_kernel(dims: int, basis: int, periodic: bool):
     """Return the (lazily compiled) kernel for one combination of choices."""
-    key = (dims, basis, periodic, turbulent, mode)
+    key = (dims, basis, periodic)
     kernel = _KERNELS.get(key)
     if kernel is None:
-        kernel = _make_kernel(dims, basis, periodic, turbulent, mode)
+        kernel = _make_kernel(dims, basis, periodic)
         _KERNELS[key] = kernel
     return kernel
 
 
-def _make_kernel(dims, basis, periodic, turbulent, mode):
+def _make_kernel(dims, basis, periodic):
     # Each octave is written to a scratch buffer by a store-only loop (a
     # read-modify-write of ``out`` in the same loop as the table gathers does
-    # not vectorise), then added to ``out`` by a second loop.
+    # not vectorise), then added to ``out`` by a second loop. ``mode`` and
+    # ``turbulent`` are loop-invariant selects.
     @njit(inline="always")
-    def point(x, y, z, i, f, px, qx, py, qy, pz, qz, P, b, V, c, G1, K):
-        u = _u(i)
+    def point(x, y, z, u, f, px, qx, py, qy, pz, qz, P, b, V, c, G1, mode, K):
         if dims == 1:
             if basis == PERLIN:
-                v = _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
-            else:
-                v = _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
-        elif dims == 2:
+                return _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
+            return _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
+        if dims == 2:
             if basis == PERLIN:
-                v = _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
-            else:
-                v = _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K, periodic)
-        else:
-            if basis == PERLIN:
-                v = _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, K,
-                             periodic)
-            else:
-                v = _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, V, c,
-                            mode, K, periodic)
-        if turbulent:
-            v = abs(v)
-        return v
+                return _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
+            return _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K, periodic)
+        if basis == PERLIN:
+            return _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, K, periodic)
+        return _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, V, c, mode, K,
+                       periodic)
 
     @njit(parallel=True, cache=True, fastmath=FASTMATH)
-    def kernel(x, y, z, out, P, V, G1, freq, amp, pf, ip, K):
+    def kernel(x, y, z, out, P, V, G1, freq, amp, pf, ip, mode, turbulent, K):
         n = out.size
         n_oct = freq.size
         for blk in prange((n + BLOCK - 1) // BLOCK):
             s = blk * BLOCK
             e = min(s + BLOCK, n)
-            if n_oct == 1:
-                f = freq[0]
-                a = amp[0]
+            tmp = np.empty(e - s, dtype=out.dtype)
+            for o in range(n_oct):
+                f = freq[o]
+                a = amp[o]
+                px = pf[o, 0]
+                py = pf[o, 1]
+                pz = pf[o, 2]
+                qx = ip[o, 0]
+                qy = ip[o, 1]
+                qz = ip[o, 2]
                 for i in range(s, e):
-                    out[_u(i)] = a * point(x, y, z, i, f, pf[0, 0], ip[0, 0], pf[0, 1], ip[0, 1],
-                                       pf[0, 2], ip[0, 2], P, 0, V, 0, G1, K)
-            else:
-                tmp = np.empty(e - s, dtype=out.dtype)
-                for o in range(n_oct):
-                    f = freq[o]
-                    a = amp[o]
-                    px = pf[o, 0]
-                    py = pf[o, 1]
-                    pz = pf[o, 2]
-                    qx = ip[o, 0]
-                    qy = ip[o, 1]
-                    qz = ip[o, 2]
+                    v = point(x, y, z, _u(i), f, px, qx, py, qy, pz, qz, P, 512 * o, V, 256 * o,
+                              G1, mode, K)
+                    v = abs(v) if turbulent else v
+                    tmp[_u(i - s)] = a * v
+                if o == 0:
                     for i in range(s, e):
-                        tmp[_u(i - s)] = a * point(x, y, z, i, f, px, qx, py, qy, pz, qz, P, 512 * o,
-                                               V, 256 * o, G1, K)
-                    if o == 0:
-                        for i in range(s, e):
-                            out[_u(i)] = tmp[_u(i - s)]
-                    else:
-                        for i in range(s, e):
-                            out[_u(i)] += tmp[_u(i - s)]
+                        out[_u(i)] = tmp[_u(i - s)]
+                else:
+                    for i in range(s, e):
+                        out[_u(i)] += tmp[_u(i - s)]
 
     return kernel

@@ -1,0 +1,115 @@
+"""``spectex noise``: procedural noise and textures to an image, array or animation."""
+
+from __future__ import annotations
+
+from . import _common
+
+KINDS = ("perlin", "value", "fbm", "turbulence", "marble", "wood", "stripes", "clouds")
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "noise",
+        help="write an image (or animation) of procedural noise",
+        description="Procedural noise and textures (seed 002): Perlin and value noise, fractal sums, "
+                    "turbulence, marble, wood, stripes and clouds, coloured through a ramp.",
+    )
+    p.add_argument("kind", choices=KINDS, help="what to draw")
+    p.add_argument("--size", type=_common.size, default=(512, 512), metavar="WxH",
+                   help="image size in pixels (default 512x512)")
+    p.add_argument("--scale", type=_common.positive_float, default=4.0,
+                   help="noise lattice cells across the image width (default 4)")
+    p.add_argument("--octaves", type=_common.positive_int, default=6, help="fractal octaves (default 6)")
+    p.add_argument("--lacunarity", type=_common.positive_float, default=2.0,
+                   help="frequency ratio between octaves (default 2)")
+    p.add_argument("--gain", type=_common.positive_float, default=0.5,
+                   help="amplitude ratio between octaves (default 0.5)")
+    p.add_argument("--basis", choices=("perlin", "value"), default="perlin",
+                   help="noise summed by fbm and turbulence (default perlin)")
+    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default 0)")
+    p.add_argument("--tileable", action="store_true", help="make the image tile seamlessly")
+    p.add_argument("--colormap", default=None, metavar="NAME",
+                   help="colour ramp: grey, earth, stone, sand, moss, marble, wood, clouds, fire, lava, "
+                        "ocean, rust, blue, or any Matplotlib colormap (default: grey, or the kind's own)")
+    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel")
+    p.add_argument("--frames", type=_common.positive_int, default=None,
+                   help="write an animation of N frames (slices of 3-D noise) to .gif or .mp4")
+    p.add_argument("--speed", type=_common.finite_float, default=0.05,
+                   help="lattice units moved per animation frame (default 0.05)")
+    p.add_argument("--fps", type=_common.positive_float, default=24.0, help="animation frame rate")
+    p.add_argument("-o", "--output", required=True, metavar="PATH",
+                   help=".png, .jpg, .tif, .npy (raw floats), or .gif/.mp4 with --frames")
+    p.set_defaults(func=run)
+
+
+_DEFAULT_COLORMAPS = {"marble": "marble", "wood": "wood", "clouds": "clouds"}
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    import numpy as np
+
+    from .. import io, procedural
+
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    animated = suffix in io.ANIMATION_SUFFIXES
+    if animated and args.frames is None:
+        raise _common_error(f"--frames is needed for {suffix} output, got none")
+    if args.frames is not None and not animated:
+        raise _common_error(f"--frames needs a .gif or .mp4 output, got '{out}'")
+    io.check_output_path("output", out, io.ANIMATION_SUFFIXES if animated
+                         else io.IMAGE_SUFFIXES + io.ARRAY_SUFFIXES)
+    h, w = args.size
+    limit = 1 << 26
+    if h * w * (args.frames or 1) > limit:
+        raise _common_error(f"--size {w}x{h} with {args.frames or 1} frame(s) is over the limit of "
+                            f"{limit} pixels in all")
+    params = _params(args)
+    if args.kind == "wood" and args.tileable:
+        raise _common_error("--tileable does not apply to wood (its rings are radial)")
+    cmap = args.colormap or _DEFAULT_COLORMAPS.get(args.kind, "grey")
+    if args.colormap is not None:
+        from ..color import get_ramp
+
+        get_ramp(args.colormap)  # fail early on an unknown name
+    if animated:
+        frames = procedural.animate(args.kind, (h, w), args.frames, speed=args.speed, **params)
+        vrange = procedural.contrast_range(frames[0], kind=args.kind)
+        images = [procedural.colorize(f, cmap, kind=args.kind, vrange=vrange) for f in frames]
+        io.write_animation(out, images, fps=args.fps)
+        _common.report(f"wrote {out} ({args.frames} frames, {w}x{h})")
+        return 0
+    field = procedural.texture(args.kind, (h, w), **params)
+    if suffix == ".npy":
+        io.write_image(out, field)
+    else:
+        if args.colormap is None and cmap == "grey":
+            lo, hi = procedural.contrast_range(field, kind=args.kind)
+            image = np.clip((field - lo) / (hi - lo), 0.0, 1.0)
+        else:
+            image = procedural.colorize(field, cmap, kind=args.kind)
+        io.write_image(out, image, bit_depth=args.bit_depth)
+    _common.report(f"wrote {out} ({w}x{h})")
+    return 0
+
+
+def _params(args) -> dict:
+    kind = args.kind
+    params = {"seed": args.seed}
+    if kind != "wood":
+        params["tileable"] = args.tileable
+    params["scale"] = args.scale
+    if kind in ("perlin", "value"):
+        return params
+    params["octaves"] = args.octaves
+    if kind in ("fbm", "turbulence"):
+        params.update(lacunarity=args.lacunarity, gain=args.gain, basis=args.basis)
+    return params
+
+
+def _common_error(message):
+    from . import UsageError
+
+    return UsageError(message)
