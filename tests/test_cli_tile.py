@@ -8,12 +8,6 @@ from spectex.cli import main
 from spectex.io import read_image
 
 
-# spectex.io.read_image leaves 16-bit PNGs open (png.Reader(filename=...)):
-# a ResourceWarning that pytest reports; reported to the owner of io.py.
-IO_16BIT_LEAK = pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning",
-                                           "ignore::ResourceWarning")
-
-
 def run_ok(argv, capsys):
     assert main(argv) == 0
     return capsys.readouterr().out
@@ -49,7 +43,6 @@ def test_tile_writes_rgba_png_and_preview(tmp_path, capsys):
     np.testing.assert_array_equal(read_image(out2), img)
 
 
-@IO_16BIT_LEAK
 def test_tile_16_bit_and_options(tmp_path, capsys):
     out = tmp_path / "t16.png"
     run_ok(["tile", "--size", "48x32", "--method", "octaves", "--alpha", "noise", "--colormap", "moss",
@@ -83,7 +76,6 @@ def photos(tmp_path):
     return files
 
 
-@IO_16BIT_LEAK
 @pytest.mark.parametrize("kind", ["rgb", "palette", "grey", "grey16", "rgba"])
 def test_tile_from_photo(kind, photos, tmp_path, capsys):
     out = tmp_path / f"seamless_{kind}.png"
