@@ -1,0 +1,29 @@
+"""Analysis of texture exemplars and fitting spectral textures to them.
+
+The future work of Berger's sketch (seed 000): "analyze a given image for
+its statistical properties, and use these properties to generate texture
+tiles and mixing parameters for a similar-looking spectral texture".
+
+Analysis
+    :func:`analyse` (an :class:`ExemplarStats`), :func:`octave_power`,
+    :func:`colour_stats`, :func:`cross_scale`, :func:`dog_bands`.
+Fitting
+    :func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
+    out; :func:`fit_report` for the numbers of a fit.
+
+See ``docs/fitting.md``.
+"""
+
+from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
+
+__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
+           "fit", "fit_report", "FitResult"]
+
+
+def __getattr__(name):
+    # the fitting module pulls in the texture and the sampler (numba): load it on first use
+    if name in ("fit", "fit_report", "FitResult", "prepare_exemplar"):
+        from . import _fit
+
+        return getattr(_fit, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
