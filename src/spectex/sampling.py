@@ -335,10 +335,10 @@ _NEAREST, _LINEAR = 0, 1
 _REPEAT, _CLAMP, _MIRROR = 0, 1, 2
 
 _jit = numba.njit(cache=True, nogil=True, fastmath=True)
-_jit_inline = numba.njit(cache=True, nogil=True, inline="always", fastmath=True)
+_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 
 
-@_jit_inline
+@_jit
 def wrap_index(i, size, mode):
     """Table 8.20: an integer texel coordinate wrapped into [0, size)."""
     if mode == _REPEAT:
@@ -398,25 +398,38 @@ def sample_level(data, base, offsets, widths, heights, d, s, t, linear, wrap_s, 
 
 @_jit_inline
 def sample_at_lod(data, base, offsets, widths, heights, s, t, lam, min_filter, mag_filter, wrap_s, wrap_t):
-    """Sections 8.14.3-8.15: filter selection and mip-map level(s) for a clamped lambda."""
-    if lam <= 0.0 or min_filter <= 1:
-        lin = mag_filter == _LINEAR if lam <= 0.0 else min_filter == _LINEAR
-        return sample_level(data, base, offsets, widths, heights, 0, s, t, lin, wrap_s, wrap_t)
+    """Sections 8.14.3-8.15: filter selection and mip-map level(s) for a clamped lambda.
+
+    Written with two level look-ups at most (one call site each), so that
+    it inlines compactly.
+    """
     q = widths.shape[0] - 1
-    lin = min_filter == 3 or min_filter == 5  # LINEAR_MIPMAP_*
-    if min_filter <= 3:  # *_MIPMAP_NEAREST
-        if lam <= 0.5:
-            d = 0
+    d1 = 0
+    d2 = 0
+    beta = 0.0
+    if lam <= 0.0:
+        lin = mag_filter == _LINEAR
+    elif min_filter <= 1:
+        lin = min_filter == _LINEAR
+    else:
+        lin = min_filter == 3 or min_filter == 5  # LINEAR_MIPMAP_*
+        if min_filter <= 3:  # *_MIPMAP_NEAREST
+            if lam > 0.5:
+                d1 = min(np.int64(math.ceil(lam + 0.5)) - 1, q)
+        elif lam >= q:
+            d1 = q
         else:
-            d = min(np.int64(math.ceil(lam + 0.5)) - 1, q)
-        return sample_level(data, base, offsets, widths, heights, d, s, t, lin, wrap_s, wrap_t)
-    if lam >= q:
-        return sample_level(data, base, offsets, widths, heights, q, s, t, lin, wrap_s, wrap_t)
-    d1 = np.int64(math.floor(lam))
-    beta = lam - d1
+            d1 = np.int64(math.floor(lam))
+            d2 = d1 + 1
+            beta = lam - d1
     r1, g1, b1, a1 = sample_level(data, base, offsets, widths, heights, d1, s, t, lin, wrap_s, wrap_t)
-    r2, g2, b2, a2 = sample_level(data, base, offsets, widths, heights, d1 + 1, s, t, lin, wrap_s, wrap_t)
-    return (r1 + beta * (r2 - r1), g1 + beta * (g2 - g1), b1 + beta * (b2 - b1), a1 + beta * (a2 - a1))
+    if beta > 0.0:
+        r2, g2, b2, a2 = sample_level(data, base, offsets, widths, heights, d2, s, t, lin, wrap_s, wrap_t)
+        r1 += beta * (r2 - r1)
+        g1 += beta * (g2 - g1)
+        b1 += beta * (b2 - b1)
+        a1 += beta * (a2 - a1)
+    return r1, g1, b1, a1
 
 
 @_jit_inline
@@ -425,14 +438,15 @@ def clamp_lod(lam, bias, min_lod, max_lod):
     return min(max(lam, min_lod), max_lod)
 
 
-@_jit
+@_jit_inline
 def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso,
                 bias, min_lod, max_lod, s, t, dsdx, dtdx, dsdy, dtdy):
     """Level of detail from derivatives (8.14.1), then :func:`sample_at_lod`.
 
     With ``max_aniso > 1`` and a mip-map minification filter, the
     EXT_texture_filter_anisotropic recommendation: ``N`` samples along the
-    major axis at ``lambda = log2(Pmax / N)``.
+    major axis at ``lambda = log2(Pmax / N)``. (One call site of
+    :func:`sample_at_lod`, so that it inlines compactly.)
     """
     w0 = widths[0]
     h0 = heights[0]
@@ -443,6 +457,7 @@ def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter
     px = math.sqrt(dudx * dudx + dvdx * dvdx)
     py = math.sqrt(dudy * dudy + dvdy * dvdy)
     pmax = max(px, py)
+    n = 1
     if max_aniso > 1.0 and min_filter >= 2:
         pmin = min(px, py)
         n_max = np.int64(math.floor(max_aniso))
@@ -450,30 +465,27 @@ def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter
             n = n_max
         else:
             n = min(np.int64(math.ceil(pmax / pmin)), n_max)
-        if n > 1:
-            lam = clamp_lod(math.log2(max(pmax / n, 1e-300)), bias, min_lod, max_lod)
-            if px >= py:
-                ds = dsdx
-                dt = dtdx
-            else:
-                ds = dsdy
-                dt = dtdy
-            r = 0.0
-            g = 0.0
-            b = 0.0
-            a = 0.0
-            for i in range(1, n + 1):
-                f = i / (n + 1.0) - 0.5
-                r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + f * ds, t + f * dt,
-                                               lam, min_filter, mag_filter, wrap_s, wrap_t)
-                r += r1
-                g += g1
-                b += b1
-                a += a1
-            inv = 1.0 / n
-            return r * inv, g * inv, b * inv, a * inv
-    lam = clamp_lod(math.log2(max(pmax, 1e-300)), bias, min_lod, max_lod)
-    return sample_at_lod(data, base, offsets, widths, heights, s, t, lam, min_filter, mag_filter, wrap_s, wrap_t)
+    lam = clamp_lod(math.log2(max(pmax / n, 1e-300)), bias, min_lod, max_lod)
+    if px >= py:
+        ds = dsdx
+        dt = dtdx
+    else:
+        ds = dsdy
+        dt = dtdy
+    r = 0.0
+    g = 0.0
+    b = 0.0
+    a = 0.0
+    for i in range(1, n + 1):
+        f = i / (n + 1.0) - 0.5 if n > 1 else 0.0
+        r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + f * ds, t + f * dt,
+                                       lam, min_filter, mag_filter, wrap_s, wrap_t)
+        r += r1
+        g += g1
+        b += b1
+        a += a1
+    inv = 1.0 / n
+    return r * inv, g * inv, b * inv, a * inv
 
 
 @numba.njit(cache=True, parallel=True, nogil=True)

@@ -16,11 +16,12 @@ import numpy as np
 from ..sampling import sample_grad
 
 _jit = numba.njit(cache=True, nogil=True, fastmath=True)
+_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 
 _ALPHA, _DETAIL, _VARIANCE = 0, 1, 2
 
 
-@_jit
+@_jit_inline
 def shade_ground(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
                  min_lod, max_lod, tile_idx, mats, blends, means, opacity, on, anchor, dx, dy, jxx, jyx, jxy, jyy):
     """The spectral texture's colour at a ground point.
