@@ -1,0 +1,374 @@
+"""Fitting a spectral texture to an exemplar photograph.
+
+See :func:`fit` and ``docs/fitting.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validate import check_float, check_image, check_int, check_seed
+from ._stats import analyse, cross_scale
+
+__all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "MIN_SIZE", "MAX_ANALYSIS_SIZE"]
+
+#: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
+MIN_SIZE = 32
+#: Larger exemplars are analysed on a centre crop of this many pixels a side (the pixel scale is kept).
+MAX_ANALYSIS_SIZE = 512
+_GOLDEN = 137.50776405003785
+
+
+def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
+    """The exemplar as the fit uses it: RGB float32 in [0, 1], at most ``max_size`` a side.
+
+    Documented conversions: integers are scaled by their dtype's maximum
+    (16-bit keeps its precision); grey is repeated into R, G and B; an alpha
+    channel (grey + alpha, RGBA) is dropped; an image larger than
+    ``max_size`` on a side is cropped about its centre to ``max_size``
+    (cropping, not downscaling, keeps ``pixel_size`` meaningful).
+
+    Returns
+    -------
+    exemplar : ndarray, shape (h, w, 3), float32
+    notes : list of str
+        One line per conversion made (empty if none).
+
+    Raises
+    ------
+    ValueError
+        For an image under 32 pixels on a side, or a flat (constant) one.
+    """
+    image = check_image("image", image, channels=(None, 1, 2, 3, 4))
+    max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
+    h, w = image.shape[:2]
+    notes = []
+    if min(h, w) < MIN_SIZE:
+        raise ValueError(f"image must be at least {MIN_SIZE}x{MIN_SIZE} pixels to fit a texture to, got {w}x{h}")
+    nch = 1 if image.ndim == 2 else image.shape[2]
+    if nch in (2, 4):
+        notes.append("alpha channel dropped")
+    if nch in (1, 2):
+        grey = image if image.ndim == 2 else image[:, :, 0]
+        rgb = np.repeat(grey[:, :, None], 3, axis=2)
+        notes.append("grey repeated into RGB")
+    else:
+        rgb = image[:, :, :3]
+    if max(h, w) > max_size:
+        th, tw = min(h, max_size), min(w, max_size)
+        y0, x0 = (h - th) // 2, (w - tw) // 2
+        rgb = rgb[y0:y0 + th, x0:x0 + tw]
+        notes.append(f"analysed on the central {tw}x{th} crop of the {w}x{h} image")
+    rgb = np.ascontiguousarray(np.clip(rgb, 0.0, 1.0), dtype=np.float32)
+    if float(rgb.max() - rgb.min()) < 1.0 / 255.0 or float(np.std(rgb.astype(np.float64) @ [0.2126, 0.7152, 0.0722])) < 0.5 / 255:
+        raise ValueError("image is flat (constant): it has no texture to fit")
+    return rgb, notes
+
+
+# --------------------------------------------------------------------------
+# The pieces
+# --------------------------------------------------------------------------
+
+def _luma(rgb: np.ndarray) -> np.ndarray:
+    return rgb[..., :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def _band_axis(n_rows: int, n_cols: int) -> np.ndarray:
+    """``-log2`` of the radial frequency (cycles per pixel) of an FFT grid; band k's centre is k + 1.5."""
+    fy = np.fft.fftfreq(n_rows)[:, None]
+    fx = np.fft.fftfreq(n_cols)[None, :]
+    r = np.hypot(fy, fx)
+    r[0, 0] = 1e-9
+    return -np.log2(r)
+
+
+def _shape_spectrum(tile_rgb: np.ndarray, gains_db: np.ndarray) -> np.ndarray:
+    """Filter each channel by a radial gain, piecewise linear in dB against log frequency.
+
+    ``gains_db[k]`` is the gain at the centre of octave band ``k`` (``2^-(k+1.5)``
+    cycles per pixel), held beyond the first and last centres. Periodic (FFT),
+    so a seamless tile stays seamless; the mean colour is kept.
+    """
+    h, w = tile_rgb.shape[:2]
+    x = _band_axis(h, w)
+    centres = np.arange(len(gains_db)) + 1.5
+    gain = 10.0 ** (np.interp(x, centres, gains_db) / 20.0)
+    gain[0, 0] = 1.0
+    spec = np.fft.fft2(tile_rgb.astype(np.float64), axes=(0, 1))
+    return np.real(np.fft.ifft2(spec * gain[:, :, None], axes=(0, 1)))
+
+
+def _quantile_map(values: np.ndarray, target_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A monotone map (knots x -> y) taking the distribution of ``values`` to the target's."""
+    q = np.linspace(0.0, 1.0, 257)
+    xs = np.quantile(values, q)
+    ys = np.quantile(target_sorted, q)
+    xs, idx = np.unique(xs, return_index=True)
+    return xs, ys[idx]
+
+
+def _alpha_field(tile_rgb: np.ndarray) -> np.ndarray:
+    """Standardised, slightly smoothed luma of the tile (periodic): the alpha's shape."""
+    from scipy import ndimage
+
+    z = ndimage.gaussian_filter(_luma(tile_rgb), 1.0, mode="wrap")
+    z -= z.mean()
+    s = z.std()
+    return z / s if s > 0 else z
+
+
+def _alpha(z: np.ndarray, gain: float) -> np.ndarray:
+    """Alpha = 0.5 + gain z / 4, clipped: gain > 0 hides the finer layers where the coarse one is bright."""
+    return np.clip(0.5 + 0.25 * gain * z, 0.0, 1.0)
+
+
+def _layers(n_layers: int, ratio: float, tile_px: int, pixel_size: float, opacity: float):
+    from ..texture import Layer
+
+    finest = tile_px * pixel_size
+    out = []
+    for k in range(n_layers):
+        size = finest * ratio ** k
+        if k == 0:
+            out.append(Layer(size=size))
+        else:
+            out.append(Layer(size=size, offset=(round((0.382 * k % 1.0) * size, 9), round((0.618 * k % 1.0) * size, 9)),
+                             rotation=round((_GOLDEN * k) % 360.0, 6), opacity=opacity))
+    return out
+
+
+@dataclass
+class FitResult:
+    """A fitted texture and the numbers of its fit (see :func:`fit_report`)."""
+
+    texture: object
+    exemplar: np.ndarray = field(repr=False)
+    pixel_size: float = 1.0
+    notes: list = field(default_factory=list)
+    params: dict = field(default_factory=dict)
+    seconds: float = 0.0
+
+
+class _Problem:
+    """The exemplar's targets and the fast evaluation of a candidate tile (small bakes)."""
+
+    def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, region):
+        from ..metrics import band_power
+
+        self.exemplar = exemplar
+        self.p = pixel_size
+        self.layers = layer_list
+        self.region = region
+        self.target_bands = band_power(exemplar, segment=region)[1]
+        self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
+        self.target_cross = cross_scale(exemplar)["value"]
+        # two regions on the pixel grid (layer 0 sampled at its texel centres): the
+        # exemplar's own place and one far away in the coarse layers
+        far = int(round(tile_px * ratio * 2.37)), int(round(tile_px * ratio * 1.61))
+        self.origins = [(0.0, 0.0), (far[0] * pixel_size, far[1] * pixel_size)]
+
+    def texture(self, colour, alpha):
+        from ..texture import SpectralTexture
+
+        rgba = np.empty(colour.shape[:2] + (4,), dtype=np.float32)
+        rgba[:, :, :3] = np.clip(colour, 0.0, 1.0)
+        rgba[:, :, 3] = alpha
+        return SpectralTexture(rgba, self.layers)
+
+    def bakes(self, colour, alpha):
+        tex = self.texture(colour, alpha)
+        return [tex.bake(self.region, origin=o, pixel_size=self.p) for o in self.origins]
+
+    def band_error(self, bakes):
+        from ..metrics import band_power
+
+        power = np.mean([10.0 ** (band_power(b, segment=self.region)[1] / 10.0) for b in bakes], axis=0)
+        return self.target_bands - 10.0 * np.log10(np.maximum(power, 1e-20))
+
+    def cross(self, bakes):
+        return float(np.mean([cross_scale(b)["value"] for b in bakes]))
+
+    def histogram_step(self, colour, bakes):
+        out = np.empty_like(colour)
+        for c in range(3):
+            vals = np.concatenate([b[:, :, c].ravel() for b in bakes])
+            xs, ys = _quantile_map(vals, self.target_sorted[c])
+            out[:, :, c] = np.interp(colour[:, :, c], xs, ys, left=None, right=None)
+            # beyond the bake's range, continue with unit slope (keeps the tile's extremes ordered)
+            lo, hi = colour[:, :, c] < xs[0], colour[:, :, c] > xs[-1]
+            out[:, :, c][lo] = ys[0] + (colour[:, :, c][lo] - xs[0])
+            out[:, :, c][hi] = ys[-1] + (colour[:, :, c][hi] - xs[-1])
+        return np.clip(out, 0.0, 1.0)
+
+
+def _coarse_slope(power_db: np.ndarray) -> float:
+    """dB per octave over the exemplar's three coarsest bands (towards coarser)."""
+    tail = power_db[-3:]
+    return float(np.polyfit(np.arange(len(tail), dtype=np.float64), tail, 1)[0])
+
+
+def _pick_gain(gains, values, target) -> float:
+    """The alpha gain whose coupling is nearest the target, refined linearly between grid points."""
+    values = np.asarray(values)
+    err = values - target
+    best = int(np.argmin(np.abs(err)))
+    for j in (best - 1, best):
+        if 0 <= j < len(gains) - 1 and err[j] * err[j + 1] <= 0 and err[j] != err[j + 1]:
+            t = err[j] / (err[j] - err[j + 1])
+            return float(gains[j] + t * (gains[j + 1] - gains[j]))
+    return float(gains[best])
+
+
+def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.35,
+        iterations: int = 4, max_size: int = MAX_ANALYSIS_SIZE, seed=0, progress=None,
+        return_result: bool = False):
+    """Fit a spectral texture to an exemplar photograph (Berger's future work).
+
+    The texture is ``layers`` layers of one seamless RGBA tile made from the
+    exemplar. Its finest layer shows the tile texel for exemplar pixel
+    (size ``tile_px * pixel_size``, no offset or rotation), each next layer
+    is ``ratio`` times larger (rotated by the golden angle and offset, so
+    the grids do not line up) and alpha-blended over the finer ones. The
+    fit, all on small bakes of the texture at ``pixel_size``:
+
+    1. **Tile**: the exemplar, cropped to a square about its centre, made
+       seamless (:func:`spectex.tiles.make_seamless`, matched seams).
+    2. **Layer opacities** continue the spectrum: the exemplar's power per
+       octave over its three coarsest bands falls by ``s`` dB per octave
+       (clamped to at most 0: a stationary photograph holds no more power
+       beyond its size); layer ``k >= 1`` gets opacity ``opacity *
+       q^(k-1)`` with ``q = 10^(s log2(ratio) / 20)``, so each coarser layer
+       adds the power the slope asks for at its scale.
+    3. **Alpha** is ``0.5 + g z / 4`` (clipped), ``z`` the tile's
+       standardised, slightly smoothed luma: where the coarse layer is
+       bright (``g > 0``) or dark (``g < 0``) it hides the finer bands.
+       ``g`` is chosen on a grid (refined linearly) so that the bake's
+       cross-scale dependence (:func:`spectex.analysis.cross_scale`,
+       ``value``) matches the exemplar's.
+    4. **Band power and histograms**, alternately, ``iterations`` times: the
+       tile's colour is filtered by a radial gain (piecewise linear in dB
+       against log frequency, periodic) by the difference in dB between the
+       exemplar's and the bake's power per octave, then each colour channel
+       of the tile goes through the monotone map that takes the bake's
+       histogram to the exemplar's (Heeger and Bergen's alternation [2]_,
+       here through the layered texture).
+
+    Bakes are two regions of the exemplar's size (at most 256 x 256) on the
+    pixel grid: the exemplar's own place and one far away in the coarse
+    layers, so that the fit does not tune one lucky region.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        The exemplar, values in [0, 1] (integers scaled by their dtype's
+        maximum); see :func:`prepare_exemplar` for the conversions (grey,
+        alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
+    pixel_size : float
+        World size of one exemplar pixel (metres); ``texture.bake(shape,
+        pixel_size=pixel_size)`` then renders at the exemplar's scale.
+    layers : int
+        Number of layers, 2 to 8.
+    ratio : float
+        Size ratio between neighbouring layers, > 1 (4: two octaves).
+    opacity : float
+        Opacity of the first coarse layer, in (0, 1].
+    iterations : int
+        Alternations of the band-power and histogram steps, >= 1.
+    max_size : int
+        Larger exemplars are analysed on a central crop of this size.
+    seed : int
+        Seed (reserved for randomised tile synthesis; the current steps are
+        deterministic, so equal inputs give equal textures).
+    progress : callable, optional
+        ``progress(done, total)`` after each step.
+    return_result : bool
+        Return a :class:`FitResult` (texture, exemplar used, notes,
+        parameters, time) instead of the texture alone.
+
+    Returns
+    -------
+    SpectralTexture or FitResult
+
+    References
+    ----------
+    .. [1] D. R. Berger, "Spectral texturing for real-time applications",
+       SIGGRAPH 2003 Sketches and Applications (the model; the fit is its
+       future work).
+    .. [2] D. J. Heeger and J. R. Bergen, "Pyramid-based texture
+       analysis/synthesis", SIGGRAPH 1995.
+    .. [3] J. Portilla and E. P. Simoncelli, "A parametric texture model
+       based on joint statistics of complex wavelet coefficients", IJCV
+       40(1), 2000 (cross-scale dependence).
+    .. [4] L. Moisan, "Periodic plus smooth image decomposition", JMIV 39(2),
+       2011 (the seamless tile).
+    """
+    import time
+
+    from ..tiles import make_seamless
+
+    start = time.perf_counter()
+    pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+    layers = check_int("layers", layers, minimum=2, maximum=8)
+    ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
+    opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
+    iterations = check_int("iterations", iterations, minimum=1, maximum=50)
+    seed = check_seed("seed", seed)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable, got {type(progress).__name__}")
+    exemplar, notes = prepare_exemplar(image, max_size=max_size)
+    h, w = exemplar.shape[:2]
+    total = 2 + 5 + 2 * iterations
+    done = 0
+
+    def tick():
+        nonlocal done
+        done += 1
+        if progress is not None:
+            progress(done, total)
+
+    n = min(h, w)
+    tile0 = make_seamless(exemplar, size=(n, n))[:, :, :3].astype(np.float64)
+    tick()
+    region = (min(h, 256), min(w, 256))
+    from ..metrics import band_power
+
+    slope = min(0.0, _coarse_slope(band_power(exemplar, segment=region)[1]))
+    q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
+    from ..texture import Layer
+
+    base = _layers(layers, ratio, n, pixel_size, 1.0)
+    layer_list = [base[0]] + [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation,
+                                    opacity=round(opacity * q ** (k - 1), 6))
+                              for k, lay in enumerate(base) if k >= 1]
+    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region)
+    z = _alpha_field(tile0)
+    tick()
+    grid = (-3.0, -1.5, 0.0, 1.5, 3.0)
+    values = []
+    for g in grid:
+        values.append(problem.cross(problem.bakes(tile0, _alpha(z, g))))
+        tick()
+    gain = _pick_gain(grid, values, problem.target_cross)
+    alpha = _alpha(z, gain)
+    colour = tile0
+    gains_db = np.zeros(len(problem.target_bands))
+    for _ in range(iterations):
+        err = problem.band_error(problem.bakes(colour, alpha))
+        step = 0.8 * err
+        gains_db += step
+        colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
+        tick()
+        colour = problem.histogram_step(colour, problem.bakes(colour, alpha))
+        tick()
+    texture = problem.texture(colour, alpha)
+    if not return_result:
+        return texture
+    params = {"tile_px": n, "layers": layers, "ratio": ratio, "coarse_slope_db_per_octave": slope,
+              "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
+              "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
+              "target_cross_scale": problem.target_cross}
+    return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
+                     seconds=time.perf_counter() - start)
