@@ -36,7 +36,7 @@ def views():
 
     return {
         "ground": (Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0), 8.0),
-        "closeup": (Camera((3.0, 2.0, 0.6), yaw=35.0, pitch=-65.0, fov=60.0), 1.0),
+        "closeup": (Camera((3.0, 2.0, 1.6), yaw=35.0, pitch=-55.0, fov=60.0), 2.0),
         "aerial": (Camera((0.0, -1500.0, 1200.0), yaw=20.0, pitch=-40.0, fov=60.0), 4.0),
     }
 
