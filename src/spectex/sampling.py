@@ -385,10 +385,10 @@ def sample_level(data, base, offsets, widths, heights, d, s, t, linear, wrap_s, 
     k10 = off + j0 * w + i1
     k01 = off + j1 * w + i0
     k11 = off + j1 * w + i1
-    w00 = (1.0 - a) * (1.0 - b)
-    w10 = a * (1.0 - b)
-    w01 = (1.0 - a) * b
-    w11 = a * b
+    w00 = np.float32((1.0 - a) * (1.0 - b))
+    w10 = np.float32(a * (1.0 - b))
+    w01 = np.float32((1.0 - a) * b)
+    w11 = np.float32(a * b)
     r = w00 * data[k00, 0] + w10 * data[k10, 0] + w01 * data[k01, 0] + w11 * data[k11, 0]
     g = w00 * data[k00, 1] + w10 * data[k10, 1] + w01 * data[k01, 1] + w11 * data[k11, 1]
     bl = w00 * data[k00, 2] + w10 * data[k10, 2] + w01 * data[k01, 2] + w11 * data[k11, 2]
