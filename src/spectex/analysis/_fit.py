@@ -20,6 +20,11 @@ MIN_SIZE = 32
 #: Larger exemplars are analysed on a centre crop of this many pixels a side (the pixel scale is kept).
 MAX_ANALYSIS_SIZE = 512
 _GOLDEN = 137.50776405003785
+#: Most power per octave the continuation may gain towards coarser scales (dB per octave).
+MAX_COARSE_SLOPE = -1.5
+_DEBUG = False
+#: Far-away bake regions used by the fit, in units of the second coarse layer's size.
+_FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577))
 
 
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
@@ -111,10 +116,18 @@ def _quantile_map(values: np.ndarray, target_sorted: np.ndarray) -> tuple[np.nda
 
 
 def _alpha_field(tile_rgb: np.ndarray) -> np.ndarray:
-    """Standardised, slightly smoothed luma of the tile (periodic): the alpha's shape."""
+    """Standardised luma of the tile, band-passed (periodic): the alpha's shape.
+
+    Smoothed by a Gaussian of 1 texel (no pixel noise in the alpha) and with
+    the tile's coarsest structure (a Gaussian of 1/16 of the tile) removed,
+    so that the first coarse layer's alpha varies within an exemplar-sized
+    region instead of shifting whole regions' detail up or down.
+    """
     from scipy import ndimage
 
-    z = ndimage.gaussian_filter(_luma(tile_rgb), 1.0, mode="wrap")
+    lum = _luma(tile_rgb)
+    z = ndimage.gaussian_filter(lum, 1.0, mode="wrap")
+    z -= ndimage.gaussian_filter(lum, max(1.0, lum.shape[0] / 16.0), mode="wrap")
     z -= z.mean()
     s = z.std()
     return z / s if s > 0 else z
@@ -155,20 +168,23 @@ class FitResult:
 class _Problem:
     """The exemplar's targets and the fast evaluation of a candidate tile (small bakes)."""
 
-    def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, region):
+    def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, segment, n_regions=3):
         from ..metrics import band_power
 
         self.exemplar = exemplar
         self.p = pixel_size
         self.layers = layer_list
-        self.region = region
-        self.target_bands = band_power(exemplar, segment=region)[1]
+        self.segment = segment
+        # small exemplars: regions of twice the size (Welch segments of the exemplar's size)
+        self.region = tuple(2 * s if max(segment) <= 128 else s for s in segment)
+        self.target_bands = band_power(exemplar, segment=segment)[1]
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         self.target_cross = cross_scale(exemplar)["value"]
         # two regions on the pixel grid (layer 0 sampled at its texel centres): the
         # exemplar's own place and one far away in the coarse layers
-        far = int(round(tile_px * ratio * 2.37)), int(round(tile_px * ratio * 1.61))
-        self.origins = [(0.0, 0.0), (far[0] * pixel_size, far[1] * pixel_size)]
+        self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * pixel_size,
+                                          round(tile_px * ratio ** 2 * fy) * pixel_size)
+                                         for fx, fy in _FAR[:n_regions - 1]]
 
     def texture(self, colour, alpha):
         from ..texture import SpectralTexture
@@ -185,14 +201,21 @@ class _Problem:
     def band_error(self, bakes):
         from ..metrics import band_power
 
-        power = np.mean([10.0 ** (band_power(b, segment=self.region)[1] / 10.0) for b in bakes], axis=0)
+        power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in bakes], axis=0)
         return self.target_bands - 10.0 * np.log10(np.maximum(power, 1e-20))
 
     def cross(self, bakes):
         return float(np.mean([cross_scale(b)["value"] for b in bakes]))
 
-    def histogram_step(self, colour, bakes):
+    def histogram_step(self, colour, bakes, *, affine=False):
         out = np.empty_like(colour)
+        if affine:
+            # mean and standard deviation only: every band scales alike
+            for c in range(3):
+                vals = np.concatenate([b[:, :, c].ravel() for b in bakes]).astype(np.float64)
+                t = self.target_sorted[c]
+                out[:, :, c] = colour[:, :, c] + (t.mean() - vals.mean())
+            return np.clip(out, 0.0, 1.0)
         for c in range(3):
             vals = np.concatenate([b[:, :, c].ravel() for b in bakes])
             xs, ys = _quantile_map(vals, self.target_sorted[c])
@@ -320,7 +343,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     h, w = exemplar.shape[:2]
-    total = 2 + 5 + 2 * iterations
+    total = 2 + 5 + 1 + 2 * (iterations + 1)
     done = 0
 
     def tick():
@@ -335,7 +358,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     region = (min(h, 256), min(w, 256))
     from ..metrics import band_power
 
-    slope = min(0.0, _coarse_slope(band_power(exemplar, segment=region)[1]))
+    slope = min(MAX_COARSE_SLOPE, _coarse_slope(band_power(exemplar, segment=region)[1]))
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
     from ..texture import Layer
 
@@ -346,23 +369,58 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region)
     z = _alpha_field(tile0)
     tick()
+    colour = tile0
+    gains_db = np.zeros(len(problem.target_bands))
+
+    def spectral_and_histogram(colour, alpha, affine=True):
+        err = problem.band_error(problem.bakes(colour, alpha))
+        if _DEBUG:
+            print("band error", np.round(err, 2))
+        step = np.clip(0.8 * err, -6.0, 6.0)
+        gains_db[:] += step
+        colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
+        tick()
+        colour = problem.histogram_step(colour, problem.bakes(colour, alpha), affine=affine)
+        tick()
+        return colour
+
+    # one round with a neutral alpha, then the alpha gain on a grid, then the rest
+    colour = spectral_and_histogram(colour, _alpha(z, 0.0))
     grid = (-3.0, -1.5, 0.0, 1.5, 3.0)
     values = []
     for g in grid:
-        values.append(problem.cross(problem.bakes(tile0, _alpha(z, g))))
+        values.append(problem.cross(problem.bakes(colour, _alpha(z, g))))
         tick()
     gain = _pick_gain(grid, values, problem.target_cross)
     alpha = _alpha(z, gain)
-    colour = tile0
-    gains_db = np.zeros(len(problem.target_bands))
-    for _ in range(iterations):
-        err = problem.band_error(problem.bakes(colour, alpha))
-        step = 0.8 * err
-        gains_db += step
-        colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
+    for _ in range(iterations - 1):
+        colour = spectral_and_histogram(colour, alpha)
+    # the steps move the dependence a little: check the gain's neighbours once more
+    near = sorted({float(np.clip(gain + d, grid[0], grid[-1])) for d in (-0.75, 0.0, 0.75)})
+    near_values = [problem.cross(problem.bakes(colour, _alpha(z, g))) for g in near]
+    tick()
+    best = int(np.argmin(np.abs(np.asarray(near_values) - problem.target_cross)))
+    if near[best] != gain:
+        gain = near[best]
+        alpha = _alpha(z, gain)
+        colour = spectral_and_histogram(colour, alpha)
+    else:
         tick()
-        colour = problem.histogram_step(colour, problem.bakes(colour, alpha))
         tick()
+    if _DEBUG:
+        print("alpha grid", dict(zip(grid, np.round(values, 3))), "near", dict(zip(near, np.round(near_values, 3))))
+    # the exact histograms (a monotone map per channel), then a last band-power step
+    colour = problem.histogram_step(colour, problem.bakes(colour, alpha))
+    err = problem.band_error(problem.bakes(colour, alpha))
+    if _DEBUG:
+        print("band error after the histograms", np.round(err, 2))
+    colour = np.clip(_shape_spectrum(colour, np.clip(err, -6.0, 6.0)), 0.0, 1.0)
+    if _DEBUG:
+        bakes = problem.bakes(colour, alpha)
+        from ..metrics import histogram_w1
+        print("final band error", np.round(problem.band_error(bakes), 2), "w1",
+              [round(float(histogram_w1(problem.exemplar, b)[0]), 3) for b in bakes],
+              "cross", round(problem.cross(bakes), 3), "target", round(problem.target_cross, 3))
     texture = problem.texture(colour, alpha)
     if not return_result:
         return texture
