@@ -102,17 +102,24 @@ def _shader_source(name: str) -> str:
     return resources.files("spectex.render").joinpath("shaders", name).read_text(encoding="utf-8")
 
 
-def fragment_source(n_layers: int, n_tiles: int, tile_of_layer) -> str:
+def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=None, *,
+                    anisotropic: bool = False) -> str:
     """The ground shader for a texture: layer count, tile count, unrolled layer calls.
 
     Sampler arrays may only be indexed by constants in GLSL 3.30, so each
-    layer gets its own call with its tile's index written in.
+    layer gets its own call with its tile's index and its blend code
+    (0 alpha, 1 detail, 2 variance) written in, so that the compiler folds
+    the blend's branches away. The
+    anisotropic path is compiled in only when asked for (``ANISO``): even
+    untaken, its loop costs llvmpipe about a third of the frame.
     """
-    calls = "\n".join(f"        shade_layer({k}, u_tile[{int(t)}], first, c, p, jx, jy);"
-                      for k, t in enumerate(tile_of_layer))
+    if blend_of_layer is None:
+        blend_of_layer = [0] * n_layers
+    calls = "\n".join(f"        shade_layer({k}, {int(b)}, u_tile[{int(t)}], first, c, p, jx, jy);"
+                      for k, (t, b) in enumerate(zip(tile_of_layer, blend_of_layer)))
     src = _shader_source("ground.frag.glsl")
     return (src.replace("@N_LAYERS@", str(int(n_layers))).replace("@N_TILES@", str(int(n_tiles)))
-            .replace("//@LAYERS@", calls))
+            .replace("@ANISO@", "1" if anisotropic else "0").replace("//@LAYERS@", calls))
 
 
 class GLRenderer:
@@ -139,24 +146,39 @@ class GLRenderer:
 
         self._mgl = moderngl
         self.texture = texture
+        self._programs = {}
+        self.program = self.vao = None
+        self._fbos = {}
+        self._filter = None
         try:
-            self.program = self.ctx.program(
-                vertex_shader=_shader_source("fullscreen.vert.glsl"),
-                fragment_shader=fragment_source(len(texture.layers), len(texture.tiles),
-                                                [layer.tile for layer in texture.layers]))
-            self.vao = self.ctx.vertex_array(self.program, [])
             self.textures = [self._upload(levels) for levels in texture.mip_levels()]
+            self._use_program(anisotropic=False)
         except Exception:
             self.release()
             raise
-        self._fbos = {}
-        self._filter = None
+
+    def _use_program(self, *, anisotropic: bool):
+        """Make the isotropic or the anisotropic program current (compiled on first use)."""
+        if anisotropic not in self._programs:
+            texture = self.texture
+            program = self.ctx.program(
+                vertex_shader=_shader_source("fullscreen.vert.glsl"),
+                fragment_shader=fragment_source(len(texture.layers), len(texture.tiles),
+                                                [layer.tile for layer in texture.layers],
+                                                [("alpha", "detail", "variance").index(layer.blend)
+                                                 for layer in texture.layers],
+                                                anisotropic=anisotropic))
+            self._programs[anisotropic] = (program, self.ctx.vertex_array(program, []))
+            self.program, self.vao = self._programs[anisotropic]
+            self._set_static_uniforms()
+        self.program, self.vao = self._programs[anisotropic]
+
+    def _set_static_uniforms(self):
+        texture = self.texture
         self._set_uniform("u_tile", list(range(len(self.textures))))
         h, w = texture.tile_shape
         self._set_uniform("u_tex_size", (float(w), float(h)))
         self._set_uniform("u_mat", [tuple(float(v) for v in layer.matrix().reshape(-1)) for layer in texture.layers])
-        self._set_uniform("u_blend", [("alpha", "detail", "variance").index(layer.blend)
-                                      for layer in texture.layers])
         self._set_uniform("u_opacity", [float(layer.opacity) for layer in texture.layers])
         means = texture.mean_colours()
         self._set_uniform("u_mean", [tuple(float(v) for v in means[layer.tile]) for layer in texture.layers])
@@ -218,11 +240,11 @@ class GLRenderer:
         for tex in getattr(self, "textures", []):
             tex.release()
         self.textures = []
-        for name in ("vao", "program"):
-            obj = getattr(self, name, None)
-            if obj is not None:
-                obj.release()
-                setattr(self, name, None)
+        for program, vao in getattr(self, "_programs", {}).values():
+            vao.release()
+            program.release()
+        self._programs = {}
+        self.program = self.vao = None
         if self._own_ctx and getattr(self, "ctx", None) is not None:
             self.ctx.release()
             self.ctx = None
@@ -251,6 +273,7 @@ class GLRenderer:
             for tex in self.textures:
                 tex.filter = (min_f, mag_f)
             self._filter = name
+        self._use_program(anisotropic=anisotropy > 1.0 and "mipmap" in name)
         n = len(self.texture.layers)
         enabled = [True] * n if enabled is None else list(enabled)
         if len(enabled) != n:

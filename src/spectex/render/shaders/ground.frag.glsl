@@ -2,10 +2,12 @@
 // The spectral texture on the ground plane, with sky and haze.
 // This shader implements docs/sampling.md, section by section; the CPU
 // reference (spectex/sampling.py, spectex/render/_kernels.py) implements the
-// same text. gl.py fills in N_LAYERS, N_TILES and the unrolled layer calls.
+// same text. gl.py fills in N_LAYERS, N_TILES, ANISO and the unrolled layer
+// calls.
 
 #define N_LAYERS @N_LAYERS@
 #define N_TILES @N_TILES@
+#define ANISO @ANISO@             // 1: compile the anisotropic path
 
 uniform vec2 u_size;          // framebuffer width, height in pixels
 uniform float u_height;       // camera altitude (z > 0)
@@ -25,7 +27,6 @@ uniform int u_mipmapped;      // 1 when the minification filter uses mip-maps
 
 uniform vec2 u_anchor[N_LAYERS];  // per layer: tile coords of the camera's ground point, mod 2
 uniform vec4 u_mat[N_LAYERS];     // per layer: (m00, m01, m10, m11), world -> tile coords
-uniform int u_blend[N_LAYERS];    // 0 alpha, 1 detail, 2 variance
 uniform vec3 u_mean[N_LAYERS];    // per layer: its tile's mean colour (1 x 1 level)
 uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
 uniform int u_on[N_LAYERS];       // layer toggles
@@ -40,6 +41,7 @@ vec4 sample_grad(sampler2D tex, vec2 st, vec2 dx, vec2 dy) {
     float px = length(ux);
     float py = length(uy);
     float pmax = max(px, py);
+#if ANISO
     if (u_max_aniso > 1.0 && u_mipmapped == 1) {
         float pmin = min(px, py);
         float n_max = floor(u_max_aniso);
@@ -54,11 +56,13 @@ vec4 sample_grad(sampler2D tex, vec2 st, vec2 dx, vec2 dy) {
             return acc / n;
         }
     }
+#endif
     return textureLod(tex, st, log2(max(pmax, 1e-30)));
 }
 
-// Section "Layer compositing".
-void shade_layer(int k, sampler2D tex, inout bool first, inout vec3 c, vec2 p, vec2 jx, vec2 jy) {
+// Section "Layer compositing". blend: 0 alpha, 1 detail, 2 variance (a
+// constant at each call site, written in by gl.py).
+void shade_layer(int k, int blend, sampler2D tex, inout bool first, inout vec3 c, vec2 p, vec2 jx, vec2 jy) {
     if (u_on[k] == 0) return;
     vec4 m = u_mat[k];
     vec2 st = u_anchor[k] + vec2(m.x * p.x + m.y * p.y, m.z * p.x + m.w * p.y);
@@ -69,9 +73,9 @@ void shade_layer(int k, sampler2D tex, inout bool first, inout vec3 c, vec2 p, v
     if (first) {
         c = x.rgb;
         first = false;
-    } else if (u_blend[k] == 0) {
+    } else if (blend == 0) {
         c = a * x.rgb + (1.0 - a) * c;
-    } else if (u_blend[k] == 1) {
+    } else if (blend == 1) {
         c = 2.0 * x.rgb * c;
     } else {
         vec3 mu = u_mean[k];
