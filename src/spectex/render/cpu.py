@@ -18,7 +18,7 @@ from .camera import Atmosphere, Camera, check_size
 __all__ = ["render_cpu"]
 
 
-def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, supersample=1, mipmaps=True,
+def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, supersample=1,
                atmosphere=None, enabled=None):
     """Render ``texture`` on the ground plane as seen by ``camera``.
 
@@ -29,14 +29,13 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
     size : (int, int)
         ``(height, width)`` of the picture, within ``MAX_RENDER_PIXELS``.
     filter : str
-        Minification filter (``spectex.sampling.FILTERS``, or "trilinear").
+        Minification filter (``spectex.sampling.FILTERS``, or "trilinear");
+        ``"linear"`` or ``"nearest"`` sample level 0 only (no mip-mapping).
     anisotropy : float
         Maximum anisotropy, 1 (off) to 16.
     supersample : int
         ``n x n`` samples per pixel, box-filtered (each with its own, ``n``
         times smaller, footprint).
-    mipmaps : bool
-        False samples level 0 only (``filter`` should then be "linear" or "nearest").
     atmosphere : Atmosphere, optional
     enabled : sequence of bool, optional
         Per layer, whether it is drawn (the viewer's toggles).
@@ -56,7 +55,7 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
     h, w = check_size(size, supersample)
     anisotropy = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
     atmosphere = Atmosphere() if atmosphere is None else atmosphere
-    args = texture.packed(filter=filter, anisotropy=anisotropy, mipmaps=mipmaps, enabled=enabled)
+    args = texture.packed(filter=filter, anisotropy=anisotropy, enabled=enabled)
     x, y, z = camera.position
     anchor = texture.anchor_coords(x, y)
     fwd, right, up = camera.basis()
