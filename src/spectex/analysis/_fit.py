@@ -100,10 +100,13 @@ def _shape_spectrum(tile_rgb: np.ndarray, gains_db: np.ndarray) -> np.ndarray:
     h, w = tile_rgb.shape[:2]
     x = _band_axis(h, w)
     centres = np.arange(len(gains_db)) + 1.5
-    gain = 10.0 ** (np.interp(x, centres, gains_db) / 20.0)
+    import scipy.fft as sfft
+
+    gain = 10.0 ** (np.interp(x[:, : w // 2 + 1], centres, gains_db) / 20.0)
     gain[0, 0] = 1.0
-    spec = np.fft.fft2(tile_rgb.astype(np.float64), axes=(0, 1))
-    return np.real(np.fft.ifft2(spec * gain[:, :, None], axes=(0, 1)))
+    spec = sfft.rfft2(tile_rgb.astype(np.float32), axes=(0, 1), workers=2)
+    spec *= gain[:, :, None].astype(np.float32)
+    return sfft.irfft2(spec, s=(h, w), axes=(0, 1), workers=2).astype(np.float64)
 
 
 def _quantile_map(values: np.ndarray, target_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -204,6 +207,11 @@ class _Problem:
         power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in bakes], axis=0)
         return self.target_bands - 10.0 * np.log10(np.maximum(power, 1e-20))
 
+    def bakes_first(self, colour, alpha):
+        """The exemplar's own region only (for the alpha-gain search)."""
+        tex = self.texture(colour, alpha)
+        return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
+
     def cross(self, bakes):
         return float(np.mean([cross_scale(b)["value"] for b in bakes]))
 
@@ -245,8 +253,8 @@ def _pick_gain(gains, values, target) -> float:
     return float(gains[best])
 
 
-def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.35,
-        iterations: int = 4, max_size: int = MAX_ANALYSIS_SIZE, seed=0, progress=None,
+def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.25,
+        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0, progress=None,
         return_result: bool = False):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
@@ -300,11 +308,17 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         Opacity of the first coarse layer, in (0, 1].
     iterations : int
         Alternations of the band-power and histogram steps, >= 1.
+    tile_size : int, optional
+        Tile side in texels. Default: the exemplar's shorter side, or four
+        times it up to 512 for smaller exemplars. A tile larger than the
+        exemplar is synthesised from it by tileable image quilting
+        (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
+        the finest layer does not repeat at the exemplar's period; otherwise
+        it is the exemplar's central crop made seamless.
     max_size : int
         Larger exemplars are analysed on a central crop of this size.
     seed : int
-        Seed (reserved for randomised tile synthesis; the current steps are
-        deterministic, so equal inputs give equal textures).
+        Seed of the quilting (equal inputs and seed give equal textures).
     progress : callable, optional
         ``progress(done, total)`` after each step.
     return_result : bool
@@ -327,6 +341,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        40(1), 2000 (cross-scale dependence).
     .. [4] L. Moisan, "Periodic plus smooth image decomposition", JMIV 39(2),
        2011 (the seamless tile).
+    .. [5] A. A. Efros and W. T. Freeman, "Image quilting for texture
+       synthesis and transfer", SIGGRAPH 2001 (the larger tile).
     """
     import time
 
@@ -352,8 +368,18 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         if progress is not None:
             progress(done, total)
 
-    n = min(h, w)
-    tile0 = make_seamless(exemplar, size=(n, n))[:, :, :3].astype(np.float64)
+    if tile_size is None:
+        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
+    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
+    if n <= min(h, w):
+        tile0 = make_seamless(exemplar, size=(n, n))[:, :, :3].astype(np.float64)
+        tile_method = "seamless crop"
+    else:
+        from ..synthesis import quilt
+
+        block = int(np.clip(min(h, w) // 4, 16, 64))
+        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, seed=seed).astype(np.float64)
+        tile_method = f"tileable quilt (block {block})"
     tick()
     region = (min(h, 256), min(w, 256))
     from ..metrics import band_power
@@ -366,7 +392,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     layer_list = [base[0]] + [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation,
                                     opacity=round(opacity * q ** (k - 1), 6))
                               for k, lay in enumerate(base) if k >= 1]
-    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region)
+    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region, n_regions=2 if min(region) >= 256 else 3)
     z = _alpha_field(tile0)
     tick()
     colour = tile0
@@ -389,7 +415,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     grid = (-3.0, -1.5, 0.0, 1.5, 3.0)
     values = []
     for g in grid:
-        values.append(problem.cross(problem.bakes(colour, _alpha(z, g))))
+        values.append(problem.cross(problem.bakes_first(colour, _alpha(z, g))))
         tick()
     gain = _pick_gain(grid, values, problem.target_cross)
     alpha = _alpha(z, gain)
@@ -397,7 +423,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         colour = spectral_and_histogram(colour, alpha)
     # the steps move the dependence a little: check the gain's neighbours once more
     near = sorted({float(np.clip(gain + d, grid[0], grid[-1])) for d in (-0.75, 0.0, 0.75)})
-    near_values = [problem.cross(problem.bakes(colour, _alpha(z, g))) for g in near]
+    near_values = [problem.cross(problem.bakes_first(colour, _alpha(z, g))) for g in near]
     tick()
     best = int(np.argmin(np.abs(np.asarray(near_values) - problem.target_cross)))
     if near[best] != gain:
@@ -424,9 +450,50 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     texture = problem.texture(colour, alpha)
     if not return_result:
         return texture
-    params = {"tile_px": n, "layers": layers, "ratio": ratio, "coarse_slope_db_per_octave": slope,
+    params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio, "coarse_slope_db_per_octave": slope,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
               "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
               "target_cross_scale": problem.target_cross}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)
+
+
+def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2) -> dict:
+    """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
+
+    The texture is baked over ``scale`` times the exemplar's size (each
+    side) at ``pixel_size`` from ``origin`` (keep the origin a whole number
+    of pixels, so that the finest layer is sampled at its texel centres as
+    the fit did), and compared with the exemplar (prepared as by
+    :func:`prepare_exemplar`: grey becomes RGB, alpha is dropped, huge
+    images are cropped).
+
+    Returns
+    -------
+    dict
+        ``band_power_distance_db`` (RMS over the bands the exemplar holds,
+        Welch segments of the exemplar's size, :func:`spectex.metrics.band_power_distance`),
+        ``band_power_exemplar_db`` and ``band_power_texture_db`` (lists),
+        ``histogram_w1`` (per channel), ``cross_scale_exemplar`` and
+        ``cross_scale_texture`` (the ``value`` of
+        :func:`spectex.analysis.cross_scale`), ``amplitude_exemplar`` and
+        ``amplitude_texture`` (its ``amplitude``), ``bake_shape``.
+    """
+    from ..metrics import band_power, band_power_distance, histogram_w1
+
+    exemplar, _ = prepare_exemplar(image)
+    scale = check_int("scale", scale, minimum=1, maximum=8)
+    h, w = exemplar.shape[:2]
+    bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+    ce, cb = cross_scale(exemplar), cross_scale(bake)
+    return {
+        "bake_shape": [scale * h, scale * w],
+        "band_power_distance_db": band_power_distance(exemplar, bake),
+        "band_power_exemplar_db": band_power(exemplar)[1].tolist(),
+        "band_power_texture_db": band_power(bake, segment=(h, w))[1].tolist(),
+        "histogram_w1": histogram_w1(exemplar, bake).tolist(),
+        "cross_scale_exemplar": ce["value"],
+        "cross_scale_texture": cb["value"],
+        "amplitude_exemplar": ce["amplitude"],
+        "amplitude_texture": cb["amplitude"],
+    }

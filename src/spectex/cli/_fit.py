@@ -1,0 +1,162 @@
+"""``spectex fit``: fit a spectral texture to a photograph."""
+
+from __future__ import annotations
+
+from . import _common
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "fit",
+        help="fit a spectral texture (tile, layer scales, alpha, colours) to a photograph",
+        description=(
+            "Analyse a photograph of a texture (power per octave, colour histograms, cross-scale "
+            "dependence) and fit a layered spectral texture to it: a seamless tile made from the "
+            "photograph, layer scales that continue its spectrum to coarser scales, an alpha "
+            "channel that reproduces how its fine detail depends on the coarse bands, and tile "
+            "colours that give its histograms. Writes into DIR: texture.toml and "
+            "texture.tile.png (load with spectex render/view), comparison.png (exemplar | render "
+            "at the same scale | render of 8x the area), band_power.png and histograms.png. "
+            "Conversions: grey is repeated into RGB, an alpha channel is dropped, 16-bit keeps "
+            "its precision, images over 512 pixels on a side are analysed on their central "
+            "512 x 512 crop (said in the output). Nothing is written if anything fails."
+        ),
+    )
+    p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR",
+                   help="output folder (created; files in an existing folder are replaced)")
+    p.add_argument("--pixel-size", type=_common.positive_float, default=1.0,
+                   help="world size of one photograph pixel, metres (default: 1)")
+    p.add_argument("--layers", type=_common.positive_int, default=5, help="number of layers, 2 to 8 (default: 5)")
+    p.add_argument("--ratio", type=_common.positive_float, default=4.0,
+                   help="size ratio between neighbouring layers (default: 4)")
+    p.add_argument("--opacity", type=_common.positive_float, default=0.25,
+                   help="opacity of the first coarse layer (default: 0.25)")
+    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.set_defaults(func=run)
+
+
+_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+
+
+def _plots(folder, exemplar, same, large):
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from spectex.metrics import band_power
+
+    fig = Figure(figsize=(6.4, 4.4), dpi=100)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    h, w = exemplar.shape[:2]
+    for img, label, style, seg in ((exemplar, "exemplar", "o-", None), (same, "render, same scale", "s--", (h, w)),
+                                   (large, "render, 8x the area", "^:", None)):
+        bands, power = band_power(img, segment=seg)
+        centre = np.sqrt(bands[:, 0] * np.minimum(bands[:, 1], 0.5))
+        ax.semilogx(1.0 / centre, power, style, label=label)
+    ax.set_xlabel("wavelength at the band centre (pixels)")
+    ax.set_ylabel("power per octave band (dB)")
+    ax.set_title("power per octave band: exemplar and fitted texture", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=9)
+    fig.tight_layout()
+    fig.savefig(folder / "band_power.png", format="png")
+
+    fig = Figure(figsize=(9.6, 3.2), dpi=100)
+    FigureCanvasAgg(fig)
+    edges = np.linspace(0.0, 1.0, 65)
+    for c, name in enumerate(("red", "green", "blue")):
+        ax = fig.add_subplot(1, 3, c + 1)
+        ax.hist(exemplar[:, :, c].ravel(), bins=edges, density=True, histtype="step", color="0.2", label="exemplar")
+        ax.hist(same[:, :, c].ravel(), bins=edges, density=True, histtype="step", color=f"C{c}", label="render")
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel("value")
+        if c == 0:
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(folder / "histograms.png", format="png")
+
+
+def _comparison(exemplar, same, large):
+    import numpy as np
+
+    H = large.shape[0]
+    gap = 8
+    width = exemplar.shape[1] + same.shape[1] + large.shape[1] + 2 * gap
+    out = np.ones((H, width, 3), dtype=np.float32)
+    x = 0
+    for img in (exemplar, same, large):
+        out[:img.shape[0], x:x + img.shape[1]] = img
+        x += img.shape[1] + gap
+    return out
+
+
+def run(args) -> int | None:
+    import contextlib
+    import math
+    import os
+    import shutil
+    import tempfile
+    import time
+    from pathlib import Path
+
+    from spectex.analysis import fit, prepare_exemplar
+    from spectex.io import read_image, write_image
+
+    start = time.perf_counter()
+    out = Path(args.output)
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise ValueError(f"output folder's parent does not exist: '{parent}'")
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"output must be a folder, got the file '{out}'")
+    photo = read_image(args.photo, name="photo")
+    exemplar, notes = prepare_exemplar(photo)
+    with _common.Progress("fitting") as bar:
+        result = fit(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
+                     opacity=args.opacity,
+                     seed=args.seed, progress=bar, return_result=True)
+    fit_seconds = time.perf_counter() - start
+    texture = result.texture
+    h, w = exemplar.shape[:2]
+    same = texture.bake((h, w), pixel_size=args.pixel_size)
+    side = math.sqrt(8.0)
+    large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=args.pixel_size)
+    # the numbers from the renders made anyway (fit_report bakes its own region)
+    from spectex.analysis import cross_scale
+    from spectex.metrics import band_power_distance, histogram_w1
+
+    numbers = {"band_power_distance_db": band_power_distance(exemplar, large),
+               "histogram_w1": histogram_w1(exemplar, large).tolist(),
+               "cross_scale_texture": cross_scale(same)["value"],
+               "cross_scale_exemplar": result.params["target_cross_scale"]}
+
+    tmp = Path(tempfile.mkdtemp(prefix=".spectex-fit-", dir=parent))
+    try:
+        texture.save(tmp / "texture.toml")
+        write_image(tmp / "comparison.png", _comparison(exemplar, same, large))
+        _plots(tmp, exemplar, same, large)
+        if not out.exists():
+            os.replace(tmp, out)
+        else:
+            for name in _FILES:
+                os.replace(tmp / name, out / name)
+            shutil.rmtree(tmp)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            shutil.rmtree(tmp)
+        raise
+    for note in notes:
+        _common.report(f"note: {note}")
+    pr = result.params
+    _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
+                   f"{args.photo} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
+    _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
+                   f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
+    w1 = max(numbers["histogram_w1"])
+    _common.report(f"  at the exemplar's scale (render of 8x the area): band power {numbers['band_power_distance_db']:.2f} dB RMS, "
+                   f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers['cross_scale_texture']:+.2f} "
+                   f"(exemplar {numbers['cross_scale_exemplar']:+.2f})")
+    _common.report(f"wrote {', '.join(_FILES)} to {out}/")
+    return 0
