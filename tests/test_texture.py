@@ -158,9 +158,6 @@ def test_texture_save_load_round_trip(tmp_path, paper_tile):
     np.testing.assert_array_equal(back.bake((16, 16), pixel_size=0.3), tex.bake((16, 16), pixel_size=0.3))
 
 
-# spectex.io.read_image leaves pypng's file handle of a 16-bit PNG open
-# (reported); the round trip itself is what this test checks.
-@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_texture_float_tiles_round_trip_as_16_bit(tmp_path, paper_tile):
     f = SpectralTexture.plain(paper_tile, 10.0, bits=None)
     f.save(tmp_path / "float.toml")
