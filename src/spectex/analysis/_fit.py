@@ -182,7 +182,8 @@ class _Problem:
         self.region = tuple(2 * s if max(segment) <= 128 else s for s in segment)
         self.target_bands = band_power(exemplar, segment=segment)[1]
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
-        self.target_cross = cross_scale(exemplar)["value"]
+        target = cross_scale(exemplar)
+        self.target_cross, self.fine = target["value"], target["fine"]
         # two regions on the pixel grid (layer 0 sampled at its texel centres): the
         # exemplar's own place and one far away in the coarse layers
         self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * pixel_size,
@@ -213,7 +214,7 @@ class _Problem:
         return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
 
     def cross(self, bakes):
-        return float(np.mean([cross_scale(b)["value"] for b in bakes]))
+        return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in bakes]))
 
     def histogram_step(self, colour, bakes, *, affine=False):
         out = np.empty_like(colour)
@@ -485,7 +486,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     scale = check_int("scale", scale, minimum=1, maximum=8)
     h, w = exemplar.shape[:2]
     bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
-    ce, cb = cross_scale(exemplar), cross_scale(bake)
+    ce = cross_scale(exemplar)
+    cb = cross_scale(bake, fine=ce["fine"])
     return {
         "bake_shape": [scale * h, scale * w],
         "band_power_distance_db": band_power_distance(exemplar, bake),

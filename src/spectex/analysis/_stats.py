@@ -169,7 +169,7 @@ def _corr(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.sum(a * b) / den) if den > 0 else 0.0
 
 
-def cross_scale(image, *, fine=(0, 1), step: int = 2) -> dict:
+def cross_scale(image, *, fine=None, step: int = 2) -> dict:
     """Cross-scale dependence: fine-band amplitude against the coarser band.
 
     The luma is split into octave bands by differences of Gaussians
@@ -196,8 +196,9 @@ def cross_scale(image, *, fine=(0, 1), step: int = 2) -> dict:
     image : ndarray, shape (H, W) or (H, W, C)
         At least ``8 s_{c+1}`` pixels on the shorter side for the coarsest
         pair (32 for the default).
-    fine : sequence of int
-        Fine band indices.
+    fine : sequence of int, optional
+        Fine band indices. Default ``(0, 1)``, or ``(0,)`` for an image
+        under 64 pixels on a side (the coarse pair needs 64).
     step : int
         Octaves between the fine and the coarse band (>= 1).
 
@@ -215,6 +216,8 @@ def cross_scale(image, *, fine=(0, 1), step: int = 2) -> dict:
 
     image = check_image("image", image)
     step = check_int("step", step, minimum=1, maximum=8)
+    if fine is None:
+        fine = (0, 1) if min(image.shape[:2]) >= 8 * _sigma(step + 2) else (0,)
     fine = tuple(check_int(f"fine[{i}]", j, minimum=0, maximum=8) for i, j in enumerate(fine))
     if not fine:
         raise ValueError("fine must name at least one band, got none")

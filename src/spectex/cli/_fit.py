@@ -129,7 +129,7 @@ def run(args) -> int | None:
 
     numbers = {"band_power_distance_db": band_power_distance(exemplar, large),
                "histogram_w1": histogram_w1(exemplar, large).tolist(),
-               "cross_scale_texture": cross_scale(same)["value"],
+               "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar)["fine"])["value"],
                "cross_scale_exemplar": result.params["target_cross_scale"]}
 
     tmp = Path(tempfile.mkdtemp(prefix=".spectex-fit-", dir=parent))
