@@ -1,0 +1,99 @@
+"""spectex fit: the output folder, conversions said in the output, one-line
+errors and nothing left behind."""
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from spectex.cli import main
+from spectex.io import read_image, write_image
+from spectex.texture import SpectralTexture
+
+skdata = pytest.importorskip("skimage.data")
+
+FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+
+
+@pytest.fixture
+def photos(tmp_path):
+    grey = skdata.gravel()[:96, :96]
+    Image.fromarray(grey).save(tmp_path / "gravel.png")
+    rgb = np.stack([grey, skdata.grass()[:96, :96], grey[::-1]], axis=2)
+    rgba = np.dstack([rgb, np.full((96, 96), 200, np.uint8)]).astype(np.float32) / 255.0
+    write_image(tmp_path / "rgba16.png", rgba, bit_depth=16)
+    grass = skdata.grass()
+    strip = np.concatenate([grass[:40], grass[40:80, :88]], axis=1)  # 600 x 40: analysed on a crop
+    Image.fromarray(strip).save(tmp_path / "strip.png")
+    Image.fromarray(grey[:20, :20]).save(tmp_path / "tiny.png")
+    Image.fromarray(np.full((64, 64, 3), 90, np.uint8)).save(tmp_path / "flat.png")
+    (tmp_path / "notimage.png").write_text("hello")
+    return tmp_path
+
+
+def _leftovers(folder):
+    return [p.name for p in folder.iterdir() if p.name.startswith(".")]
+
+
+def _error_line(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+def test_cli_fit_writes_the_folder(photos, capsys):
+    out = photos / "fitted"
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(out), "--pixel-size", "0.01"]) == 0
+    text = capsys.readouterr().out
+    assert "grey repeated into RGB" in text and "band power" in text and "W1" in text
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
+    tex = SpectralTexture.load(out / "texture.toml")
+    assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 0.01)
+    comp = read_image(out / "comparison.png")
+    # exemplar | render | render of 8x the area (sqrt(8) * 96 = 272 on a side, rounded to 16)
+    assert comp.shape[0] == 272 and comp.shape[1] == 96 + 96 + 272 + 16
+    assert read_image(out / "band_power.png").shape[2] in (3, 4)
+    assert _leftovers(photos) == []
+
+
+def test_cli_fit_conversions_said(photos, capsys):
+    out = photos / "strip_fit"
+    assert main(["fit", str(photos / "strip.png"), "-o", str(out)]) == 0
+    assert "analysed on the central 512x40 crop of the 600x40 image" in capsys.readouterr().out
+    assert main(["fit", str(photos / "rgba16.png"), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "alpha channel dropped" in text
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)  # files of an existing folder replaced
+
+
+@pytest.mark.parametrize("photo, match", [
+    ("tiny.png", "at least 32x32"),
+    ("flat.png", "flat"),
+    ("notimage.png", "not a readable image"),
+    ("missing.png", "file not found"),
+])
+def test_cli_fit_bad_input_leaves_nothing(photos, capsys, photo, match):
+    out = photos / "never"
+    with pytest.raises(SystemExit) if photo == "missing.png" else _nothing():
+        status = main(["fit", str(photos / photo), "-o", str(out)])
+        assert status == 2
+    assert match in _error_line(capsys)
+    assert not out.exists()
+    assert _leftovers(photos) == []
+
+
+def test_cli_fit_bad_options(photos, capsys):
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "o"), "--opacity", "1.5"]) == 2
+    assert "opacity must be <= 1" in _error_line(capsys)
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "gravel.png")]) == 2
+    assert "must be a folder" in _error_line(capsys)
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "no" / "such")]) == 2
+    assert "does not exist" in _error_line(capsys)
+    assert not (photos / "o").exists() and _leftovers(photos) == []
+
+
+class _nothing:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
