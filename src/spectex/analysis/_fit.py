@@ -181,6 +181,20 @@ class _Problem:
         # small exemplars: regions of twice the size (Welch segments of the exemplar's size)
         self.region = tuple(2 * s if max(segment) <= 128 else s for s in segment)
         self.target_bands = band_power(exemplar, segment=segment)[1]
+        # An exemplar larger than the segment holds coarser bands than a segment sees:
+        # those are measured on a bake at twice the pixel size (mip-filtered) against
+        # the exemplar reduced 2 x 2, whose band k is the exemplar's band k + 1.
+        self.coarse = None
+        h, w = exemplar.shape[:2]
+        if min(h, w) > min(segment) and min(h, w) // 2 >= 32:
+            half = exemplar[: h // 2 * 2, : w // 2 * 2].reshape(h // 2, 2, w // 2, 2, 3).mean(axis=(1, 3))
+            seg2 = (min(h // 2, 256), min(w // 2, 256))
+            full = band_power(exemplar)[1]
+            extra = len(full) - len(self.target_bands)
+            if extra > 0:
+                t2 = band_power(half, segment=seg2)[1]
+                self.coarse = (seg2, t2[len(t2) - extra:], extra)
+                self.target_bands = np.concatenate([self.target_bands, full[len(full) - extra:]])
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
         self.target_cross, self.fine = target["value"], target["fine"]
@@ -200,13 +214,26 @@ class _Problem:
 
     def bakes(self, colour, alpha):
         tex = self.texture(colour, alpha)
-        return [tex.bake(self.region, origin=o, pixel_size=self.p) for o in self.origins]
+        out = [tex.bake(self.region, origin=o, pixel_size=self.p) for o in self.origins]
+        if self.coarse is not None:
+            out.append(tex.bake(self.coarse[0], pixel_size=2.0 * self.p))
+        return out
+
+    def fine_bakes(self, bakes):
+        return bakes[:len(self.origins)]
 
     def band_error(self, bakes):
         from ..metrics import band_power
 
-        power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in bakes], axis=0)
-        return self.target_bands - 10.0 * np.log10(np.maximum(power, 1e-20))
+        fine = self.fine_bakes(bakes)
+        power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in fine], axis=0)
+        db = 10.0 * np.log10(np.maximum(power, 1e-20))
+        err = self.target_bands[:len(db)] - db
+        if self.coarse is not None:
+            seg2, target2, extra = self.coarse
+            p2 = band_power(bakes[-1], segment=seg2)[1]
+            err = np.concatenate([err, target2 - p2[len(p2) - extra:]])
+        return err
 
     def bakes_first(self, colour, alpha):
         """The exemplar's own region only (for the alpha-gain search)."""
@@ -214,19 +241,19 @@ class _Problem:
         return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
 
     def cross(self, bakes):
-        return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in bakes]))
+        return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in self.fine_bakes(bakes)]))
 
     def histogram_step(self, colour, bakes, *, affine=False):
         out = np.empty_like(colour)
         if affine:
             # mean and standard deviation only: every band scales alike
             for c in range(3):
-                vals = np.concatenate([b[:, :, c].ravel() for b in bakes]).astype(np.float64)
+                vals = np.concatenate([b[:, :, c].ravel() for b in self.fine_bakes(bakes)]).astype(np.float64)
                 t = self.target_sorted[c]
                 out[:, :, c] = colour[:, :, c] + (t.mean() - vals.mean())
             return np.clip(out, 0.0, 1.0)
         for c in range(3):
-            vals = np.concatenate([b[:, :, c].ravel() for b in bakes])
+            vals = np.concatenate([b[:, :, c].ravel() for b in self.fine_bakes(bakes)])
             xs, ys = _quantile_map(vals, self.target_sorted[c])
             out[:, :, c] = np.interp(colour[:, :, c], xs, ys, left=None, right=None)
             # beyond the bake's range, continue with unit slope (keeps the tile's extremes ordered)
@@ -446,7 +473,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         bakes = problem.bakes(colour, alpha)
         from ..metrics import histogram_w1
         print("final band error", np.round(problem.band_error(bakes), 2), "w1",
-              [round(float(histogram_w1(problem.exemplar, b)[0]), 3) for b in bakes],
+              [round(float(histogram_w1(problem.exemplar, b)[0]), 3) for b in problem.fine_bakes(bakes)],
               "cross", round(problem.cross(bakes), 3), "target", round(problem.target_cross, 3))
     texture = problem.texture(colour, alpha)
     if not return_result:
