@@ -34,7 +34,8 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     (16-bit keeps its precision); grey is repeated into R, G and B; an alpha
     channel (grey + alpha, RGBA) is dropped; an image larger than
     ``max_size`` on a side is cropped about its centre to ``max_size``
-    (cropping, not downscaling, keeps ``pixel_size`` meaningful).
+    (cropping, not downscaling, keeps ``pixel_size`` meaningful); float
+    values outside [0, 1] are clipped.
 
     Returns
     -------
@@ -45,7 +46,8 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     Raises
     ------
     ValueError
-        For an image under 32 pixels on a side, or a flat (constant) one.
+        For an image under 32 pixels on a side, or a flat one (luma standard
+        deviation under half an 8-bit step).
     """
     image = check_image("image", image, channels=(None, 1, 2, 3, 4))
     max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
@@ -68,8 +70,10 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
         rgb = rgb[y0:y0 + th, x0:x0 + tw]
         notes.append(f"analysed on the central {tw}x{th} crop of the {w}x{h} image")
     rgb = np.ascontiguousarray(np.clip(rgb, 0.0, 1.0), dtype=np.float32)
-    if float(rgb.max() - rgb.min()) < 1.0 / 255.0 or float(np.std(rgb.astype(np.float64) @ [0.2126, 0.7152, 0.0722])) < 0.5 / 255:
-        raise ValueError("image is flat (constant): it has no texture to fit")
+    # the spectral statistics are those of the luma: a picture without luma variation has none
+    if float(np.std(_luma(rgb))) < 0.5 / 255.0:
+        raise ValueError("image is flat (constant luminance, std under half an 8-bit step): "
+                         "it has no texture to fit")
     return rgb, notes
 
 
@@ -478,7 +482,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     texture = problem.texture(colour, alpha)
     if not return_result:
         return texture
-    params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio, "coarse_slope_db_per_octave": slope,
+    params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
+              "coarse_slope_db_per_octave": slope,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
               "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
               "target_cross_scale": problem.target_cross}

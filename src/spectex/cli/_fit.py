@@ -164,7 +164,8 @@ def run(args) -> int | None:
     _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
     w1 = max(numbers["histogram_w1"])
-    _common.report(f"  at the exemplar's scale (render of 8x the area): band power {numbers['band_power_distance_db']:.2f} dB RMS, "
+    _common.report(f"  at the exemplar's scale (render of 8x the area): band power "
+                   f"{numbers['band_power_distance_db']:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers['cross_scale_texture']:+.2f} "
                    f"(exemplar {numbers['cross_scale_exemplar']:+.2f})")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
