@@ -175,7 +175,8 @@ class FitResult:
 class _Problem:
     """The exemplar's targets and the fast evaluation of a candidate tile (small bakes)."""
 
-    def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, segment, n_regions=3):
+    def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, segment, n_regions=3,
+                 continuation=None):
         from ..metrics import band_power
 
         self.exemplar = exemplar
@@ -199,6 +200,16 @@ class _Problem:
                 t2 = band_power(half, segment=seg2)[1]
                 self.coarse = (seg2, t2[len(t2) - extra:], extra)
                 self.target_bands = np.concatenate([self.target_bands, full[len(full) - extra:]])
+        # Continuation: two bands beyond the exemplar's coarsest, on the line of slope
+        # ``continuation`` dB per octave, measured on a 128 x 128 bake at 2^m times the
+        # pixel size whose bands 2 and 3 are those bands.
+        self.cont = None
+        if continuation is not None:
+            k_full = len(self.target_bands)
+            m = max(k_full - 2, 1)
+            last = self.target_bands[-1]
+            self.cont = (2.0 ** m, np.array([last + continuation, last + 2 * continuation]), k_full - m)
+            self.target_bands = np.concatenate([self.target_bands, self.cont[1]])
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
         self.target_cross, self.fine = target["value"], target["fine"]
@@ -216,11 +227,16 @@ class _Problem:
         rgba[:, :, 3] = alpha
         return SpectralTexture(rgba, self.layers)
 
-    def bakes(self, colour, alpha):
+    def bakes(self, colour, alpha, *, extra=True):
+        """Bakes of the regions at the pixel size, then (``extra``) the coarser ones for the bands."""
         tex = self.texture(colour, alpha)
         out = [tex.bake(self.region, origin=o, pixel_size=self.p) for o in self.origins]
+        if not extra:
+            return out
         if self.coarse is not None:
             out.append(tex.bake(self.coarse[0], pixel_size=2.0 * self.p))
+        if self.cont is not None:
+            out.append(tex.bake((128, 128), pixel_size=self.cont[0] * self.p))
         return out
 
     def fine_bakes(self, bakes):
@@ -235,8 +251,12 @@ class _Problem:
         err = self.target_bands[:len(db)] - db
         if self.coarse is not None:
             seg2, target2, extra = self.coarse
-            p2 = band_power(bakes[-1], segment=seg2)[1]
+            p2 = band_power(bakes[len(self.origins)], segment=seg2)[1]
             err = np.concatenate([err, target2 - p2[len(p2) - extra:]])
+        if self.cont is not None:
+            _, target_c, first = self.cont
+            pc = band_power(bakes[-1])[1]
+            err = np.concatenate([err, target_c - pc[first:first + 2]])
         return err
 
     def bakes_first(self, colour, alpha):
@@ -319,9 +339,16 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        histogram to the exemplar's (Heeger and Bergen's alternation [2]_,
        here through the layered texture).
 
-    Bakes are two regions of the exemplar's size (at most 256 x 256) on the
-    pixel grid: the exemplar's own place and one far away in the coarse
-    layers, so that the fit does not tune one lucky region.
+    Bakes are regions of the exemplar's size (at most 256 x 256; twice the
+    size for exemplars of 128 or less) on the pixel grid: the exemplar's
+    own place and one or two far away in the coarse layers, so that the fit
+    does not tune one lucky region. Bands that such a region cannot hold
+    are measured on coarser bakes (mip-filtered): an exemplar larger than
+    the region has its coarsest bands matched on a bake at twice the pixel
+    size (against the exemplar reduced 2 x 2), and two bands beyond the
+    exemplar's coarsest are set on the line of the continuation slope
+    ``s`` (a 128 x 128 bake at ``2^m`` times the pixel size), so the
+    texture continues the spectrum at larger scales.
 
     Parameters
     ----------
@@ -424,7 +451,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     layer_list = [base[0]] + [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation,
                                     opacity=round(opacity * q ** (k - 1), 6))
                               for k, lay in enumerate(base) if k >= 1]
-    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region, n_regions=2 if min(region) >= 256 else 3)
+    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region,
+                       n_regions=2 if min(region) >= 256 else 3, continuation=slope)
     z = _alpha_field(tile0)
     tick()
     colour = tile0
@@ -438,7 +466,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         gains_db[:] += step
         colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
         tick()
-        colour = problem.histogram_step(colour, problem.bakes(colour, alpha), affine=affine)
+        colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), affine=affine)
         tick()
         return colour
 
@@ -468,7 +496,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     if _DEBUG:
         print("alpha grid", dict(zip(grid, np.round(values, 3))), "near", dict(zip(near, np.round(near_values, 3))))
     # the exact histograms (a monotone map per channel), then a last band-power step
-    colour = problem.histogram_step(colour, problem.bakes(colour, alpha))
+    colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
     err = problem.band_error(problem.bakes(colour, alpha))
     if _DEBUG:
         print("band error after the histograms", np.round(err, 2))
