@@ -103,7 +103,7 @@ def _shader_source(name: str) -> str:
 
 
 def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=None, *,
-                    anisotropic: bool = False) -> str:
+                    anisotropic: bool = False, iso_lod: bool = False) -> str:
     """The ground shader for a texture: layer count, tile count, unrolled layer calls.
 
     Sampler arrays may only be indexed by constants in GLSL 3.30, so each
@@ -112,14 +112,18 @@ def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=N
     the blend's branches away. The
     anisotropic path is compiled in only when asked for (``ANISO``): even
     untaken, its loop costs llvmpipe about a third of the frame.
+    ``iso_lod`` (square tiles, no anisotropy) derives each layer's level of
+    detail from one per-pixel world level (``docs/sampling.md``, section 3)
+    instead of from each layer's derivatives.
     """
     if blend_of_layer is None:
         blend_of_layer = [0] * n_layers
-    calls = "\n".join(f"        shade_layer({k}, {int(b)}, u_tile[{int(t)}], first, c, p, jx, jy);"
+    calls = "\n".join(f"        shade_layer({k}, {int(b)}, u_tile[{int(t)}], first, c, p, jx, jy, lam_w);"
                       for k, (t, b) in enumerate(zip(tile_of_layer, blend_of_layer)))
     src = _shader_source("ground.frag.glsl")
     return (src.replace("@N_LAYERS@", str(int(n_layers))).replace("@N_TILES@", str(int(n_tiles)))
-            .replace("@ANISO@", "1" if anisotropic else "0").replace("//@LAYERS@", calls))
+            .replace("@ANISO@", "1" if anisotropic else "0")
+            .replace("@ISO_LOD@", "1" if iso_lod and not anisotropic else "0").replace("//@LAYERS@", calls))
 
 
 class GLRenderer:
@@ -167,7 +171,8 @@ class GLRenderer:
                                                 [layer.tile for layer in texture.layers],
                                                 [("alpha", "detail", "variance").index(layer.blend)
                                                  for layer in texture.layers],
-                                                anisotropic=anisotropic))
+                                                anisotropic=anisotropic,
+                                                iso_lod=texture.tile_shape[0] == texture.tile_shape[1]))
             self._programs[anisotropic] = (program, self.ctx.vertex_array(program, []))
             self.program, self.vao = self._programs[anisotropic]
             self._set_static_uniforms()
@@ -180,6 +185,7 @@ class GLRenderer:
         self._set_uniform("u_tex_size", (float(w), float(h)))
         self._set_uniform("u_mat", [tuple(float(v) for v in layer.matrix().reshape(-1)) for layer in texture.layers])
         self._set_uniform("u_opacity", [float(layer.opacity) for layer in texture.layers])
+        self._set_uniform("u_lod_off", [float(np.log2(w / layer.size)) for layer in texture.layers])
         means = texture.mean_colours()
         self._set_uniform("u_mean", [tuple(float(v) for v in means[layer.tile]) for layer in texture.layers])
 

@@ -2,12 +2,13 @@
 // The spectral texture on the ground plane, with sky and haze.
 // This shader implements docs/sampling.md, section by section; the CPU
 // reference (spectex/sampling.py, spectex/render/_kernels.py) implements the
-// same text. gl.py fills in N_LAYERS, N_TILES, ANISO and the unrolled layer
-// calls.
+// same text. gl.py fills in N_LAYERS, N_TILES, ANISO, ISO_LOD and the
+// unrolled layer calls.
 
 #define N_LAYERS @N_LAYERS@
 #define N_TILES @N_TILES@
 #define ANISO @ANISO@             // 1: compile the anisotropic path
+#define ISO_LOD @ISO_LOD@         // 1: each layer's lambda from the pixel's world lambda (square tiles, no anisotropy)
 
 uniform vec2 u_size;          // framebuffer width, height in pixels
 uniform float u_height;       // camera altitude (z > 0)
@@ -30,6 +31,7 @@ uniform vec4 u_mat[N_LAYERS];     // per layer: (m00, m01, m10, m11), world -> t
 uniform vec3 u_mean[N_LAYERS];    // per layer: its tile's mean colour (1 x 1 level)
 uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
 uniform int u_on[N_LAYERS];       // layer toggles
+uniform float u_lod_off[N_LAYERS]; // per layer: log2(tile width / layer size), texels per metre
 
 out vec4 frag_colour;
 
@@ -62,13 +64,21 @@ vec4 sample_grad(sampler2D tex, vec2 st, vec2 dx, vec2 dy) {
 
 // Section "Layer compositing". blend: 0 alpha, 1 detail, 2 variance (a
 // constant at each call site, written in by gl.py).
-void shade_layer(int k, int blend, sampler2D tex, inout bool first, inout vec3 c, vec2 p, vec2 jx, vec2 jy) {
+// With ISO_LOD, section "Level of detail": a layer's map is a rotation and
+// a scale, so its lambda is the pixel's world lambda (log2 of the longer
+// footprint edge in metres, computed once in main) plus log2(w / size_k).
+void shade_layer(int k, int blend, sampler2D tex, inout bool first, inout vec3 c, vec2 p, vec2 jx, vec2 jy,
+                 float lam_w) {
     if (u_on[k] == 0) return;
     vec4 m = u_mat[k];
     vec2 st = u_anchor[k] + vec2(m.x * p.x + m.y * p.y, m.z * p.x + m.w * p.y);
+#if ISO_LOD
+    vec4 x = textureLod(tex, st, lam_w + u_lod_off[k]);
+#else
     vec2 dx = vec2(m.x * jx.x + m.y * jx.y, m.z * jx.x + m.w * jx.y);
     vec2 dy = vec2(m.x * jy.x + m.y * jy.y, m.z * jy.x + m.w * jy.y);
     vec4 x = sample_grad(tex, st, dx, dy);
+#endif
     float a = x.a * u_opacity[k];
     if (first) {
         c = x.rgb;
@@ -100,6 +110,7 @@ void main() {
         vec2 jx = q * (d.z * ddx.xy - d.xy * ddx.z);
         vec2 jy = q * (d.z * ddy.xy - d.xy * ddy.z);
         vec2 p = tt * d.xy;
+        float lam_w = log2(max(max(length(jx), length(jy)), 1e-30));
         bool first = true;
         vec3 c = vec3(0.0);
 //@LAYERS@
