@@ -117,6 +117,41 @@ def test_render_mipmapping_is_alias_free(gl, full_contrast):
     assert all(plain[k] < mip[k] for k in minified), (mip, plain)
 
 
+@pytest.mark.parametrize("blend", ["alpha", "detail", "variance"])
+def test_render_cpu_fast_path_matches_general(monkeypatch, blend):
+    """The fast kernel (REPEAT, square power-of-two tile, trilinear, isotropic)
+    against the general sampler on random views: positions near and far
+    from the origin, altitudes from 0.3 m to 3 km, any heading, pitches down
+    to straight down and up to the horizon, so that the coordinates and the
+    footprints (magnification to the 1 x 1 level) are spread widely;
+    supersampling and layer toggles included."""
+    import spectex.render.cpu as cpu
+
+    rng = np.random.default_rng(7)
+    tex = SpectralTexture.paper_preset(make_tile(64, seed=3), blend=blend)
+    assert cpu.fast_path_args(tex, tex.packed()) is not None
+    for k in range(6):
+        cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
+                     yaw=rng.uniform(0.0, 360.0), pitch=rng.uniform(-90.0, 5.0), fov=rng.uniform(20.0, 90.0))
+        kw = dict(supersample=1 + k % 2, enabled=rng.random(5) < 0.8 if k >= 3 else None)
+        fast = render_cpu(tex, cam, (24, 40), **kw)
+        with monkeypatch.context() as m:
+            m.setattr(cpu, "fast_path_args", lambda *a: None)
+            general = render_cpu(tex, cam, (24, 40), **kw)
+        assert np.abs(fast - general).max() <= 1e-5, (k, np.abs(fast - general).max())
+        assert general.std() > 0.01  # a textured picture, not a blank one
+
+
+def test_render_cpu_fast_path_only_where_it_applies():
+    import spectex.render.cpu as cpu
+
+    tex = SpectralTexture.paper_preset(make_tile(64, seed=3))
+    assert cpu.fast_path_args(tex, tex.packed(filter="linear")) is None
+    assert cpu.fast_path_args(tex, tex.packed(anisotropy=4.0)) is None
+    odd = SpectralTexture.plain(make_tile(64, seed=3)[:, :48], 5.0)
+    assert cpu.fast_path_args(odd, odd.packed()) is None
+
+
 def test_render_cpu_haze_and_sky():
     tex = SpectralTexture.plain(make_tile(32, seed=1), 5.0)
     atm = Atmosphere(horizon=(0.5, 0.5, 0.5), zenith=(0.0, 0.0, 1.0), haze_distance=1.0)

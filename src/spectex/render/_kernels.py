@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from ..sampling import sample_grad
 
@@ -168,3 +169,197 @@ def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fi
             out[r, c, 0] = ar * inv
             out[r, c, 1] = ag * inv
             out[r, c, 2] = ab * inv
+
+
+# --------------------------------------------------------------------------
+# The fast path: REPEAT, square power-of-two tiles, trilinear, isotropic,
+# bias 0 and OpenGL's default lod clamps (what every render and bake of a
+# spectral texture uses). The same numbers as the general path above (to
+# float rounding; tests/test_render.py compares them), organised for speed:
+# per row of samples, the camera geometry first (one lambda per sample: the
+# world footprint's, docs/sampling.md section 3), then one straight loop
+# over the row per layer, with bitmask wrapping and both trilinear levels
+# fetched unconditionally (weight 0 when not needed), then haze and output.
+# --------------------------------------------------------------------------
+
+
+@_jit_inline
+def _bilinear(flat, off, wd, s, t):
+    """Texel-interpolated channel values of level with width ``wd`` (power of two) at (s, t).
+
+    Returns the four channels of the bilinear filter (OpenGL LINEAR, REPEAT).
+    """
+    mask = wd - 1
+    u = s * wd - 0.5
+    v = t * wd - 0.5
+    fu = math.floor(u)
+    fv = math.floor(v)
+    a = np.float32(u - fu)
+    b = np.float32(v - fv)
+    i0 = np.int64(fu)
+    j0 = np.int64(fv)
+    i1 = (i0 + 1) & mask
+    j1 = (j0 + 1) & mask
+    i0 = i0 & mask
+    j0 = j0 & mask
+    r0 = off + j0 * wd
+    r1 = off + j1 * wd
+    k00 = (r0 + i0) * 4
+    k10 = (r0 + i1) * 4
+    k01 = (r1 + i0) * 4
+    k11 = (r1 + i1) * 4
+    one = np.float32(1.0)
+    w00 = (one - a) * (one - b)
+    w10 = a * (one - b)
+    w01 = (one - a) * b
+    w11 = a * b
+    return (w00 * flat[k00] + w10 * flat[k10] + w01 * flat[k01] + w11 * flat[k11],
+            w00 * flat[k00 + 1] + w10 * flat[k10 + 1] + w01 * flat[k01 + 1] + w11 * flat[k11 + 1],
+            w00 * flat[k00 + 2] + w10 * flat[k10 + 2] + w01 * flat[k01 + 2] + w11 * flat[k11 + 2],
+            w00 * flat[k00 + 3] + w10 * flat[k10 + 3] + w01 * flat[k01 + 3] + w11 * flat[k11 + 3])
+
+
+@_jit_inline
+def _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
+               px, py, lamw, cr, cg, cb, m):
+    """Sections 4 and 6 on ``m`` samples of a row: world points ``(px, py)``
+    relative to the anchor, world lambda ``lamw``; colours into ``cr, cg, cb``."""
+    q = offsets.shape[0] - 1
+    first = True
+    for k in range(tile_idx.shape[0]):
+        if not on[k]:
+            continue
+        base = tile_idx[k] * stride
+        m00 = mats[k, 0, 0]
+        m01 = mats[k, 0, 1]
+        m10 = mats[k, 1, 0]
+        m11 = mats[k, 1, 1]
+        a0 = anchor[k, 0]
+        a1 = anchor[k, 1]
+        off_k = lod_off[k]
+        op = opacity[k]
+        blend = blends[k]
+        mr = means[k, 0]
+        mg = means[k, 1]
+        mb = means[k, 2]
+        for x in range(m):
+            s = a0 + (m00 * px[x] + m01 * py[x])
+            t = a1 + (m10 * px[x] + m11 * py[x])
+            lam = max(lamw[x] + off_k, 0.0)
+            if lam >= q:
+                d1 = q
+                beta = 0.0
+            else:
+                d1 = np.int64(lam)
+                beta = lam - d1
+            d2 = min(d1 + 1, q)
+            r, g, b, a = _bilinear(flat, base + offsets[d1], size0 >> d1, s, t)
+            r2, g2, b2, a2 = _bilinear(flat, base + offsets[d2], size0 >> d2, s, t)
+            r = r + beta * (r2 - r)
+            g = g + beta * (g2 - g)
+            b = b + beta * (b2 - b)
+            a = (a + beta * (a2 - a)) * op
+            if first:
+                cr[x] = r
+                cg[x] = g
+                cb[x] = b
+            elif blend == _ALPHA:
+                cr[x] = a * r + (1.0 - a) * cr[x]
+                cg[x] = a * g + (1.0 - a) * cg[x]
+                cb[x] = a * b + (1.0 - a) * cb[x]
+            elif blend == _DETAIL:
+                cr[x] = 2.0 * r * cr[x]
+                cg[x] = 2.0 * g * cg[x]
+                cb[x] = 2.0 * b * cb[x]
+            else:
+                nn = 1.0 / math.sqrt(a * a + (1.0 - a) * (1.0 - a))
+                cr[x] = mr + (a * (r - mr) + (1.0 - a) * (cr[x] - mr)) * nn
+                cg[x] = mg + (a * (g - mg) + (1.0 - a) * (cg[x] - mg)) * nn
+                cb[x] = mb + (a * (b - mb) + (1.0 - a) * (cb[x] - mb)) * nn
+        first = False
+    if first:  # no layer enabled: black, as in shade_ground
+        for x in range(m):
+            cr[x] = 0.0
+            cg[x] = 0.0
+            cb[x] = 0.0
+
+
+@numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
+def render_kernel_fast(data, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
+                       height, fwd, right, up, tan_x, tan_y, horizon, zenith, haze_distance, far, n, out):
+    """:func:`render_kernel` for the fast path's sampler state (see above)."""
+    H, W = out.shape[0], out.shape[1]
+    flat = data.reshape(-1)
+    inv = 1.0 / (n * n)
+    kx = 2.0 * tan_x / W
+    ky = -2.0 * tan_y / H
+    ddx0 = right[0] * kx
+    ddx1 = right[1] * kx
+    ddx2 = right[2] * kx
+    ddy0 = up[0] * ky
+    ddy1 = up[1] * ky
+    ddy2 = up[2] * ky
+    m = W * n
+    for r in numba.prange(H):
+        px = np.empty(m)
+        py = np.empty(m)
+        lamw = np.empty(m)
+        fog = np.empty(m)
+        sky = np.empty(m)
+        cr = np.empty(m)
+        cg = np.empty(m)
+        cb = np.empty(m)
+        acc = np.zeros((W, 3))
+        for j in range(n):
+            ny = (1.0 - 2.0 * (r + (j + 0.5) / n) / H) * tan_y
+            any_ground = False
+            for x in range(m):
+                c = x // n
+                i = x - c * n
+                nx = (2.0 * (c + (i + 0.5) / n) / W - 1.0) * tan_x
+                d0 = fwd[0] + nx * right[0] + ny * up[0]
+                d1 = fwd[1] + nx * right[1] + ny * up[1]
+                d2 = fwd[2] + nx * right[2] + ny * up[2]
+                dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                if d2 < 0.0 and height * dlen < -d2 * far:
+                    tt = height / -d2
+                    q = -height / (d2 * d2)
+                    jxx = q * (d2 * ddx0 - d0 * ddx2) / n
+                    jyx = q * (d2 * ddx1 - d1 * ddx2) / n
+                    jxy = q * (d2 * ddy0 - d0 * ddy2) / n
+                    jyy = q * (d2 * ddy1 - d1 * ddy2) / n
+                    rho = max(math.sqrt(jxx * jxx + jyx * jyx), math.sqrt(jxy * jxy + jyy * jyy))
+                    px[x] = tt * d0
+                    py[x] = tt * d1
+                    lamw[x] = math.log2(max(rho, 1e-300))
+                    fog[x] = math.exp(-tt * dlen / haze_distance)
+                    sky[x] = -1.0
+                    any_ground = True
+                else:  # the sky (d2 > 0), or the horizon colour beyond far (sky factor 0)
+                    px[x] = 0.0
+                    py[x] = 0.0
+                    lamw[x] = 0.0
+                    fog[x] = 0.0
+                    sky[x] = 1.0 - math.exp(-4.0 * d2 / dlen) if d2 > 0.0 else 0.0
+            if any_ground:
+                _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
+                           anchor, px, py, lamw, cr, cg, cb, m)
+            for x in range(m):
+                c = x // n
+                e = sky[x]
+                if e < 0.0:
+                    f = fog[x]
+                    gr = min(max(cr[x], 0.0), 1.0)
+                    gg = min(max(cg[x], 0.0), 1.0)
+                    gb = min(max(cb[x], 0.0), 1.0)
+                    acc[c, 0] += horizon[0] + f * (gr - horizon[0])
+                    acc[c, 1] += horizon[1] + f * (gg - horizon[1])
+                    acc[c, 2] += horizon[2] + f * (gb - horizon[2])
+                else:
+                    acc[c, 0] += horizon[0] + e * (zenith[0] - horizon[0])
+                    acc[c, 1] += horizon[1] + e * (zenith[1] - horizon[1])
+                    acc[c, 2] += horizon[2] + e * (zenith[2] - horizon[2])
+        for c in range(W):
+            out[r, c, 0] = acc[c, 0] * inv
+            out[r, c, 1] = acc[c, 1] * inv
+            out[r, c, 2] = acc[c, 2] * inv

@@ -46,7 +46,7 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
         RGB in [0, 1], row 0 at the top.
     """
     from ..texture import SpectralTexture
-    from ._kernels import render_kernel
+    from ._kernels import render_kernel, render_kernel_fast
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")
@@ -61,6 +61,31 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
     fwd, right, up = camera.basis()
     tan_x, tan_y = camera.tangents(h, w)
     out = np.empty((h, w, 3), dtype=np.float32)
+    fast = fast_path_args(texture, args)
+    if fast is not None:
+        render_kernel_fast(*fast, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
+                           np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far,
+                           int(supersample), out)
+        return out
     render_kernel(*args, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
                   np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far, int(supersample), out)
     return out
+
+
+def fast_path_args(texture, args):
+    """The fast kernels' arguments for ``texture.packed(...)`` output, or None.
+
+    The fast path (``_kernels.render_kernel_fast``) covers REPEAT wrapping,
+    square power-of-two tiles, trilinear filtering without anisotropy, and
+    OpenGL's default bias and lod clamps; it gives the general path's numbers
+    to float rounding (``tests/test_render.py``). Anything else returns None.
+    """
+    (data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
+     min_lod, max_lod, tile_idx, mats, blends, means, opacity, on) = args
+    size0 = int(widths[0])
+    if not (wrap_s == 0 and wrap_t == 0 and min_filter == 5 and mag_filter == 1 and max_aniso == 1.0
+            and bias == 0.0 and min_lod <= -1000.0 and max_lod >= 1000.0 and int(heights[0]) == size0
+            and size0 & (size0 - 1) == 0 and widths.shape[0] == size0.bit_length()):
+        return None
+    lod_off = np.array([np.log2(size0 / layer.size) for layer in texture.layers], dtype=np.float64)
+    return (data, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off)
