@@ -418,7 +418,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     h, w = exemplar.shape[:2]
-    total = 2 + 5 + 1 + 2 * (iterations + 1)
+    total = 2 + 4 + 1 + 2 * (iterations + 1)
     done = 0
 
     def tick():
@@ -472,7 +472,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
 
     # one round with a neutral alpha, then the alpha gain on a grid, then the rest
     colour = spectral_and_histogram(colour, _alpha(z, 0.0))
-    grid = (-3.0, -1.5, 0.0, 1.5, 3.0)
+    grid = (-3.0, -1.0, 1.0, 3.0)
     values = []
     for g in grid:
         values.append(problem.cross(problem.bakes_first(colour, _alpha(z, g))))
