@@ -114,6 +114,8 @@ def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fi
     """
     H, W = out.shape[0], out.shape[1]
     inv = 1.0 / (n * n)
+    inv_n = 1.0 / n
+    inv_haze = 1.0 / haze_distance
     kx = 2.0 * tan_x / W
     ky = -2.0 * tan_y / H
     # derivatives of the (unnormalised) ray direction along screen x and y
@@ -185,10 +187,10 @@ def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fi
 
 @_jit_inline
 def _bilinear(flat, off, wd, s, t):
-    """Texel-interpolated channel values of level with width ``wd`` (power of two) at (s, t).
-
-    Returns the four channels of the bilinear filter (OpenGL LINEAR, REPEAT).
-    """
+    """OpenGL LINEAR with REPEAT on the level of width ``wd`` (a power of two)
+    whose first texel is ``off`` in ``flat`` (RGBA float32, row-major):
+    returns (r, g, b, a). Unsigned indices and no branches, so that a loop
+    around it can be vectorised (gathers)."""
     mask = wd - 1
     u = s * wd - 0.5
     v = t * wd - 0.5
@@ -204,93 +206,111 @@ def _bilinear(flat, off, wd, s, t):
     j0 = j0 & mask
     r0 = off + j0 * wd
     r1 = off + j1 * wd
-    k00 = (r0 + i0) * 4
-    k10 = (r0 + i1) * 4
-    k01 = (r1 + i0) * 4
-    k11 = (r1 + i1) * 4
+    k00 = np.uint64((r0 + i0) * 4)
+    k10 = np.uint64((r0 + i1) * 4)
+    k01 = np.uint64((r1 + i0) * 4)
+    k11 = np.uint64((r1 + i1) * 4)
     one = np.float32(1.0)
     w00 = (one - a) * (one - b)
     w10 = a * (one - b)
     w01 = (one - a) * b
     w11 = a * b
+    u1 = np.uint64(1)
+    u2 = np.uint64(2)
+    u3 = np.uint64(3)
     return (w00 * flat[k00] + w10 * flat[k10] + w01 * flat[k01] + w11 * flat[k11],
-            w00 * flat[k00 + 1] + w10 * flat[k10 + 1] + w01 * flat[k01 + 1] + w11 * flat[k11 + 1],
-            w00 * flat[k00 + 2] + w10 * flat[k10 + 2] + w01 * flat[k01 + 2] + w11 * flat[k11 + 2],
-            w00 * flat[k00 + 3] + w10 * flat[k10 + 3] + w01 * flat[k01 + 3] + w11 * flat[k11 + 3])
+            w00 * flat[k00 + u1] + w10 * flat[k10 + u1] + w01 * flat[k01 + u1] + w11 * flat[k11 + u1],
+            w00 * flat[k00 + u2] + w10 * flat[k10 + u2] + w01 * flat[k01 + u2] + w11 * flat[k11 + u2],
+            w00 * flat[k00 + u3] + w10 * flat[k10 + u3] + w01 * flat[k01 + u3] + w11 * flat[k11 + u3])
+
+
+@_jit_inline
+def _sample_row(flat, base, offsets, size0, m00, m01, m10, m11, a0, a1, off_k, px, py, lamw, lr, lg, lb, la, m):
+    """Sections 3-4, trilinear, for one layer on ``m`` samples: the layer's
+    lambda is the world lambda plus ``off_k``; both levels are always
+    fetched (the second with weight 0 at and beyond the last level and in
+    magnification, where lambda is clamped to 0)."""
+    q = offsets.shape[0] - 1
+    qf = np.float64(q)
+    for x in range(m):
+        s = a0 + (m00 * px[x] + m01 * py[x])
+        t = a1 + (m10 * px[x] + m11 * py[x])
+        lam = min(max(lamw[x] + off_k, 0.0), qf)
+        fd = math.floor(lam)
+        beta = np.float32(lam - fd)
+        d1 = np.int64(fd)
+        d2 = min(d1 + 1, q)
+        r, g, b, a = _bilinear(flat, base + offsets[d1], size0 >> d1, s, t)
+        r2, g2, b2, a2 = _bilinear(flat, base + offsets[d2], size0 >> d2, s, t)
+        lr[x] = r + beta * (r2 - r)
+        lg[x] = g + beta * (g2 - g)
+        lb[x] = b + beta * (b2 - b)
+        la[x] = a + beta * (a2 - a)
+    return 0
 
 
 @_jit_inline
 def _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
-               px, py, lamw, cr, cg, cb, m):
-    """Sections 4 and 6 on ``m`` samples of a row: world points ``(px, py)``
-    relative to the anchor, world lambda ``lamw``; colours into ``cr, cg, cb``."""
-    q = offsets.shape[0] - 1
-    first = True
+               px, py, lamw, cr, cg, cb, lr, lg, lb, la, m):
+    """Section 6 on ``m`` samples of a row: world points ``(px, py)``
+    relative to the anchor, world lambda ``lamw``; colours into ``cr, cg,
+    cb``; ``lr .. la`` are scratch (float32)."""
+    first = 1  # ints, not bools, here: numba's alias analysis counts bools as mutable, and any
+    # alias in the parallel loop stops it marking the arrays noalias (and LLVM from vectorising)
     for k in range(tile_idx.shape[0]):
-        if not on[k]:
+        if on[k] == 0:
             continue
-        base = tile_idx[k] * stride
-        m00 = mats[k, 0, 0]
-        m01 = mats[k, 0, 1]
-        m10 = mats[k, 1, 0]
-        m11 = mats[k, 1, 1]
-        a0 = anchor[k, 0]
-        a1 = anchor[k, 1]
-        off_k = lod_off[k]
+        _sample_row(flat, tile_idx[k] * stride, offsets, size0, mats[k, 0, 0], mats[k, 0, 1], mats[k, 1, 0],
+                    mats[k, 1, 1], anchor[k, 0], anchor[k, 1], lod_off[k], px, py, lamw, lr, lg, lb, la, m)
         op = opacity[k]
-        blend = blends[k]
-        mr = means[k, 0]
-        mg = means[k, 1]
-        mb = means[k, 2]
-        for x in range(m):
-            s = a0 + (m00 * px[x] + m01 * py[x])
-            t = a1 + (m10 * px[x] + m11 * py[x])
-            lam = max(lamw[x] + off_k, 0.0)
-            if lam >= q:
-                d1 = q
-                beta = 0.0
-            else:
-                d1 = np.int64(lam)
-                beta = lam - d1
-            d2 = min(d1 + 1, q)
-            r, g, b, a = _bilinear(flat, base + offsets[d1], size0 >> d1, s, t)
-            r2, g2, b2, a2 = _bilinear(flat, base + offsets[d2], size0 >> d2, s, t)
-            r = r + beta * (r2 - r)
-            g = g + beta * (g2 - g)
-            b = b + beta * (b2 - b)
-            a = (a + beta * (a2 - a)) * op
-            if first:
-                cr[x] = r
-                cg[x] = g
-                cb[x] = b
-            elif blend == _ALPHA:
-                cr[x] = a * r + (1.0 - a) * cr[x]
-                cg[x] = a * g + (1.0 - a) * cg[x]
-                cb[x] = a * b + (1.0 - a) * cb[x]
-            elif blend == _DETAIL:
-                cr[x] = 2.0 * r * cr[x]
-                cg[x] = 2.0 * g * cg[x]
-                cb[x] = 2.0 * b * cb[x]
-            else:
+        if first:
+            for x in range(m):
+                cr[x] = lr[x]
+                cg[x] = lg[x]
+                cb[x] = lb[x]
+            first = 0
+        elif blends[k] == _ALPHA:
+            for x in range(m):
+                a = la[x] * op
+                cr[x] = a * lr[x] + (1.0 - a) * cr[x]
+                cg[x] = a * lg[x] + (1.0 - a) * cg[x]
+                cb[x] = a * lb[x] + (1.0 - a) * cb[x]
+        elif blends[k] == _DETAIL:
+            for x in range(m):
+                cr[x] = 2.0 * lr[x] * cr[x]
+                cg[x] = 2.0 * lg[x] * cg[x]
+                cb[x] = 2.0 * lb[x] * cb[x]
+        else:
+            mr = means[k, 0]
+            mg = means[k, 1]
+            mb = means[k, 2]
+            for x in range(m):
+                a = la[x] * op
                 nn = 1.0 / math.sqrt(a * a + (1.0 - a) * (1.0 - a))
-                cr[x] = mr + (a * (r - mr) + (1.0 - a) * (cr[x] - mr)) * nn
-                cg[x] = mg + (a * (g - mg) + (1.0 - a) * (cg[x] - mg)) * nn
-                cb[x] = mb + (a * (b - mb) + (1.0 - a) * (cb[x] - mb)) * nn
-        first = False
-    if first:  # no layer enabled: black, as in shade_ground
+                cr[x] = mr + (a * (lr[x] - mr) + (1.0 - a) * (cr[x] - mr)) * nn
+                cg[x] = mg + (a * (lg[x] - mg) + (1.0 - a) * (cg[x] - mg)) * nn
+                cb[x] = mb + (a * (lb[x] - mb) + (1.0 - a) * (cb[x] - mb)) * nn
+    if first == 1:  # no layer enabled: black, as in shade_ground
         for x in range(m):
             cr[x] = 0.0
             cg[x] = 0.0
             cb[x] = 0.0
+    return 0
 
 
 @numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
-def render_kernel_fast(data, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
+def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
                        height, fwd, right, up, tan_x, tan_y, horizon, zenith, haze_distance, far, n, out):
-    """:func:`render_kernel` for the fast path's sampler state (see above)."""
+    """:func:`render_kernel` for the fast path's sampler state (see above).
+
+    ``flat``: the texel store as one flat float32 array (RGBA per texel), so
+    that no array in the parallel loop aliases another: numba then marks
+    them ``noalias`` and LLVM vectorises the texel loops with gathers.
+    """
     H, W = out.shape[0], out.shape[1]
-    flat = data.reshape(-1)
     inv = 1.0 / (n * n)
+    inv_n = 1.0 / n
+    inv_haze = 1.0 / haze_distance
     kx = 2.0 * tan_x / W
     ky = -2.0 * tan_y / H
     ddx0 = right[0] * kx
@@ -309,56 +329,64 @@ def render_kernel_fast(data, stride, offsets, size0, tile_idx, mats, blends, mea
         cr = np.empty(m)
         cg = np.empty(m)
         cb = np.empty(m)
+        lr = np.empty(m, dtype=np.float32)
+        lg = np.empty(m, dtype=np.float32)
+        lb = np.empty(m, dtype=np.float32)
+        la = np.empty(m, dtype=np.float32)
         acc = np.zeros((W, 3))
         for j in range(n):
-            ny = (1.0 - 2.0 * (r + (j + 0.5) / n) / H) * tan_y
-            any_ground = False
-            for x in range(m):
-                c = x // n
-                i = x - c * n
-                nx = (2.0 * (c + (i + 0.5) / n) / W - 1.0) * tan_x
-                d0 = fwd[0] + nx * right[0] + ny * up[0]
-                d1 = fwd[1] + nx * right[1] + ny * up[1]
-                d2 = fwd[2] + nx * right[2] + ny * up[2]
-                dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-                if d2 < 0.0 and height * dlen < -d2 * far:
-                    tt = height / -d2
-                    q = -height / (d2 * d2)
-                    jxx = q * (d2 * ddx0 - d0 * ddx2) / n
-                    jyx = q * (d2 * ddx1 - d1 * ddx2) / n
-                    jxy = q * (d2 * ddy0 - d0 * ddy2) / n
-                    jyy = q * (d2 * ddy1 - d1 * ddy2) / n
-                    rho = max(math.sqrt(jxx * jxx + jyx * jyx), math.sqrt(jxy * jxy + jyy * jyy))
-                    px[x] = tt * d0
-                    py[x] = tt * d1
-                    lamw[x] = math.log2(max(rho, 1e-300))
-                    fog[x] = math.exp(-tt * dlen / haze_distance)
-                    sky[x] = -1.0
-                    any_ground = True
-                else:  # the sky (d2 > 0), or the horizon colour beyond far (sky factor 0)
-                    px[x] = 0.0
-                    py[x] = 0.0
-                    lamw[x] = 0.0
-                    fog[x] = 0.0
-                    sky[x] = 1.0 - math.exp(-4.0 * d2 / dlen) if d2 > 0.0 else 0.0
-            if any_ground:
+            ny = (1.0 - 2.0 * (r + (j + 0.5) * inv_n) / H) * tan_y
+            e0 = fwd[0] + ny * up[0]
+            e1 = fwd[1] + ny * up[1]
+            e2 = fwd[2] + ny * up[2]
+            n_ground = 0
+            for c in range(W):
+                for i in range(n):
+                    x = c * n + i
+                    nx = (2.0 * (c + (i + 0.5) * inv_n) / W - 1.0) * tan_x
+                    d0 = e0 + nx * right[0]
+                    d1 = e1 + nx * right[1]
+                    d2 = e2 + nx * right[2]
+                    dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                    if d2 < 0.0 and height * dlen < -d2 * far:
+                        tt = height / -d2
+                        q = tt / d2 * inv_n  # -height / d2^2, for the sample's footprint
+                        jxx = q * (d2 * ddx0 - d0 * ddx2)
+                        jyx = q * (d2 * ddx1 - d1 * ddx2)
+                        jxy = q * (d2 * ddy0 - d0 * ddy2)
+                        jyy = q * (d2 * ddy1 - d1 * ddy2)
+                        # the world lambda: log2 of the longer footprint edge (metres)
+                        rho2 = max(jxx * jxx + jyx * jyx, jxy * jxy + jyy * jyy)
+                        px[x] = tt * d0
+                        py[x] = tt * d1
+                        # float32 log2 and exp (libm's float64 ones cost half the kernel): lambda
+                        # to ~2e-6, the haze factor to ~1e-7, well inside the path's 1e-5
+                        lamw[x] = 0.5 * math.log2(np.float32(max(rho2, 1e-38)))
+                        fog[x] = math.exp(np.float32(-tt * dlen * inv_haze))
+                        sky[x] = -1.0
+                        n_ground += 1
+                    else:  # the sky (d2 > 0), or the horizon colour beyond far (sky factor 0)
+                        px[x] = 0.0
+                        py[x] = 0.0
+                        lamw[x] = 0.0
+                        fog[x] = 0.0
+                        sky[x] = 1.0 - math.exp(-4.0 * d2 / dlen) if d2 > 0.0 else 0.0
+            if n_ground > 0:
                 _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
-                           anchor, px, py, lamw, cr, cg, cb, m)
-            for x in range(m):
-                c = x // n
-                e = sky[x]
-                if e < 0.0:
-                    f = fog[x]
-                    gr = min(max(cr[x], 0.0), 1.0)
-                    gg = min(max(cg[x], 0.0), 1.0)
-                    gb = min(max(cb[x], 0.0), 1.0)
-                    acc[c, 0] += horizon[0] + f * (gr - horizon[0])
-                    acc[c, 1] += horizon[1] + f * (gg - horizon[1])
-                    acc[c, 2] += horizon[2] + f * (gb - horizon[2])
-                else:
-                    acc[c, 0] += horizon[0] + e * (zenith[0] - horizon[0])
-                    acc[c, 1] += horizon[1] + e * (zenith[1] - horizon[1])
-                    acc[c, 2] += horizon[2] + e * (zenith[2] - horizon[2])
+                           anchor, px, py, lamw, cr, cg, cb, lr, lg, lb, la, m)
+            for c in range(W):
+                for i in range(n):
+                    x = c * n + i
+                    e = sky[x]
+                    if e < 0.0:
+                        f = fog[x]
+                        acc[c, 0] += horizon[0] + f * (min(max(cr[x], 0.0), 1.0) - horizon[0])
+                        acc[c, 1] += horizon[1] + f * (min(max(cg[x], 0.0), 1.0) - horizon[1])
+                        acc[c, 2] += horizon[2] + f * (min(max(cb[x], 0.0), 1.0) - horizon[2])
+                    else:
+                        acc[c, 0] += horizon[0] + e * (zenith[0] - horizon[0])
+                        acc[c, 1] += horizon[1] + e * (zenith[1] - horizon[1])
+                        acc[c, 2] += horizon[2] + e * (zenith[2] - horizon[2])
         for c in range(W):
             out[r, c, 0] = acc[c, 0] * inv
             out[r, c, 1] = acc[c, 1] * inv

@@ -88,4 +88,5 @@ def fast_path_args(texture, args):
             and size0 & (size0 - 1) == 0 and widths.shape[0] == size0.bit_length()):
         return None
     lod_off = np.array([np.log2(size0 / layer.size) for layer in texture.layers], dtype=np.float64)
-    return (data, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off)
+    return (data.reshape(-1), stride, offsets, size0, tile_idx, mats, blends, means, opacity, on.astype(np.int64),
+            lod_off)
