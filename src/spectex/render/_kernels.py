@@ -326,6 +326,7 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
         lamw = np.empty(m)
         fog = np.empty(m)
         sky = np.empty(m)
+        gnd = np.empty(m, dtype=np.int64)
         cr = np.empty(m)
         cg = np.empty(m)
         cb = np.empty(m)
@@ -339,6 +340,7 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
             e0 = fwd[0] + ny * up[0]
             e1 = fwd[1] + ny * up[1]
             e2 = fwd[2] + ny * up[2]
+            # camera geometry: a straight loop (vectorised), then log2 and exp (libm calls)
             n_ground = 0
             for c in range(W):
                 for i in range(n):
@@ -348,29 +350,30 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
                     d1 = e1 + nx * right[1]
                     d2 = e2 + nx * right[2]
                     dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-                    if d2 < 0.0 and height * dlen < -d2 * far:
-                        tt = height / -d2
-                        q = tt / d2 * inv_n  # -height / d2^2, for the sample's footprint
-                        jxx = q * (d2 * ddx0 - d0 * ddx2)
-                        jyx = q * (d2 * ddx1 - d1 * ddx2)
-                        jxy = q * (d2 * ddy0 - d0 * ddy2)
-                        jyy = q * (d2 * ddy1 - d1 * ddy2)
-                        # the world lambda: log2 of the longer footprint edge (metres)
-                        rho2 = max(jxx * jxx + jyx * jyx, jxy * jxy + jyy * jyy)
-                        px[x] = tt * d0
-                        py[x] = tt * d1
-                        # float32 log2 and exp (libm's float64 ones cost half the kernel): lambda
-                        # to ~2e-6, the haze factor to ~1e-7, well inside the path's 1e-5
-                        lamw[x] = 0.5 * math.log2(np.float32(max(rho2, 1e-38)))
-                        fog[x] = math.exp(np.float32(-tt * dlen * inv_haze))
-                        sky[x] = -1.0
-                        n_ground += 1
-                    else:  # the sky (d2 > 0), or the horizon colour beyond far (sky factor 0)
-                        px[x] = 0.0
-                        py[x] = 0.0
-                        lamw[x] = 0.0
-                        fog[x] = 0.0
-                        sky[x] = 1.0 - math.exp(-4.0 * d2 / dlen) if d2 > 0.0 else 0.0
+                    ground = (d2 < 0.0) & (height * dlen < -d2 * far)
+                    dz = d2 if ground else -1.0
+                    tt = height / -dz
+                    q = tt / dz * inv_n  # -height / d_z^2, for the sample's footprint
+                    jxx = q * (dz * ddx0 - d0 * ddx2)
+                    jyx = q * (dz * ddx1 - d1 * ddx2)
+                    jxy = q * (dz * ddy0 - d0 * ddy2)
+                    jyy = q * (dz * ddy1 - d1 * ddy2)
+                    # the world lambda: log2 of the longer footprint edge (metres), below
+                    rho2 = max(jxx * jxx + jyx * jyx, jxy * jxy + jyy * jyy)
+                    px[x] = tt * d0 if ground else 0.0
+                    py[x] = tt * d1 if ground else 0.0
+                    lamw[x] = rho2 if ground else 1.0
+                    gnd[x] = 1 if ground else 0
+                    n_ground += 1 if ground else 0
+                    # exponent of the haze factor on the ground, of the sky factor (1 - exp) above
+                    fog[x] = -tt * dlen * inv_haze if ground else (-4.0 * d2 / dlen if d2 > 0.0 else 0.0)
+            for x in range(m):
+                # float32 log2 and exp (libm's float64 ones cost as much as a layer): lambda to
+                # ~2e-6, the haze factor to ~1e-7, well inside the path's 1e-5
+                lamw[x] = 0.5 * math.log2(max(np.float32(lamw[x]), np.float32(1e-38)))
+                v = math.exp(np.float32(fog[x]))
+                sky[x] = -1.0 if gnd[x] == 1 else 1.0 - v
+                fog[x] = v
             if n_ground > 0:
                 _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
                            anchor, px, py, lamw, cr, cg, cb, lr, lg, lb, la, m)
