@@ -10,7 +10,12 @@ Side by side in one run (STYLE.md: ratios, not timed tests):
 * the CPU reference renderer's throughput (Mpx/s) for the same two
   textures, trilinear; target: >= 20 Mpx/s for five layers.
 
-Run: ``python benchmarks/bench_render.py [--frames N] [--threads N]``.
+Wall-clock numbers on a shared machine follow its load; the CPU time per
+frame (GL, llvmpipe's threads included) and per pixel (CPU renderer) are
+printed too: they move much less with other jobs, and 2 free cores turn
+them into wall-clock rates (fps ~ 2 / CPU seconds per frame).
+
+Run: ``python benchmarks/bench_render.py [--frames N] [--repeats N]``.
 """
 
 from __future__ import annotations
@@ -45,6 +50,7 @@ def main(argv=None):
 
     # ---- OpenGL
     gl_fps = {}
+    gl_cpu = {}
     device = "no OpenGL"
     try:
         from spectex.render.gl import GLRenderer, GLUnavailable
@@ -52,22 +58,31 @@ def main(argv=None):
         for name, tex in (("five layers", five), ("one layer", one)):
             with GLRenderer(tex) as r:
                 device = r.ctx.info["GL_RENDERER"]
-                best = min(r.time_frames(camera, size, frames=args.frames) for _ in range(args.repeats))
+                best = cpu_best = float("inf")
+                for _ in range(args.repeats):
+                    c0 = time.process_time()  # llvmpipe's threads included
+                    best = min(best, r.time_frames(camera, size, frames=args.frames))
+                    cpu_best = min(cpu_best, (time.process_time() - c0) / (args.frames + 1))
                 gl_fps[name] = 1.0 / best
+                gl_cpu[name] = cpu_best
     except GLUnavailable as exc:  # pragma: no cover - depends on the machine
         device = f"no OpenGL ({exc})"
 
     # ---- CPU reference renderer
     cpu = {}
+    cpu_ns = {}
     render_cpu(five, camera, (16, 16))  # compile (cached) outside the timing
     render_cpu(one, camera, (16, 16))
     for name, tex in (("five layers", five), ("one layer", one)):
-        best = float("inf")
+        best = cpu_best = float("inf")
         for _ in range(args.repeats):
             t = time.perf_counter()
+            c0 = time.process_time()
             render_cpu(tex, camera, size)
             best = min(best, time.perf_counter() - t)
+            cpu_best = min(cpu_best, time.process_time() - c0)
         cpu[name] = size[0] * size[1] / best / 1e6
+        cpu_ns[name] = cpu_best / (size[0] * size[1]) * 1e9
 
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     print(f"spectex render benchmark, {args.width}x{args.height}, ground view to the horizon, trilinear")
@@ -80,8 +95,12 @@ def main(argv=None):
         f5, f1 = gl_fps["five layers"], gl_fps["one layer"]
         print(f"{'OpenGL fps':24s}{f5:14.1f}{f1:14.1f}{f1 / f5:12.2f}x{'>= 30 fps, <= 5x':>23s}")
         print(f"{'OpenGL ms per frame':24s}{1000 / f5:14.1f}{1000 / f1:14.1f}")
+        print(f"{'OpenGL CPU ms per frame':24s}{1000 * gl_cpu['five layers']:14.1f}{1000 * gl_cpu['one layer']:14.1f}"
+              f"{'(all cores; load-robust)':>36s}")
     c5, c1 = cpu["five layers"], cpu["one layer"]
     print(f"{'CPU reference Mpx/s':24s}{c5:14.2f}{c1:14.2f}{c1 / c5:12.2f}x{'>= 20 Mpx/s (five)':>24s}")
+    print(f"{'CPU ns per px, CPU time':24s}{cpu_ns['five layers']:14.0f}{cpu_ns['one layer']:14.0f}"
+          f"{'(all cores; load-robust)':>36s}")
     if gl_fps:
         print(f"{'OpenGL Mpx/s':24s}{f5 * size[0] * size[1] / 1e6:14.2f}{f1 * size[0] * size[1] / 1e6:14.2f}")
         print(f"{'OpenGL / CPU speed':24s}{f5 * size[0] * size[1] / 1e6 / c5:14.2f}x{f1 * size[0] * size[1] / 1e6 / c1:13.2f}x")
