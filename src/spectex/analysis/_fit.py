@@ -306,8 +306,8 @@ def _pick_gain(gains, values, target) -> float:
 
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.25,
-        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0, progress=None,
-        return_result: bool = False):
+        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
+        progress=None, return_result: bool = False):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -317,27 +317,37 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     the grids do not line up) and alpha-blended over the finer ones. The
     fit, all on small bakes of the texture at ``pixel_size``:
 
-    1. **Tile**: the exemplar, cropped to a square about its centre, made
-       seamless (:func:`spectex.tiles.make_seamless`, matched seams).
+    1. **Tile**: for an exemplar smaller than 512 pixels, a tile four
+       times its side (up to 512) by tileable image quilting
+       (:func:`spectex.synthesis.quilt`), so the finest layer does not
+       repeat the exemplar at its own period; otherwise the exemplar's
+       central square made seamless (:func:`spectex.tiles.make_seamless`,
+       matched seams). See ``tile_size``.
     2. **Layer opacities** continue the spectrum: the exemplar's power per
-       octave over its three coarsest bands falls by ``s`` dB per octave
-       (clamped to at most 0: a stationary photograph holds no more power
-       beyond its size); layer ``k >= 1`` gets opacity ``opacity *
-       q^(k-1)`` with ``q = 10^(s log2(ratio) / 20)``, so each coarser layer
-       adds the power the slope asks for at its scale.
+       octave over its three coarsest bands changes by ``s`` dB per octave
+       towards coarser scales, clamped to at most ``MAX_COARSE_SLOPE``
+       (-1.5: a photograph of a stationary texture holds no more power
+       beyond its size, and a texture in [0, 1] cannot hold a rising
+       spectrum over many octaves); layer ``k >= 1`` gets opacity
+       ``opacity * q^(k-1)`` with ``q = 10^(s log2(ratio) / 20)``, so each
+       coarser layer adds the power the slope asks for at its scale.
     3. **Alpha** is ``0.5 + g z / 4`` (clipped), ``z`` the tile's
-       standardised, slightly smoothed luma: where the coarse layer is
+       standardised luma, smoothed by one texel and without its coarsest
+       structure (a Gaussian of 1/16 of the tile): where the coarse layer is
        bright (``g > 0``) or dark (``g < 0``) it hides the finer bands.
-       ``g`` is chosen on a grid (refined linearly) so that the bake's
+       ``g`` is chosen on a grid (-3, -1, 1, 3; refined linearly, checked
+       again at +-0.75 after the other steps) so that the bake's
        cross-scale dependence (:func:`spectex.analysis.cross_scale`,
        ``value``) matches the exemplar's.
-    4. **Band power and histograms**, alternately, ``iterations`` times: the
-       tile's colour is filtered by a radial gain (piecewise linear in dB
-       against log frequency, periodic) by the difference in dB between the
-       exemplar's and the bake's power per octave, then each colour channel
-       of the tile goes through the monotone map that takes the bake's
-       histogram to the exemplar's (Heeger and Bergen's alternation [2]_,
-       here through the layered texture).
+    4. **Band power and histograms**: ``iterations`` times, the tile's
+       colour is filtered by a radial gain (piecewise linear in dB against
+       log frequency, periodic) by the difference in dB between the
+       exemplar's and the bake's power per octave (damped by 0.8, at most
+       6 dB a step), and its channels shifted so that the bake's means
+       match; then each tile channel goes through the monotone map that
+       takes the bake's histogram to the exemplar's, and a last band-power
+       step follows (Heeger and Bergen's alternation [2]_, here through
+       the layered texture).
 
     Bakes are regions of the exemplar's size (at most 256 x 256; twice the
     size for exemplars of 128 or less) on the pixel grid: the exemplar's
@@ -366,10 +376,11 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     opacity : float
         Opacity of the first coarse layer, in (0, 1].
     iterations : int
-        Alternations of the band-power and histogram steps, >= 1.
+        Rounds of the band-power step, >= 1.
     tile_size : int, optional
-        Tile side in texels. Default: the exemplar's shorter side, or four
-        times it up to 512 for smaller exemplars. A tile larger than the
+        Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
+        exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
+        pixels, four times smaller ones. A tile larger than the
         exemplar is synthesised from it by tileable image quilting
         (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
         the finest layer does not repeat at the exemplar's period; otherwise
