@@ -141,3 +141,21 @@ def test_fit_conversions_grey_alpha_16bit_huge():
 def test_fit_bad_input(image, kwargs, match):
     with pytest.raises(ValueError, match=match):
         fit(image, **kwargs)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_fit_continues_the_spectrum_at_coarser_scales(fitted, name):
+    # a bake at 4x the pixel size (mip-filtered): its bands 2 and 3 are the two bands
+    # beyond the exemplar's coarsest, which follow the clamped continuation slope
+    from spectex.metrics import band_power
+
+    res = fitted[name]
+    last = band_power(res.exemplar)[1][-1]
+    slope = res.params["coarse_slope_db_per_octave"]
+    assert slope <= -1.5
+    coarse = band_power(res.texture.bake((128, 128), pixel_size=4.0))[1][2:4]
+    np.testing.assert_allclose(coarse, [last + slope, last + 2 * slope], atol=1.0)
+    # the control: the fitted tile alone (one layer, plain tiling) misses the line by 3 dB or more
+    plain = SpectralTexture(res.texture.tiles[0], res.texture.layers[:1])
+    plain_coarse = band_power(plain.bake((128, 128), pixel_size=4.0))[1][2:4]
+    assert np.abs(plain_coarse - [last + slope, last + 2 * slope]).max() > 2.5
