@@ -9,7 +9,8 @@ Analysis
     :func:`colour_stats`, :func:`cross_scale`, :func:`dog_bands`.
 Fitting
     :func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
-    out; :func:`fit_report` for the numbers of a fit.
+    out; :func:`fit_report` for the numbers of a fit; :func:`prepare_exemplar`
+    for the input conversions (grey, alpha, 16-bit, crop of huge images).
 
 See ``docs/fitting.md``.
 """
@@ -17,7 +18,7 @@ See ``docs/fitting.md``.
 from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
 
 __all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
-           "fit", "fit_report", "FitResult"]
+           "fit", "fit_report", "FitResult", "prepare_exemplar"]
 
 
 def __getattr__(name):
