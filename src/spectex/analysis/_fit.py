@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import check_float, check_image, check_int, check_seed
-from ._stats import analyse, cross_scale
+from ._stats import cross_scale
 
 __all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "MIN_SIZE", "MAX_ANALYSIS_SIZE"]
 
@@ -22,7 +22,6 @@ MAX_ANALYSIS_SIZE = 512
 _GOLDEN = 137.50776405003785
 #: Most power per octave the continuation may gain towards coarser scales (dB per octave).
 MAX_COARSE_SLOPE = -1.5
-_DEBUG = False
 #: Far-away bake regions used by the fit, in units of the second coarse layer's size.
 _FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577))
 
@@ -267,10 +266,11 @@ class _Problem:
     def cross(self, bakes):
         return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in self.fine_bakes(bakes)]))
 
-    def histogram_step(self, colour, bakes, *, affine=False):
+    def histogram_step(self, colour, bakes, *, shift_only=False):
+        """Map the tile's channels so that the bakes' histograms become the exemplar's."""
         out = np.empty_like(colour)
-        if affine:
-            # mean and standard deviation only: every band scales alike
+        if shift_only:
+            # the means only (the band step sets the contrast; a full match here would undo it)
             for c in range(3):
                 vals = np.concatenate([b[:, :, c].ravel() for b in self.fine_bakes(bakes)]).astype(np.float64)
                 t = self.target_sorted[c]
@@ -468,16 +468,16 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     tick()
     colour = tile0
     gains_db = np.zeros(len(problem.target_bands))
+    history = []  # band-power errors (dB) before each band step
 
-    def spectral_and_histogram(colour, alpha, affine=True):
+    def spectral_and_histogram(colour, alpha):
         err = problem.band_error(problem.bakes(colour, alpha))
-        if _DEBUG:
-            print("band error", np.round(err, 2))
+        history.append(err.tolist())
         step = np.clip(0.8 * err, -6.0, 6.0)
         gains_db[:] += step
         colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
         tick()
-        colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), affine=affine)
+        colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), shift_only=True)
         tick()
         return colour
 
@@ -504,20 +504,11 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     else:
         tick()
         tick()
-    if _DEBUG:
-        print("alpha grid", dict(zip(grid, np.round(values, 3))), "near", dict(zip(near, np.round(near_values, 3))))
     # the exact histograms (a monotone map per channel), then a last band-power step
     colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
     err = problem.band_error(problem.bakes(colour, alpha))
-    if _DEBUG:
-        print("band error after the histograms", np.round(err, 2))
+    history.append(err.tolist())
     colour = np.clip(_shape_spectrum(colour, np.clip(err, -6.0, 6.0)), 0.0, 1.0)
-    if _DEBUG:
-        bakes = problem.bakes(colour, alpha)
-        from ..metrics import histogram_w1
-        print("final band error", np.round(problem.band_error(bakes), 2), "w1",
-              [round(float(histogram_w1(problem.exemplar, b)[0]), 3) for b in problem.fine_bakes(bakes)],
-              "cross", round(problem.cross(bakes), 3), "target", round(problem.target_cross, 3))
     texture = problem.texture(colour, alpha)
     if not return_result:
         return texture
@@ -525,6 +516,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
               "coarse_slope_db_per_octave": slope,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
               "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
+              "band_error_history_db": history, "alpha_near": dict(zip(near, near_values)),
               "target_cross_scale": problem.target_cross}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)
