@@ -225,13 +225,28 @@ def _bilinear(flat, off, wd, s, t):
 
 
 @_jit_inline
-def _sample_row(flat, base, offsets, size0, m00, m01, m10, m11, a0, a1, off_k, px, py, lamw, lr, lg, lb, la, m):
+def _sample_row(flat, base, offsets, size0, m00, m01, m10, m11, a0, a1, off_k, px, py, lamw, lr, lg, lb, la, m,
+                two):
     """Sections 3-4, trilinear, for one layer on ``m`` samples: the layer's
-    lambda is the world lambda plus ``off_k``; both levels are always
-    fetched (the second with weight 0 at and beyond the last level and in
-    magnification, where lambda is clamped to 0)."""
+    lambda is the world lambda plus ``off_k``. With ``two``, both levels
+    are always fetched (the second with weight 0 at and beyond the last
+    level and in magnification, where lambda is clamped to 0); without, the
+    caller knows that every lambda of the row is <= 0 or >= q, where the
+    second level has weight 0, and it is skipped (the same numbers)."""
     q = offsets.shape[0] - 1
     qf = np.float64(q)
+    if two == 0:
+        for x in range(m):
+            s = a0 + (m00 * px[x] + m01 * py[x])
+            t = a1 + (m10 * px[x] + m11 * py[x])
+            lam = min(max(lamw[x] + off_k, 0.0), qf)
+            d1 = np.int64(math.floor(lam))
+            r, g, b, a = _bilinear(flat, base + offsets[d1], size0 >> d1, s, t)
+            lr[x] = r
+            lg[x] = g
+            lb[x] = b
+            la[x] = a
+        return 0
     for x in range(m):
         s = a0 + (m00 * px[x] + m01 * py[x])
         t = a1 + (m10 * px[x] + m11 * py[x])
@@ -251,17 +266,20 @@ def _sample_row(flat, base, offsets, size0, m00, m01, m10, m11, a0, a1, off_k, p
 
 @_jit_inline
 def _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
-               px, py, lamw, cr, cg, cb, lr, lg, lb, la, m):
+               px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m):
     """Section 6 on ``m`` samples of a row: world points ``(px, py)``
-    relative to the anchor, world lambda ``lamw``; colours into ``cr, cg,
-    cb``; ``lr .. la`` are scratch (float32)."""
+    relative to the anchor, world lambda ``lamw`` (between ``lam_lo`` and
+    ``lam_hi`` on the ground); colours into ``cr, cg, cb``; ``lr .. la``
+    are scratch (float32)."""
     first = 1  # ints, not bools, here: numba's alias analysis counts bools as mutable, and any
     # alias in the parallel loop stops it marking the arrays noalias (and LLVM from vectorising)
     for k in range(tile_idx.shape[0]):
         if on[k] == 0:
             continue
+        q = offsets.shape[0] - 1
+        two = 0 if lam_hi + lod_off[k] <= 0.0 or lam_lo + lod_off[k] >= q else 1
         _sample_row(flat, tile_idx[k] * stride, offsets, size0, mats[k, 0, 0], mats[k, 0, 1], mats[k, 1, 0],
-                    mats[k, 1, 1], anchor[k, 0], anchor[k, 1], lod_off[k], px, py, lamw, lr, lg, lb, la, m)
+                    mats[k, 1, 1], anchor[k, 0], anchor[k, 1], lod_off[k], px, py, lamw, lr, lg, lb, la, m, two)
         op = opacity[k]
         if first:
             for x in range(m):
@@ -367,6 +385,8 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
                     n_ground += 1 if ground else 0
                     # exponent of the haze factor on the ground, of the sky factor (1 - exp) above
                     fog[x] = -tt * dlen * inv_haze if ground else (-4.0 * d2 / dlen if d2 > 0.0 else 0.0)
+            lam_lo = 1e300  # finite sentinels: fastmath assumes no infinities
+            lam_hi = -1e300
             for x in range(m):
                 # float32 log2 and exp (libm's float64 ones cost as much as a layer): lambda to
                 # ~2e-6, the haze factor to ~1e-7, well inside the path's 1e-5
@@ -374,9 +394,11 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
                 v = math.exp(np.float32(fog[x]))
                 sky[x] = -1.0 if gnd[x] == 1 else 1.0 - v
                 fog[x] = v
+                lam_lo = min(lam_lo, lamw[x] if gnd[x] == 1 else 1e300)
+                lam_hi = max(lam_hi, lamw[x] if gnd[x] == 1 else -1e300)
             if n_ground > 0:
                 _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
-                           anchor, px, py, lamw, cr, cg, cb, lr, lg, lb, la, m)
+                           anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m)
             for c in range(W):
                 for i in range(n):
                     x = c * n + i
