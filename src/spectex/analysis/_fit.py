@@ -305,7 +305,7 @@ def _pick_gain(gains, values, target) -> float:
     return float(gains[best])
 
 
-def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.25,
+def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
         iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
         progress=None, return_result: bool = False):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).

@@ -30,8 +30,8 @@ def register(subparsers) -> None:
     p.add_argument("--layers", type=_common.positive_int, default=5, help="number of layers, 2 to 8 (default: 5)")
     p.add_argument("--ratio", type=_common.positive_float, default=4.0,
                    help="size ratio between neighbouring layers (default: 4)")
-    p.add_argument("--opacity", type=_common.positive_float, default=0.25,
-                   help="opacity of the first coarse layer (default: 0.25)")
+    p.add_argument("--opacity", type=_common.positive_float, default=0.2,
+                   help="opacity of the first coarse layer (default: 0.2)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.set_defaults(func=run)
 
