@@ -392,26 +392,31 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
                 # ~2e-6, the haze factor to ~1e-7, well inside the path's 1e-5
                 lamw[x] = 0.5 * math.log2(max(np.float32(lamw[x]), np.float32(1e-38)))
                 v = math.exp(np.float32(fog[x]))
-                sky[x] = -1.0 if gnd[x] == 1 else 1.0 - v
-                fog[x] = v
+                # ground: haze factor v, sky factor 0; sky: haze factor 0, sky factor 1 - v
+                sky[x] = 0.0 if gnd[x] == 1 else 1.0 - v
+                fog[x] = v if gnd[x] == 1 else 0.0
                 lam_lo = min(lam_lo, lamw[x] if gnd[x] == 1 else 1e300)
                 lam_hi = max(lam_hi, lamw[x] if gnd[x] == 1 else -1e300)
-            if n_ground > 0:
+            if n_ground == 0:  # all sky: no texture, but finite colours for the sum below
+                for x in range(m):
+                    cr[x] = 0.0
+                    cg[x] = 0.0
+                    cb[x] = 0.0
+            else:
                 _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
                            anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m)
             for c in range(W):
                 for i in range(n):
                     x = c * n + i
+                    # branch-free (vectorised): one of the two factors is 0, the sum is exact
+                    f = fog[x]
                     e = sky[x]
-                    if e < 0.0:
-                        f = fog[x]
-                        acc[c, 0] += horizon[0] + f * (min(max(cr[x], 0.0), 1.0) - horizon[0])
-                        acc[c, 1] += horizon[1] + f * (min(max(cg[x], 0.0), 1.0) - horizon[1])
-                        acc[c, 2] += horizon[2] + f * (min(max(cb[x], 0.0), 1.0) - horizon[2])
-                    else:
-                        acc[c, 0] += horizon[0] + e * (zenith[0] - horizon[0])
-                        acc[c, 1] += horizon[1] + e * (zenith[1] - horizon[1])
-                        acc[c, 2] += horizon[2] + e * (zenith[2] - horizon[2])
+                    acc[c, 0] += (horizon[0] + f * (min(max(cr[x], 0.0), 1.0) - horizon[0])
+                                  + e * (zenith[0] - horizon[0]))
+                    acc[c, 1] += (horizon[1] + f * (min(max(cg[x], 0.0), 1.0) - horizon[1])
+                                  + e * (zenith[1] - horizon[1]))
+                    acc[c, 2] += (horizon[2] + f * (min(max(cb[x], 0.0), 1.0) - horizon[2])
+                                  + e * (zenith[2] - horizon[2]))
         for c in range(W):
             out[r, c, 0] = acc[c, 0] * inv
             out[r, c, 1] = acc[c, 1] * inv
