@@ -360,8 +360,8 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
             e2 = fwd[2] + ny * up[2]
             # camera geometry: a straight loop (vectorised), then log2 and exp (libm calls)
             n_ground = 0
-            for c in range(W):
-                for i in range(n):
+            for i in range(n):  # the inner loop runs along the row, so that it is the one vectorised
+                for c in range(W):
                     x = c * n + i
                     nx = (2.0 * (c + (i + 0.5) * inv_n) / W - 1.0) * tan_x
                     d0 = e0 + nx * right[0]
@@ -405,8 +405,8 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
             else:
                 _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off,
                            anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m)
-            for c in range(W):
-                for i in range(n):
+            for i in range(n):
+                for c in range(W):
                     x = c * n + i
                     # branch-free (vectorised): one of the two factors is 0, the sum is exact
                     f = fog[x]
