@@ -95,6 +95,42 @@ def test_render_gl_supersample_matches_cpu(gl, full_contrast):
     assert psnr(g, c) >= 40.0
 
 
+@pytest.mark.parametrize("pitch", [-90.0, -60.0, -12.0, -3.0, 0.0, 10.0, 29.0, 45.0, 90.0])
+def test_render_gl_sky_rows_see_only_sky(pitch):
+    """The rows gl.py draws with the sky-only program: every pixel there has
+    d_z > 0 (docs/sampling.md, section 7, in float64), and the count is at
+    most margin + 1 rows short of the true horizon row."""
+    from spectex.render.gl import sky_row_count
+
+    h, w = 180, 320
+    cam = Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=pitch, fov=60.0)
+    fwd, right, up = cam.basis()
+    tan_x, tan_y = cam.tangents(h, w)
+    py, px = np.mgrid[0:h, 0:w] + 0.5
+    dz = fwd[2] + (2 * px / w - 1) * tan_x * right[2] + (1 - 2 * py / h) * tan_y * up[2]
+    sky = np.all(dz > 0.0, axis=1)
+    true_rows = int(np.argmin(sky)) if not sky.all() else h
+    n = sky_row_count(cam, h, w)
+    assert sky[:n].all()
+    assert true_rows - 3 <= n <= true_rows
+
+
+@pytest.mark.gl
+def test_render_gl_horizon_split_is_seamless(gl, full_contrast):
+    """The sky-only rows and the full program meet without a seam: the GL
+    picture matches the CPU one row by row around the horizon."""
+    from spectex.render.gl import GLRenderer, sky_row_count
+
+    cam = VIEWS["grazing"]
+    n = sky_row_count(cam, *SIZE)
+    assert 10 < n < SIZE[0] - 10
+    with GLRenderer(full_contrast, ctx=gl) as r:
+        g = r.render(cam, SIZE)
+    c = render_cpu(full_contrast, cam, SIZE)
+    rows = np.abs(g - c)[n - 4:n + 6].max(axis=(1, 2))
+    assert rows.max() < 0.05, rows
+
+
 @pytest.mark.slow
 @pytest.mark.gl
 def test_render_mipmapping_is_alias_free(gl, full_contrast):

@@ -103,7 +103,7 @@ def _shader_source(name: str) -> str:
 
 
 def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=None, *,
-                    anisotropic: bool = False, iso_lod: bool = False) -> str:
+                    anisotropic: bool = False, iso_lod: bool = False, sky_only: bool = False) -> str:
     """The ground shader for a texture: layer count, tile count, unrolled layer calls.
 
     Sampler arrays may only be indexed by constants in GLSL 3.30, so each
@@ -114,7 +114,8 @@ def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=N
     untaken, its loop costs llvmpipe about a third of the frame.
     ``iso_lod`` (square tiles, no anisotropy) derives each layer's level of
     detail from one per-pixel world level (``docs/sampling.md``, section 3)
-    instead of from each layer's derivatives.
+    instead of from each layer's derivatives. ``sky_only`` compiles the
+    ground branch out, for the rows that see only sky (:meth:`GLRenderer.draw`).
     """
     if blend_of_layer is None:
         blend_of_layer = [0] * n_layers
@@ -123,7 +124,8 @@ def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=N
     src = _shader_source("ground.frag.glsl")
     return (src.replace("@N_LAYERS@", str(int(n_layers))).replace("@N_TILES@", str(int(n_tiles)))
             .replace("@ANISO@", "1" if anisotropic else "0")
-            .replace("@ISO_LOD@", "1" if iso_lod and not anisotropic else "0").replace("//@LAYERS@", calls))
+            .replace("@ISO_LOD@", "1" if iso_lod and not anisotropic else "0")
+            .replace("@SKY_ONLY@", "1" if sky_only else "0").replace("//@LAYERS@", calls))
 
 
 class GLRenderer:
@@ -161,9 +163,10 @@ class GLRenderer:
             self.release()
             raise
 
-    def _use_program(self, *, anisotropic: bool):
-        """Make the isotropic or the anisotropic program current (compiled on first use)."""
-        if anisotropic not in self._programs:
+    def _use_program(self, *, anisotropic: bool, sky_only: bool = False):
+        """Make the isotropic or the anisotropic (or the sky-only) program current (compiled on first use)."""
+        key = (anisotropic, sky_only)
+        if key not in self._programs:
             texture = self.texture
             program = self.ctx.program(
                 vertex_shader=_shader_source("fullscreen.vert.glsl"),
@@ -172,11 +175,12 @@ class GLRenderer:
                                                 [("alpha", "detail", "variance").index(layer.blend)
                                                  for layer in texture.layers],
                                                 anisotropic=anisotropic,
-                                                iso_lod=texture.tile_shape[0] == texture.tile_shape[1]))
-            self._programs[anisotropic] = (program, self.ctx.vertex_array(program, []))
-            self.program, self.vao = self._programs[anisotropic]
+                                                iso_lod=texture.tile_shape[0] == texture.tile_shape[1],
+                                                sky_only=sky_only))
+            self._programs[key] = (program, self.ctx.vertex_array(program, []))
+            self.program, self.vao = self._programs[key]
             self._set_static_uniforms()
-        self.program, self.vao = self._programs[anisotropic]
+        self.program, self.vao = self._programs[key]
 
     def _set_static_uniforms(self):
         texture = self.texture
@@ -263,7 +267,8 @@ class GLRenderer:
         return False
 
     # ---------------------------------------------------------------- drawing
-    def prepare(self, camera, size, *, filter="trilinear", anisotropy=1.0, atmosphere=None, enabled=None):
+    def prepare(self, camera, size, *, filter="trilinear", anisotropy=1.0, atmosphere=None, enabled=None,
+                sky_only=False):
         """Set the uniforms and sampler state for a frame of ``size = (height, width)``."""
         from ..sampling import FILTERS, filter_code
 
@@ -279,7 +284,7 @@ class GLRenderer:
             for tex in self.textures:
                 tex.filter = (min_f, mag_f)
             self._filter = name
-        self._use_program(anisotropic=anisotropy > 1.0 and "mipmap" in name)
+        self._use_program(anisotropic=anisotropy > 1.0 and "mipmap" in name, sky_only=sky_only)
         n = len(self.texture.layers)
         enabled = [True] * n if enabled is None else list(enabled)
         if len(enabled) != n:
@@ -304,11 +309,28 @@ class GLRenderer:
         self._set_uniform("u_on", [1 if e else 0 for e in enabled])
 
     def draw(self, camera, size, **kwargs):
-        """Draw one frame into the currently bound framebuffer (the viewer's window)."""
-        self.prepare(camera, size, **kwargs)
+        """Draw one frame into the currently bound framebuffer (the viewer's window).
+
+        The rows that see only sky (above the horizon, found on the host) are
+        drawn with the sky-only program and the others with the full one, each
+        under a scissor: llvmpipe evaluates both sides of the shader's branch
+        for every pixel, so without this the sky costs as much as the ground.
+        """
+        h, w = size
+        sky_rows = sky_row_count(camera, h, w)
         for unit, tex in enumerate(self.textures):
             tex.use(location=unit)
-        self.vao.render(self._mgl.TRIANGLES, vertices=3)
+        try:
+            if sky_rows > 0:
+                self.ctx.scissor = (0, h - sky_rows, w, sky_rows)  # GL's y counts from the bottom
+                self.prepare(camera, size, sky_only=True, **kwargs)
+                self.vao.render(self._mgl.TRIANGLES, vertices=3)
+            if sky_rows < h:
+                self.ctx.scissor = (0, 0, w, h - sky_rows)
+                self.prepare(camera, size, **kwargs)
+                self.vao.render(self._mgl.TRIANGLES, vertices=3)
+        finally:
+            self.ctx.scissor = None
 
     def render(self, camera, size, *, supersample=1, **kwargs):
         """Render to an image: ``(H, W, 3)`` float32 in [0, 1], row 0 at the top.
@@ -345,6 +367,24 @@ class GLRenderer:
             self.draw(camera, (h, w), **kwargs)
         self.ctx.finish()
         return (time.perf_counter() - t0) / frames
+
+
+def sky_row_count(camera, h, w, *, margin=2):
+    """How many rows at the top of an ``h x w`` picture see only sky (``d_z > 0``
+    in every pixel; docs/sampling.md, section 7), less ``margin`` rows.
+
+    The camera has no roll, so ``d_z = fwd_z + ndc_y tan_y up_z`` is the same
+    along a row; the margin keeps rows where float32 and float64 could
+    disagree in the full program.
+    """
+    fwd, _, up = camera.basis()
+    _, tan_y = camera.tangents(h, w)
+    if up[2] * tan_y <= 0.0:  # looking straight up or down: no horizon row
+        return h if fwd[2] > 0.0 else 0
+    # d_z > 0  <=>  ndc_y > -fwd_z / (tan_y up_z)  <=>  py < h (1 + fwd_z / (tan_y up_z)) / 2
+    limit = 0.5 * h * (1.0 + fwd[2] / (tan_y * up[2]))
+    rows = int(np.floor(limit - 0.5)) - margin  # row r has its centre at py = r + 1/2
+    return int(min(max(rows, 0), h))
 
 
 _OVERLAY_VERT = """#version 330 core

@@ -2,13 +2,14 @@
 // The spectral texture on the ground plane, with sky and haze.
 // This shader implements docs/sampling.md, section by section; the CPU
 // reference (spectex/sampling.py, spectex/render/_kernels.py) implements the
-// same text. gl.py fills in N_LAYERS, N_TILES, ANISO, ISO_LOD and the
-// unrolled layer calls.
+// same text. gl.py fills in N_LAYERS, N_TILES, ANISO, ISO_LOD, SKY_ONLY and
+// the unrolled layer calls.
 
 #define N_LAYERS @N_LAYERS@
 #define N_TILES @N_TILES@
 #define ANISO @ANISO@             // 1: compile the anisotropic path
 #define ISO_LOD @ISO_LOD@         // 1: each layer's lambda from the pixel's world lambda (square tiles, no anisotropy)
+#define SKY_ONLY @SKY_ONLY@       // 1: the ground branch compiled out (gl.py draws rows that see only sky with it)
 
 uniform vec2 u_size;          // framebuffer width, height in pixels
 uniform float u_height;       // camera altitude (z > 0)
@@ -101,7 +102,9 @@ void main() {
     vec3 d = u_fwd + ndc.x * u_tan.x * u_right + ndc.y * u_tan.y * u_up;
     float dlen = length(d);
     vec3 col = u_horizon;
-    if (d.z < 0.0 && u_height * dlen < -d.z * u_far) {
+    // llvmpipe runs both sides of a branch for every pixel, so the sky rows
+    // are drawn with SKY_ONLY: the same code without the ground branch.
+    if (SKY_ONLY == 0 && d.z < 0.0 && u_height * dlen < -d.z * u_far) {
         float tt = u_height / -d.z;
         float dist = tt * dlen;
         vec3 ddx = u_right * (2.0 * u_tan.x / u_size.x);
