@@ -227,27 +227,12 @@ def fractal_kernel(dims: int, basis: int, periodic: bool):
     return kernel
 
 
-@njit(inline="always")
-def _point(x, y, z, u, f, px, qx, py, qy, pz, qz, P, b, V, c, G1, mode, K, dims, basis, periodic):
-    # dims, basis and periodic are compile-time constants at the call site.
-    if dims == 1:
-        if basis == PERLIN:
-            return _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
-        return _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
-    if dims == 2:
-        if basis == PERLIN:
-            return _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
-        return _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K, periodic)
-    if basis == PERLIN:
-        return _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, K, periodic)
-    return _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b, V, c, mode, K,
-                   periodic)
-
-
 def _make_kernel(dims, basis, periodic):
-    # The closure captures plain constants only: numba's disk cache keys a
-    # closure by the pickled values it captures, and a captured dispatcher
-    # pickles differently in every process (a cache miss every run).
+    # The closure captures plain constants only (numba's disk cache keys a
+    # closure by the pickled values it captures; a captured dispatcher pickles
+    # differently in every process, a cache miss every run). Written as
+    # branches on those constants in the kernel body itself, so numba prunes
+    # the dead ones before typing: each kernel compiles one noise body.
     # Each octave is written to a scratch buffer by a store-only loop (a
     # read-modify-write of ``out`` in the same loop as the table gathers does
     # not vectorise), then added to ``out`` by a second loop. ``mode`` and
@@ -269,9 +254,28 @@ def _make_kernel(dims, basis, periodic):
                 qx = ip[o, 0]
                 qy = ip[o, 1]
                 qz = ip[o, 2]
+                b = 512 * o
+                c = 256 * o
                 for i in range(s, e):
-                    v = _point(x, y, z, _u(i), f, px, qx, py, qy, pz, qz, P, 512 * o, V, 256 * o,
-                               G1, mode, K, dims, basis, periodic)
+                    u = _u(i)
+                    if dims == 1:
+                        if basis == PERLIN:
+                            v = _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
+                        else:
+                            v = _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
+                    elif dims == 2:
+                        if basis == PERLIN:
+                            v = _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
+                        else:
+                            v = _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K,
+                                        periodic)
+                    else:
+                        if basis == PERLIN:
+                            v = _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b,
+                                         K, periodic)
+                        else:
+                            v = _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b,
+                                        V, c, mode, K, periodic)
                     v = abs(v) if turbulent else v
                     tmp[_u(i - s)] = a * v
                 if o == 0:
