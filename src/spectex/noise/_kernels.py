@@ -108,17 +108,36 @@ def _perlin1(x, p, ip, P, b, G, K, periodic):
 
 
 @njit(inline="always")
+def _hash2(X0, X1, Y0, Y1, P, b):
+    """Hashes ``P[P[X] + Y]`` (0..255) of a 2-D cell's corners 00, 10, 01, 11."""
+    a0 = P[_u(b + X0)] & 255
+    a1 = P[_u(b + X1)] & 255
+    return (P[_u(b + a0 + Y0)] & 255, P[_u(b + a1 + Y0)] & 255,
+            P[_u(b + a0 + Y1)] & 255, P[_u(b + a1 + Y1)] & 255)
+
+
+@njit(inline="always")
+def _hash3(X0, X1, Y0, Y1, Z0, Z1, P, b):
+    """Hashes ``P[P[P[X] + Y] + Z]`` (0..255) of a 3-D cell's corners
+    000, 100, 010, 110, 001, 101, 011, 111."""
+    b00, b10, b01, b11 = _hash2(X0, X1, Y0, Y1, P, b)
+    return (P[_u(b + b00 + Z0)] & 255, P[_u(b + b10 + Z0)] & 255,
+            P[_u(b + b01 + Z0)] & 255, P[_u(b + b11 + Z0)] & 255,
+            P[_u(b + b00 + Z1)] & 255, P[_u(b + b10 + Z1)] & 255,
+            P[_u(b + b01 + Z1)] & 255, P[_u(b + b11 + Z1)] & 255)
+
+
+@njit(inline="always")
 def _perlin2(x, y, px, ipx, py, ipy, P, b, K, periodic):
     X0, X1, fx = _cell(x, px, ipx, K, periodic)
     Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
-    a0 = P[_u(b + X0)] & 255
-    a1 = P[_u(b + X1)] & 255
+    h00, h10, h01, h11 = _hash2(X0, X1, Y0, Y1, P, b)
     gx = fx - K[1]
     gy = fy - K[1]
-    n00 = _grad2(P[_u(b + a0 + Y0)] & 15, fx, fy, K)
-    n10 = _grad2(P[_u(b + a1 + Y0)] & 15, gx, fy, K)
-    n01 = _grad2(P[_u(b + a0 + Y1)] & 15, fx, gy, K)
-    n11 = _grad2(P[_u(b + a1 + Y1)] & 15, gx, gy, K)
+    n00 = _grad2(h00 & 15, fx, fy, K)
+    n10 = _grad2(h10 & 15, gx, fy, K)
+    n01 = _grad2(h01 & 15, fx, gy, K)
+    n11 = _grad2(h11 & 15, gx, gy, K)
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
     return _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11)) * K[8]
@@ -129,23 +148,18 @@ def _perlin3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, K, periodic):
     X0, X1, fx = _cell(x, px, ipx, K, periodic)
     Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
     Z0, Z1, fz = _cell(z, pz, ipz, K, periodic)
-    a0 = P[_u(b + X0)] & 255
-    a1 = P[_u(b + X1)] & 255
-    b00 = P[_u(b + a0 + Y0)] & 255
-    b10 = P[_u(b + a1 + Y0)] & 255
-    b01 = P[_u(b + a0 + Y1)] & 255
-    b11 = P[_u(b + a1 + Y1)] & 255
+    h000, h100, h010, h110, h001, h101, h011, h111 = _hash3(X0, X1, Y0, Y1, Z0, Z1, P, b)
     gx = fx - K[1]
     gy = fy - K[1]
     gz = fz - K[1]
-    n000 = _grad3(P[_u(b + b00 + Z0)] & 15, fx, fy, fz)
-    n100 = _grad3(P[_u(b + b10 + Z0)] & 15, gx, fy, fz)
-    n010 = _grad3(P[_u(b + b01 + Z0)] & 15, fx, gy, fz)
-    n110 = _grad3(P[_u(b + b11 + Z0)] & 15, gx, gy, fz)
-    n001 = _grad3(P[_u(b + b00 + Z1)] & 15, fx, fy, gz)
-    n101 = _grad3(P[_u(b + b10 + Z1)] & 15, gx, fy, gz)
-    n011 = _grad3(P[_u(b + b01 + Z1)] & 15, fx, gy, gz)
-    n111 = _grad3(P[_u(b + b11 + Z1)] & 15, gx, gy, gz)
+    n000 = _grad3(h000 & 15, fx, fy, fz)
+    n100 = _grad3(h100 & 15, gx, fy, fz)
+    n010 = _grad3(h010 & 15, fx, gy, fz)
+    n110 = _grad3(h110 & 15, gx, gy, fz)
+    n001 = _grad3(h001 & 15, fx, fy, gz)
+    n101 = _grad3(h101 & 15, gx, fy, gz)
+    n011 = _grad3(h011 & 15, fx, gy, gz)
+    n111 = _grad3(h111 & 15, gx, gy, gz)
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
     w = _fade(fz, QUINTIC, K)
@@ -164,15 +178,11 @@ def _value1(x, p, ip, P, b, V, vb, mode, K, periodic):
 def _value2(x, y, px, ipx, py, ipy, P, b, V, vb, mode, K, periodic):
     X0, X1, fx = _cell(x, px, ipx, K, periodic)
     Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
-    a0 = P[_u(b + X0)] & 255
-    a1 = P[_u(b + X1)] & 255
-    v00 = V[_u(vb + (P[_u(b + a0 + Y0)] & 255))]
-    v10 = V[_u(vb + (P[_u(b + a1 + Y0)] & 255))]
-    v01 = V[_u(vb + (P[_u(b + a0 + Y1)] & 255))]
-    v11 = V[_u(vb + (P[_u(b + a1 + Y1)] & 255))]
+    h00, h10, h01, h11 = _hash2(X0, X1, Y0, Y1, P, b)
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
-    return _lerp(v, _lerp(u, v00, v10), _lerp(u, v01, v11))
+    return _lerp(v, _lerp(u, V[_u(vb + h00)], V[_u(vb + h10)]),
+                 _lerp(u, V[_u(vb + h01)], V[_u(vb + h11)]))
 
 
 @njit(inline="always")
@@ -180,26 +190,15 @@ def _value3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, V, vb, mode, K, periodic):
     X0, X1, fx = _cell(x, px, ipx, K, periodic)
     Y0, Y1, fy = _cell(y, py, ipy, K, periodic)
     Z0, Z1, fz = _cell(z, pz, ipz, K, periodic)
-    a0 = P[_u(b + X0)] & 255
-    a1 = P[_u(b + X1)] & 255
-    b00 = P[_u(b + a0 + Y0)] & 255
-    b10 = P[_u(b + a1 + Y0)] & 255
-    b01 = P[_u(b + a0 + Y1)] & 255
-    b11 = P[_u(b + a1 + Y1)] & 255
-    v000 = V[_u(vb + (P[_u(b + b00 + Z0)] & 255))]
-    v100 = V[_u(vb + (P[_u(b + b10 + Z0)] & 255))]
-    v010 = V[_u(vb + (P[_u(b + b01 + Z0)] & 255))]
-    v110 = V[_u(vb + (P[_u(b + b11 + Z0)] & 255))]
-    v001 = V[_u(vb + (P[_u(b + b00 + Z1)] & 255))]
-    v101 = V[_u(vb + (P[_u(b + b10 + Z1)] & 255))]
-    v011 = V[_u(vb + (P[_u(b + b01 + Z1)] & 255))]
-    v111 = V[_u(vb + (P[_u(b + b11 + Z1)] & 255))]
+    h000, h100, h010, h110, h001, h101, h011, h111 = _hash3(X0, X1, Y0, Y1, Z0, Z1, P, b)
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
     w = _fade(fz, mode, K)
     return _lerp(w,
-                 _lerp(v, _lerp(u, v000, v100), _lerp(u, v010, v110)),
-                 _lerp(v, _lerp(u, v001, v101), _lerp(u, v011, v111)))
+                 _lerp(v, _lerp(u, V[_u(vb + h000)], V[_u(vb + h100)]),
+                       _lerp(u, V[_u(vb + h010)], V[_u(vb + h110)])),
+                 _lerp(v, _lerp(u, V[_u(vb + h001)], V[_u(vb + h101)]),
+                       _lerp(u, V[_u(vb + h011)], V[_u(vb + h111)])))
 
 
 # ---------------------------------------------------------------- kernels
