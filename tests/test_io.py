@@ -1,5 +1,8 @@
 """Tests of spectex.io: formats, conversions and atomic writes."""
 
+import re
+import subprocess
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -74,3 +77,25 @@ def test_output_suffix_checked(tmp_path):
         io.write_image(tmp_path / "x.xyz", np.zeros((2, 2)))
     with pytest.raises(ValueError, match="bit_depth=16 needs a .png output"):
         io.write_image(tmp_path / "x.jpg", np.zeros((2, 2)), bit_depth=16)
+
+
+def test_mp4_is_quiet_and_reads_back(tmp_path, capfd):
+    pytest.importorskip("imageio")
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
+    levels = np.linspace(0.1, 0.9, 5, dtype=np.float32)
+    frames = [np.full((24, 32, 3), v, np.float32) for v in levels]
+    out = io.write_animation(tmp_path / "a.mp4", frames, fps=10)
+    err = capfd.readouterr().err
+    assert "pix_fmt" not in err
+    assert err == ""
+    ffmpeg = imageio_ffmpeg.get_ffmpeg_exe()
+    # `ffmpeg -i` alone describes the streams on stderr and exits with status 1.
+    info = subprocess.run([ffmpeg, "-hide_banner", "-i", str(out)], capture_output=True, text=True).stderr
+    stream = re.search(r"Video: (\w+).*?, (yuv\w+).*?, (\d+)x(\d+)", info)
+    assert stream is not None, info
+    assert stream.group(1, 2, 3, 4) == ("h264", "yuv420p", "32", "24")
+    raw = subprocess.run([ffmpeg, "-v", "error", "-i", str(out), "-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
+                         capture_output=True, check=True).stdout
+    assert len(raw) == 5 * 24 * 32 * 3
+    got = np.frombuffer(raw, np.uint8).reshape(5, 24, 32, 3)
+    np.testing.assert_allclose(got.mean(axis=(1, 2, 3)) / 255.0, levels, atol=0.02)

@@ -277,8 +277,11 @@ def write_animation(path, frames, *, fps: float = 24.0) -> Path:
             # H.264 wants even sizes: pad by repeating the last row/column.
             h, w = data[0].shape[:2]
             ph, pw = h % 2, w % 2
+            # yuv420p (the format most players accept) goes through imageio's own
+            # `pixelformat`: imageio-ffmpeg always writes `-pix_fmt <pixelformat>`,
+            # so repeating it in output_params makes ffmpeg warn about two options.
             with iio.get_writer(tmp, format="FFMPEG", mode="I", fps=fps, codec="libx264",
-                                macro_block_size=1, quality=8, output_params=["-pix_fmt", "yuv420p"]) as writer:
+                                macro_block_size=1, quality=8, pixelformat="yuv420p") as writer:
                 for d in data:
                     if d.ndim == 2:
                         d = np.repeat(d[:, :, None], 3, axis=2)
