@@ -65,6 +65,21 @@ def _frontier(filled, half, tileable):
     return ys[:n].copy(), xs[:n].copy(), counts
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _add_candidate(p, mark, stamp, cand, nc):
+    """Append candidate ``p`` to ``cand[:nc]`` unless already stamped with ``mark``.
+
+    ``stamp[p] == mark`` means ``p`` is already in this pixel's list (marks
+    grow with every pixel, so the array never needs clearing). Returns the
+    new count.
+    """
+    if stamp[p] != mark:
+        stamp[p] = mark
+        cand[nc] = p
+        nc += 1
+    return nc
+
+
 @numba.njit(cache=True, nogil=True)
 def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, knn, exhaustive,
                 uniform, random_cands, epsilon, threshold, stamp, stamp_base):
@@ -139,22 +154,11 @@ def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, k
                 p = ks[k]
                 if p < 0:
                     continue
-                if stamp[p] != mark:
-                    stamp[p] = mark
-                    cand[nc] = p
-                    nc += 1
+                nc = _add_candidate(p, mark, stamp, cand, nc)
                 for j in range(kk):
-                    q = knn[p, j]
-                    if stamp[q] != mark:
-                        stamp[q] = mark
-                        cand[nc] = q
-                        nc += 1
+                    nc = _add_candidate(knn[p, j], mark, stamp, cand, nc)
             for j in range(nrand):
-                q = random_cands[i, j]
-                if stamp[q] != mark:
-                    stamp[q] = mark
-                    cand[nc] = q
-                    nc += 1
+                nc = _add_candidate(random_cands[i, j], mark, stamp, cand, nc)
         # 3. errors, with early exit once a candidate cannot be within (1 + eps) of the best
         norm = 1.0 / (total_w * nch)
         best = np.inf
