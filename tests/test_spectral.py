@@ -8,6 +8,7 @@ from spectex.spectral import (
     band_limit,
     discrete_filter,
     filter_passes,
+    hann_window,
     magnify,
     octave,
     octave_amplitudes,
@@ -266,6 +267,22 @@ def test_radial_power_spectrum_channels_and_windows():
     assert fit.slope.shape == (3,)
     with pytest.raises(ValueError, match="window"):
         radial_power_spectrum(x, window="kaiser")
+
+
+def test_hann_window_reference_values():
+    # sin^2 form of the (n + 2)-point Hann window without its zero end points
+    h, w = 5, 8
+    ry = np.sin(np.pi * np.arange(1, h + 1) / (h + 1)) ** 2
+    rx = np.sin(np.pi * np.arange(1, w + 1) / (w + 1)) ** 2
+    win = hann_window((h, w))
+    assert win.shape == (h, w) and win.dtype == np.float64
+    np.testing.assert_allclose(win, ry[:, None] * rx[None, :], rtol=1e-12, atol=1e-15)
+    assert win.min() > 0 and win[2, :].max() <= 1.0
+    assert win[2, 3] == win[2, 4]  # symmetric about the centre
+    np.testing.assert_allclose(hann_window(7), np.outer(hann_window((7, 1))[:, 0], hann_window((1, 7))[0]))
+    np.testing.assert_allclose(hann_window(3)[1, 1], 1.0)
+    with pytest.raises(ValueError, match=r"shape\[1\] must be >= 1, got 0"):
+        hann_window((4, 0))
 
 
 def test_windows_remove_edge_leakage_from_a_non_periodic_crop():

@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._validate import check_image, check_int
+from .spectral import hann_window
 
 __all__ = [
     "histogram_w1",
@@ -119,7 +120,8 @@ def band_power(image, *, min_cycles: int = 4, segment=None):
     """Windowed, radially averaged power per octave band.
 
     The image (its Rec. 709 luma for colour; alpha is ignored) has its mean
-    removed and is multiplied by a separable 2-D Hann window, so that a
+    removed and is multiplied by a separable 2-D Hann window
+    (:func:`spectex.spectral.hann_window`), so that a
     non-periodic photograph does not leak its edges into the high
     frequencies. The power spectrum ``|F|^2 / (H W)^2`` (so that the sum over
     all frequencies is the variance) is divided by the window's mean square
@@ -192,7 +194,7 @@ def band_power(image, *, min_cycles: int = 4, segment=None):
         raise ValueError(f"image must be at least {8 * min_cycles} pixels on its shorter side for "
                          f"two octave bands, got {sw}x{sh}")
     lum = _luma(image)
-    win = np.outer(np.hanning(sh + 2)[1:-1], np.hanning(sw + 2)[1:-1])
+    win = hann_window((sh, sw))
     norm = float(sh * sw) ** 2 * float(np.mean(win ** 2))
 
     def starts(size, seg):

@@ -8,7 +8,8 @@ Spectral synthesis (6.21.4)
     :func:`band_limit`.
 Analysis
     :func:`radial_power_spectrum`, :func:`spectral_slope` (returns a
-    :class:`SlopeFit`), :func:`periodic_smooth_decomposition`.
+    :class:`SlopeFit`), :func:`periodic_smooth_decomposition`,
+    :func:`hann_window`.
 
 Frequencies are in cycles per pixel (Nyquist is 0.5). See ``docs/tiles.md``.
 """
@@ -17,6 +18,7 @@ from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
 from ._synthesis import (
     SlopeFit,
     band_limit,
+    hann_window,
     octave_amplitudes,
     octave_sum,
     periodic_smooth_decomposition,
@@ -31,6 +33,7 @@ __all__ = [
     "band_limit",
     "discrete_filter",
     "filter_passes",
+    "hann_window",
     "magnify",
     "octave",
     "octave_amplitudes",

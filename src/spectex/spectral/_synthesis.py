@@ -433,6 +433,38 @@ def _solve_periodic_poisson(v: np.ndarray) -> np.ndarray:
 _WINDOWS = ("none", "hann", "periodic")
 
 
+def hann_window(shape) -> np.ndarray:
+    """Separable 2-D Hann window, positive on every pixel.
+
+    Along each axis of ``n`` pixels the weights are
+    ``0.5 - 0.5 cos(2 pi (i + 1) / (n + 1))`` for ``i = 0 .. n - 1``: the
+    ``n + 2``-point Hann window without its two zero end points, so that no
+    pixel is discarded. The 2-D window is the outer product of the two.
+    Multiply an image with its mean removed by it before an FFT, and divide
+    the power by ``mean(window ** 2)`` to keep the estimate unbiased, as
+    :func:`radial_power_spectrum` and :func:`spectex.metrics.band_power` do.
+
+    Parameters
+    ----------
+    shape : int or (int, int)
+        ``(height, width)`` of the window (an int for a square one), each at
+        least 1.
+
+    Returns
+    -------
+    ndarray of float64, shape (height, width)
+        Weights in (0, 1], symmetric about the centre (1 at the centre
+        pixel of an odd size).
+
+    References
+    ----------
+    F. J. Harris, "On the use of windows for harmonic analysis with the
+    discrete Fourier transform", Proc. IEEE 66(1), 1978.
+    """
+    h, w = check_shape("shape", shape)
+    return np.outer(np.hanning(h + 2)[1:-1], np.hanning(w + 2)[1:-1])
+
+
 def radial_power_spectrum(image, *, window: str | None = None):
     """Radially averaged power spectrum.
 
@@ -450,7 +482,7 @@ def radial_power_spectrum(image, *, window: str | None = None):
         for one curve of a colour image).
     window : {None, 'none', 'hann', 'periodic'}
         ``None``/``'none'``: the image is taken as periodic (right for tiles
-        and synthesised noise). ``'hann'``: a separable Hann window, for
+        and synthesised noise). ``'hann'``: :func:`hann_window`, for
         non-periodic photographs, whose edges otherwise leak a ``1/f^2``
         cross into the spectrum. ``'periodic'``: the periodic component of
         :func:`periodic_smooth_decomposition`, which removes the same leak
@@ -484,7 +516,7 @@ def radial_power_spectrum(image, *, window: str | None = None):
     x = x - x.mean(axis=(0, 1))
     msq = 1.0
     if window == "hann":
-        win = np.outer(np.hanning(h + 2)[1:-1], np.hanning(w + 2)[1:-1])
+        win = hann_window((h, w))
         x = x * win[:, :, None]
         msq = float(np.mean(win ** 2))
     spec = sfft.rfft2(x, axes=(0, 1), workers=_workers(x.size))
