@@ -246,3 +246,27 @@ def test_texture_bake_bad_input(paper_tile, kwargs, match):
 def test_texture_bad_construction(tiles, layers, match):
     with pytest.raises((ValueError, TypeError), match=match):
         SpectralTexture(tiles, layers)
+
+
+def test_texel_store_is_made_once_and_matches_the_mip_levels():
+    tex = SpectralTexture.paper_preset(make_tile(16, seed=2))
+    data, stride, offsets, widths, heights = tex.texel_store()
+    assert tex.texel_store()[0] is data  # kept: a render does not rebuild it
+    levels = tex.mip_levels()[0]
+    assert stride == sum(lv.shape[0] * lv.shape[1] for lv in levels)
+    for d, lv in enumerate(levels):
+        got = data[offsets[d]:offsets[d] + widths[d] * heights[d]].reshape(heights[d], widths[d], 4)
+        np.testing.assert_array_equal(got, lv)
+    base = tex.texel_store(mipmaps=False)
+    assert base[1] == 16 * 16 and len(base[2]) == 1
+    np.testing.assert_array_equal(tex.packed(mipmaps=False)[0], base[0])
+
+
+def test_packed_names_a_bad_filter_or_anisotropy():
+    tex = SpectralTexture.paper_preset(make_tile(16, seed=2))
+    with pytest.raises(ValueError, match="filter.*bogus"):
+        tex.packed(filter="bogus")
+    with pytest.raises(ValueError, match="anisotropy"):
+        tex.packed(anisotropy=40.0)
+    assert tex.packed(filter="nearest")[8] == 0  # NEAREST magnifies with NEAREST
+    assert tex.packed(filter="trilinear")[7:9] == (5, 1)

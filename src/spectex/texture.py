@@ -187,6 +187,7 @@ class SpectralTexture:
         self.layers = layers
         self.bits = bits
         self._levels = None
+        self._stores = {}  # mipmaps -> texel store (texel_store); the tiles never change
 
     # ------------------------------------------------------------------ presets
     @classmethod
@@ -301,17 +302,31 @@ class SpectralTexture:
                 and all(np.array_equal(a, b) for a, b in zip(self.tiles, other.tiles)))
 
     # ------------------------------------------------------------------- baking
+    def texel_store(self, *, mipmaps=True):
+        """All tiles' texels as one store, made once per texture and kept.
+
+        Returns ``(data, stride, offsets, widths, heights)``: ``data`` is
+        ``(N, 4)`` float32 RGBA; tile ``i``'s level ``d`` starts at row ``i *
+        stride + offsets[d]`` and is ``heights[d] x widths[d]``, row-major.
+        With ``mipmaps=False``, level 0 only.
+        """
+        key = bool(mipmaps)
+        if key not in self._stores:
+            from .sampling import MipTexture
+
+            textures = [MipTexture(lv if mipmaps else lv[:1], bits=None) for lv in self.mip_levels()]
+            tex = textures[0]
+            data = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
+            self._stores[key] = (data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
+        return self._stores[key]
+
     def packed(self, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=None):
         """Kernel arguments: texel store, sampler state and layer tables (see ``render.cpu``)."""
-        from .sampling import MipTexture
+        from .sampling import filter_code
 
-        levels = self.mip_levels()
-        textures = [MipTexture(lv if mipmaps else lv[:1], min_filter=filter, mag_filter="linear"
-                               if filter not in ("nearest",) else "nearest",
-                               max_anisotropy=anisotropy, bits=None) for lv in levels]
-        data = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
-        tex = textures[0]
-        stride = tex.data.shape[0]
+        code = filter_code("filter", filter)
+        state = (0, 0, code, 0 if code == 0 else 1,  # REPEAT both ways; NEAREST magnifies only under NEAREST
+                 check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0), 0.0, -1000.0, 1000.0)
         n = len(self.layers)
         if enabled is None:
             enabled = [True] * n
@@ -323,8 +338,7 @@ class SpectralTexture:
         means = self.mean_colours()[tile_idx]
         opacity = np.array([layer.opacity for layer in self.layers], dtype=np.float64)
         on = np.array([bool(e) for e in enabled], dtype=np.bool_)
-        return ((data, stride, tex.offsets, tex.widths, tex.heights) + tex.state()
-                + (tile_idx, mats, blends, means, opacity, on))
+        return self.texel_store(mipmaps=mipmaps) + state + (tile_idx, mats, blends, means, opacity, on)
 
     def anchor_coords(self, x0: float, y0: float) -> np.ndarray:
         """Per layer, the tile coordinates (s, t) of world point (x0, y0), reduced modulo 2.
