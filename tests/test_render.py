@@ -266,3 +266,16 @@ def test_render_no_gl_falls_back_to_cpu(monkeypatch):
     assert used == "cpu" and img.shape == (18, 32, 3)
     with pytest.raises(OSError, match="no OpenGL"):
         render(tex, VIEWS["ground"], (18, 32), backend="gl")
+
+
+@pytest.mark.parametrize("h", [1, 7, 16, 17, 180, 1080])
+def test_row_order_is_a_permutation_spread_over_the_picture(h):
+    from spectex.render._kernels import row_order
+
+    rows = row_order(h)
+    assert rows.dtype == np.int64
+    np.testing.assert_array_equal(np.sort(rows), np.arange(h))
+    if h >= 180:  # each half of the order (one thread's share of two) covers the picture evenly
+        for half in (rows[: h // 2], rows[h // 2:]):
+            counts = np.histogram(half, bins=4, range=(0, h))[0]
+            assert counts.min() >= 0.6 * counts.mean(), counts

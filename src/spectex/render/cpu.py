@@ -46,7 +46,7 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
         RGB in [0, 1], row 0 at the top.
     """
     from ..texture import SpectralTexture
-    from ._kernels import render_kernel, render_kernel_fast
+    from ._kernels import render_kernel, render_kernel_fast, row_order
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")
@@ -65,10 +65,11 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
     if fast is not None:
         render_kernel_fast(*fast, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
                            np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far,
-                           int(supersample), out)
+                           int(supersample), row_order(h), out)
         return out
     render_kernel(*args, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
-                  np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far, int(supersample), out)
+                  np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far, int(supersample),
+                  row_order(h), out)
     return out
 
 

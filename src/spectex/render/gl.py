@@ -103,29 +103,38 @@ def _shader_source(name: str) -> str:
 
 
 def fragment_source(n_layers: int, n_tiles: int, tile_of_layer, blend_of_layer=None, *,
-                    anisotropic: bool = False, iso_lod: bool = False, sky_only: bool = False) -> str:
+                    anisotropic: bool = False, iso_lod: bool = False, sky_only: bool = False,
+                    enabled=None) -> str:
     """The ground shader for a texture: layer count, tile count, unrolled layer calls.
 
     Sampler arrays may only be indexed by constants in GLSL 3.30, so each
-    layer gets its own call with its tile's index and its blend code
-    (0 alpha, 1 detail, 2 variance) written in, so that the compiler folds
-    the blend's branches away. The
-    anisotropic path is compiled in only when asked for (``ANISO``): even
-    untaken, its loop costs llvmpipe about a third of the frame.
-    ``iso_lod`` (square tiles, no anisotropy) derives each layer's level of
-    detail from one per-pixel world level (``docs/sampling.md``, section 3)
-    instead of from each layer's derivatives. ``sky_only`` compiles the
-    ground branch out, for the rows that see only sky (:meth:`GLRenderer.draw`).
+    enabled layer gets its own call with its tile's index and its blend code
+    written in (-1 for the first enabled layer, which sets the colour; then
+    0 alpha, 1 detail, 2 variance), so that the compiler folds every branch
+    away: llvmpipe runs both sides of a branch it cannot fold, and a
+    runtime toggle or "first layer" flag cost a quarter of the frame.
+    Disabled layers (``enabled``) get no call. The anisotropic path is
+    compiled in only when asked for (``ANISO``): even untaken, its loop
+    costs llvmpipe about a third of the frame. ``iso_lod`` (square tiles,
+    no anisotropy) derives each layer's level of detail from one per-pixel
+    world level (``docs/sampling.md``, section 3) instead of from each
+    layer's derivatives. ``sky_only`` compiles the ground branch out, for
+    the rows that see only sky (:meth:`GLRenderer.draw`).
     """
     if blend_of_layer is None:
         blend_of_layer = [0] * n_layers
-    calls = "\n".join(f"        shade_layer({k}, {int(b)}, u_tile[{int(t)}], first, c, p, jx, jy, lam_w);"
-                      for k, (t, b) in enumerate(zip(tile_of_layer, blend_of_layer)))
+    if enabled is None:
+        enabled = [True] * n_layers
+    calls = []
+    for k, (t, b, on) in enumerate(zip(tile_of_layer, blend_of_layer, enabled)):
+        if on:
+            code = -1 if not calls else int(b)
+            calls.append(f"        shade_layer({k}, {code}, u_tile[{int(t)}], c, p, jx, jy, lam_w);")
     src = _shader_source("ground.frag.glsl")
     return (src.replace("@N_LAYERS@", str(int(n_layers))).replace("@N_TILES@", str(int(n_tiles)))
             .replace("@ANISO@", "1" if anisotropic else "0")
             .replace("@ISO_LOD@", "1" if iso_lod and not anisotropic else "0")
-            .replace("@SKY_ONLY@", "1" if sky_only else "0").replace("//@LAYERS@", calls))
+            .replace("@SKY_ONLY@", "1" if sky_only else "0").replace("//@LAYERS@", "\n".join(calls)))
 
 
 class GLRenderer:
@@ -163,9 +172,14 @@ class GLRenderer:
             self.release()
             raise
 
-    def _use_program(self, *, anisotropic: bool, sky_only: bool = False):
-        """Make the isotropic or the anisotropic (or the sky-only) program current (compiled on first use)."""
-        key = (anisotropic, sky_only)
+    def _use_program(self, *, anisotropic: bool, sky_only: bool = False, enabled=None):
+        """Make the program for these switches current (compiled on first use and kept).
+
+        ``enabled``: per layer, whether it is drawn (all by default); each
+        set of toggles is its own program (``fragment_source``).
+        """
+        enabled = tuple(bool(e) for e in enabled) if enabled is not None else (True,) * len(self.texture.layers)
+        key = (anisotropic, sky_only, () if sky_only else enabled)
         if key not in self._programs:
             texture = self.texture
             program = self.ctx.program(
@@ -176,7 +190,7 @@ class GLRenderer:
                                                  for layer in texture.layers],
                                                 anisotropic=anisotropic,
                                                 iso_lod=texture.tile_shape[0] == texture.tile_shape[1],
-                                                sky_only=sky_only))
+                                                sky_only=sky_only, enabled=enabled))
             self._programs[key] = (program, self.ctx.vertex_array(program, []))
             self.program, self.vao = self._programs[key]
             self._set_static_uniforms()
@@ -219,7 +233,10 @@ class GLRenderer:
         if name not in self.program:  # optimised away
             return
         uniform = self.program[name]
-        if isinstance(value, list) and getattr(uniform, "array_length", 1) > 1:
+        if isinstance(value, list):
+            # the compiler trims a per-layer array after the last layer the program draws
+            value = value[:getattr(uniform, "array_length", 1)]
+        if isinstance(value, list) and len(value) > 1:
             uniform.value = value
         elif isinstance(value, list) and len(value) == 1:
             uniform.value = value[0]
@@ -284,11 +301,11 @@ class GLRenderer:
             for tex in self.textures:
                 tex.filter = (min_f, mag_f)
             self._filter = name
-        self._use_program(anisotropic=anisotropy > 1.0 and "mipmap" in name, sky_only=sky_only)
         n = len(self.texture.layers)
         enabled = [True] * n if enabled is None else list(enabled)
         if len(enabled) != n:
             raise ValueError(f"enabled must have one flag per layer ({n}), got {len(enabled)}")
+        self._use_program(anisotropic=anisotropy > 1.0 and "mipmap" in name, sky_only=sky_only, enabled=enabled)
         x, y, z = camera.position
         fwd, right, up = camera.basis()
         tan_x, tan_y = camera.tangents(h, w)
@@ -299,6 +316,8 @@ class GLRenderer:
         self._set_uniform("u_right", tuple(float(v) for v in right))
         self._set_uniform("u_up", tuple(float(v) for v in up))
         self._set_uniform("u_tan", (float(tan_x), float(tan_y)))
+        self._set_uniform("u_ddx", tuple(float(v) * 2.0 * tan_x / w for v in right))
+        self._set_uniform("u_ddy", tuple(float(v) * -2.0 * tan_y / h for v in up))
         self._set_uniform("u_horizon", tuple(atmosphere.horizon))
         self._set_uniform("u_zenith", tuple(atmosphere.zenith))
         self._set_uniform("u_haze", float(atmosphere.haze_distance))
@@ -306,7 +325,6 @@ class GLRenderer:
         self._set_uniform("u_max_aniso", float(anisotropy))
         self._set_uniform("u_mipmapped", 1 if "mipmap" in name else 0)
         self._set_uniform("u_anchor", [tuple(float(v) for v in a) for a in anchor])
-        self._set_uniform("u_on", [1 if e else 0 for e in enabled])
 
     def draw(self, camera, size, **kwargs):
         """Draw one frame into the currently bound framebuffer (the viewer's window).

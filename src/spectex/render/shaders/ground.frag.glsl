@@ -3,7 +3,8 @@
 // This shader implements docs/sampling.md, section by section; the CPU
 // reference (spectex/sampling.py, spectex/render/_kernels.py) implements the
 // same text. gl.py fills in N_LAYERS, N_TILES, ANISO, ISO_LOD, SKY_ONLY and
-// the unrolled layer calls.
+// the unrolled layer calls (only the enabled layers', the first one with
+// blend -1: it sets the colour).
 
 #define N_LAYERS @N_LAYERS@
 #define N_TILES @N_TILES@
@@ -17,6 +18,8 @@ uniform vec3 u_fwd;           // camera basis, world coordinates
 uniform vec3 u_right;
 uniform vec3 u_up;
 uniform vec2 u_tan;           // tan_x, tan_y: half-extents of the image plane at distance 1
+uniform vec3 u_ddx;           // d(ray)/d(pixel x) = right 2 tan_x / width (on the host: llvmpipe
+uniform vec3 u_ddy;           // d(ray)/d(pixel y) = -up 2 tan_y / height  evaluates uniform math per pixel)
 uniform vec3 u_horizon;
 uniform vec3 u_zenith;
 uniform float u_haze;         // haze distance (m)
@@ -31,7 +34,6 @@ uniform vec2 u_anchor[N_LAYERS];  // per layer: tile coords of the camera's grou
 uniform vec4 u_mat[N_LAYERS];     // per layer: (m00, m01, m10, m11), world -> tile coords
 uniform vec3 u_mean[N_LAYERS];    // per layer: its tile's mean colour (1 x 1 level)
 uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
-uniform int u_on[N_LAYERS];       // layer toggles
 uniform float u_lod_off[N_LAYERS]; // per layer: log2(tile width / layer size), texels per metre
 
 out vec4 frag_colour;
@@ -63,14 +65,13 @@ vec4 sample_grad(sampler2D tex, vec2 st, vec2 dx, vec2 dy) {
     return textureLod(tex, st, log2(max(pmax, 1e-30)));
 }
 
-// Section "Layer compositing". blend: 0 alpha, 1 detail, 2 variance (a
-// constant at each call site, written in by gl.py).
+// Section "Layer compositing". blend: -1 the first drawn layer (sets the
+// colour), 0 alpha, 1 detail, 2 variance: a constant at each call site,
+// written in by gl.py with the layer toggles, so that no branch is left.
 // With ISO_LOD, section "Level of detail": a layer's map is a rotation and
 // a scale, so its lambda is the pixel's world lambda (log2 of the longer
 // footprint edge in metres, computed once in main) plus log2(w / size_k).
-void shade_layer(int k, int blend, sampler2D tex, inout bool first, inout vec3 c, vec2 p, vec2 jx, vec2 jy,
-                 float lam_w) {
-    if (u_on[k] == 0) return;
+void shade_layer(int k, int blend, sampler2D tex, inout vec3 c, vec2 p, vec2 jx, vec2 jy, float lam_w) {
     vec4 m = u_mat[k];
     vec2 st = u_anchor[k] + vec2(m.x * p.x + m.y * p.y, m.z * p.x + m.w * p.y);
 #if ISO_LOD
@@ -81,9 +82,8 @@ void shade_layer(int k, int blend, sampler2D tex, inout bool first, inout vec3 c
     vec4 x = sample_grad(tex, st, dx, dy);
 #endif
     float a = x.a * u_opacity[k];
-    if (first) {
+    if (blend == -1) {
         c = x.rgb;
-        first = false;
     } else if (blend == 0) {
         c = a * x.rgb + (1.0 - a) * c;
     } else if (blend == 1) {
@@ -107,15 +107,12 @@ void main() {
     if (SKY_ONLY == 0 && d.z < 0.0 && u_height * dlen < -d.z * u_far) {
         float tt = u_height / -d.z;
         float dist = tt * dlen;
-        vec3 ddx = u_right * (2.0 * u_tan.x / u_size.x);
-        vec3 ddy = u_up * (-2.0 * u_tan.y / u_size.y);
-        float q = -u_height / (d.z * d.z);
-        vec2 jx = q * (d.z * ddx.xy - d.xy * ddx.z);
-        vec2 jy = q * (d.z * ddy.xy - d.xy * ddy.z);
+        float q = tt / d.z;  // -height / d_z^2
+        vec2 jx = q * (d.z * u_ddx.xy - d.xy * u_ddx.z);
+        vec2 jy = q * (d.z * u_ddy.xy - d.xy * u_ddy.z);
         vec2 p = tt * d.xy;
-        float lam_w = log2(max(max(length(jx), length(jy)), 1e-30));
-        bool first = true;
-        vec3 c = vec3(0.0);
+        float lam_w = 0.5 * log2(max(max(dot(jx, jx), dot(jy, jy)), 1e-30));
+        vec3 c = vec3(0.0);  // black where every layer is off
 //@LAYERS@
         c = clamp(c, 0.0, 1.0);
         col = u_horizon + exp(-dist / u_haze) * (c - u_horizon);
