@@ -105,7 +105,7 @@ def bake_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filt
 @numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
 def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
                   min_lod, max_lod, tile_idx, mats, blends, means, opacity, on, anchor, height, fwd, right, up,
-                  tan_x, tan_y, horizon, zenith, haze_distance, far, n, rows, out):
+                  tan_x, tan_y, ddx, ddy, horizon, zenith, haze_distance, far, n, rows, out):
     """Perspective view of the textured ground plane with sky and haze.
 
     Pixel ``(r, c)`` and sub-sample ``(j, i)`` look along ``d = fwd + ndc_x
@@ -117,15 +117,8 @@ def render_kernel(data, stride, offsets, widths, heights, wrap_s, wrap_t, min_fi
     inv = 1.0 / (n * n)
     inv_n = 1.0 / n
     inv_haze = 1.0 / haze_distance
-    kx = 2.0 * tan_x / W
-    ky = -2.0 * tan_y / H
-    # derivatives of the (unnormalised) ray direction along screen x and y
-    ddx0 = right[0] * kx
-    ddx1 = right[1] * kx
-    ddx2 = right[2] * kx
-    ddy0 = up[0] * ky
-    ddy1 = up[1] * ky
-    ddy2 = up[2] * ky
+    ddx0, ddx1, ddx2 = ddx[0], ddx[1], ddx[2]  # Camera.ray_steps: the ray's change per pixel
+    ddy0, ddy1, ddy2 = ddy[0], ddy[1], ddy[2]
     for ir in numba.prange(H):
         r = rows[ir]
         for c in range(W):
@@ -389,7 +382,7 @@ def _shade_row(flat, stride, offsets, size0, tile_idx, mats, blends, means, opac
 
 @numba.njit(cache=True, parallel=True, nogil=True, fastmath=True)
 def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, means, opacity, on, lod_off, anchor,
-                       height, fwd, right, up, tan_x, tan_y, horizon, zenith, haze_distance, far, n, rows, out):
+                       height, fwd, right, up, tan_x, tan_y, ddx, ddy, horizon, zenith, haze_distance, far, n, rows, out):
     """:func:`render_kernel` for the fast path's sampler state (see above).
 
     ``flat``: the texel store as one flat float32 array (RGBA per texel), so
@@ -400,14 +393,8 @@ def render_kernel_fast(flat, stride, offsets, size0, tile_idx, mats, blends, mea
     inv = 1.0 / (n * n)
     inv_n = 1.0 / n
     inv_haze = 1.0 / haze_distance
-    kx = 2.0 * tan_x / W
-    ky = -2.0 * tan_y / H
-    ddx0 = right[0] * kx
-    ddx1 = right[1] * kx
-    ddx2 = right[2] * kx
-    ddy0 = up[0] * ky
-    ddy1 = up[1] * ky
-    ddy2 = up[2] * ky
+    ddx0, ddx1, ddx2 = ddx[0], ddx[1], ddx[2]  # Camera.ray_steps: the ray's change per pixel
+    ddy0, ddy1, ddy2 = ddy[0], ddy[1], ddy[2]
     m = W * n
     for ir in numba.prange(H):
         r = rows[ir]

@@ -99,6 +99,19 @@ class Camera:
         tan_y = math.tan(math.radians(self.fov) / 2.0)
         return tan_y * width / height, tan_y
 
+    def ray_steps(self, height: int, width: int) -> tuple[np.ndarray, np.ndarray]:
+        """How the (unnormalised) ray direction changes per pixel along x and y.
+
+        ``d = fwd + ndc_x tan_x right + ndc_y tan_y up`` with ``ndc_x = 2 px /
+        width - 1`` and ``ndc_y = 1 - 2 py / height``, so ``dd/dpx = right 2
+        tan_x / width`` and ``dd/dpy = -up 2 tan_y / height``: the inputs of
+        each pixel's footprint (``docs/sampling.md``, section 7), for the
+        CPU kernels and the shader alike.
+        """
+        _, right, up = self.basis()
+        tan_x, tan_y = self.tangents(height, width)
+        return np.asarray(right) * (2.0 * tan_x / width), np.asarray(up) * (-2.0 * tan_y / height)
+
     def moved(self, **changes) -> "Camera":
         """A copy with some fields changed."""
         from dataclasses import replace

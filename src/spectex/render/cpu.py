@@ -60,14 +60,15 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
     anchor = texture.anchor_coords(x, y)
     fwd, right, up = camera.basis()
     tan_x, tan_y = camera.tangents(h, w)
+    ddx, ddy = camera.ray_steps(h, w)
     out = np.empty((h, w, 3), dtype=np.float32)
     fast = fast_path_args(texture, args)
     if fast is not None:
-        render_kernel_fast(*fast, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
+        render_kernel_fast(*fast, anchor, z, fwd, right, up, tan_x, tan_y, ddx, ddy, np.array(atmosphere.horizon),
                            np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far,
                            int(supersample), row_order(h), out)
         return out
-    render_kernel(*args, anchor, z, fwd, right, up, tan_x, tan_y, np.array(atmosphere.horizon),
+    render_kernel(*args, anchor, z, fwd, right, up, tan_x, tan_y, ddx, ddy, np.array(atmosphere.horizon),
                   np.array(atmosphere.zenith), atmosphere.haze_distance, atmosphere.far, int(supersample),
                   row_order(h), out)
     return out
