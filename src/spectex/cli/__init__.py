@@ -20,6 +20,7 @@ _COMMANDS = (
     "spectrum",
     "render",
     "view",
+    "export",
     "synth",
     "text",
     "compare",

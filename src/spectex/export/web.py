@@ -1,0 +1,101 @@
+"""The ``web`` export: one self-contained HTML file, a WebGL2 fly-over of the texture.
+
+``index.html`` holds everything: the viewer's script (written for spectex,
+no libraries), the renderer's own shaders as GLSL ES 3.00
+(:mod:`spectex.export._shader`), the layer table, and every mip level of
+every tile exactly as spectex samples it (:meth:`SpectralTexture.mip_levels`),
+as ``data:`` URIs of deflate-compressed raw RGBA bytes that the page inflates
+with the browser's ``DecompressionStream`` and uploads level by level. No
+network access, no build step: it opens by double-click from ``file://``.
+
+The URL fragment holds the view, ``#camera=X,Y,Z,YAW,PITCH&fov=F`` (the
+command line's conventions: metres, z up, yaw 0 = +y, degrees), and is
+written back as the camera moves; ``&hud=0`` hides the overlay and
+``&aniso=A`` sets the maximum anisotropy (default 8, as ``spectex view``; 1
+is off). When the first frame at the requested camera is drawn, the page's
+title becomes ``spectex:ready``.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import zlib
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ._shader import ground_template, vertex_source
+
+__all__ = ["write_web", "viewer_html", "DEFAULT_CAMERA", "DEFAULT_ANISOTROPY"]
+
+#: The view the page opens at without a fragment: (x, y, z, yaw, pitch, fov), as ``spectex view``.
+DEFAULT_CAMERA = (0.0, 0.0, 2.0, 0.0, -10.0, 60.0)
+#: Maximum anisotropy while the viewer's anisotropy is on (``spectex view``'s N key).
+DEFAULT_ANISOTROPY = 8.0
+
+
+def _level_uri(level: np.ndarray, bits) -> str:
+    """One mip level as a data: URI: row-major RGBA (uint8, or float32 little-endian), deflated."""
+    if bits == 8:
+        raw = np.floor(np.asarray(level, dtype=np.float64) * 255.0 + 0.5).astype(np.uint8)
+    else:
+        raw = np.asarray(level, dtype="<f4")
+    data = zlib.compress(np.ascontiguousarray(raw).tobytes(), 9)
+    return "data:application/octet-stream;base64," + base64.b64encode(data).decode("ascii")
+
+
+def viewer_data(texture, *, atmosphere=None) -> dict:
+    """Everything the page needs, as plain JSON values (float64 numbers kept exact)."""
+    from spectex.render import Atmosphere
+
+    atmosphere = Atmosphere() if atmosphere is None else atmosphere
+    h, w = texture.tile_shape
+    means = texture.mean_colours()
+    layers = []
+    for layer in texture.layers:
+        layers.append({
+            "matrix": [float(v) for v in layer.matrix().reshape(-1)],
+            "offset": [float(layer.offset[0]), float(layer.offset[1])],
+            "opacity": float(layer.opacity),
+            "lod_offset": float(np.log2(w / layer.size)),
+            "mean": [float(v) for v in means[layer.tile]],
+            "size": float(layer.size),
+            "blend": layer.blend,
+        })
+    tiles = [{"levels": [{"width": int(lv.shape[1]), "height": int(lv.shape[0]), "data": _level_uri(lv, texture.bits)}
+                         for lv in levels]}
+             for levels in texture.mip_levels()]
+    shader = ground_template(texture, "es300")
+    return {
+        "bits": 8 if texture.bits == 8 else 32,
+        "tile_shape": [int(h), int(w)],
+        "layers": layers,
+        "tiles": tiles,
+        "atmosphere": {"horizon": list(atmosphere.horizon), "zenith": list(atmosphere.zenith),
+                       "haze_distance": float(atmosphere.haze_distance)},
+        "camera": list(DEFAULT_CAMERA),
+        "anisotropy": DEFAULT_ANISOTROPY,
+        "shader": {"vertex": vertex_source("es300"), "fragment": shader["source"], "first": shader["first"],
+                   "over": shader["over"], "iso_lod": bool(shader["iso_lod"])},
+    }
+
+
+def viewer_html(texture, *, atmosphere=None) -> str:
+    """The viewer page for ``texture``, as text."""
+    template = resources.files("spectex.export").joinpath("templates", "viewer.html").read_text(encoding="utf-8")
+    data = json.dumps(viewer_data(texture, atmosphere=atmosphere), separators=(",", ":"), allow_nan=False)
+    # Inside <script>, "</" could close the element; "<\/" is the same JSON string.
+    data = data.replace("</", "<\\/")
+    marker = "/*@SPECTEX_DATA@*/"
+    if template.count(marker) != 1:
+        raise RuntimeError("viewer template: the data marker must appear once")
+    return template.replace(marker, data)
+
+
+def write_web(texture, folder: Path) -> list[Path]:
+    """Write ``folder/index.html``; return the files written."""
+    path = Path(folder) / "index.html"
+    path.write_text(viewer_html(texture), encoding="utf-8")
+    return [path]
