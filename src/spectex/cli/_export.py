@@ -38,7 +38,7 @@ def run(args) -> int:
     texture = SpectralTexture.load(args.texture)
     result = export(texture, output, formats=formats)
     count = sum(len(files) for files in result.files.values())
-    _common.report(f"wrote {output} ({', '.join(result.formats)}: {count} file{"" if count == 1 else "s"})")
+    _common.report(f"wrote {output} ({', '.join(result.formats)}: {count} file{'' if count == 1 else 's'})")
     if "web" in result.files:
         _common.report(f"open {(output / 'index.html').resolve().as_uri()} in a browser")
     return 0
