@@ -1,0 +1,346 @@
+"""The web export's viewer in a real browser: Debian's chromium, headless, software WebGL2.
+
+Playwright drives the system chromium (``executable_path``; no browser
+download) with SwiftShader for WebGL. A screenshot of ``index.html`` at a
+camera must match ``spectex render --backend cpu`` at that camera and size.
+In CI (``CI=true``) a missing browser is a failure, not a skip.
+
+Run as a script (``python3 tests/test_web_viewer.py``) to write the
+documentation's picture, ``docs/images/web_viewer.png``.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import re
+import shutil
+import sys
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectex.export import export
+from spectex.export.web import viewer_data
+from spectex.render import Camera, render
+from spectex.texture import Layer, SpectralTexture
+
+sys.path.insert(0, str(Path(__file__).parent))
+from conftest import make_test_tile  # noqa: E402
+
+CHROMIUM_ARGS = ["--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
+                 "--disable-background-networking", "--disable-component-update", "--no-first-run",
+                 "--disable-sync", "--force-color-profile=srgb"]
+SIZE = (180, 320)  # (height, width)
+
+
+def chromium_path() -> str | None:
+    for candidate in (os.environ.get("SPECTEX_CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium"),
+                      shutil.which("chromium-browser")):
+        if candidate and Path(candidate).is_file():
+            return candidate
+    return None
+
+
+def _unavailable(reason: str):
+    if os.environ.get("CI", "").lower() == "true":
+        pytest.fail(f"{reason}: CI must run the browser tests (.ci/run installs chromium)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        _unavailable("playwright is not installed")
+    path = chromium_path()
+    if path is None:
+        _unavailable("no chromium here (apt-get install chromium)")
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=path, headless=True, args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+def paper_texture():
+    return SpectralTexture.paper_preset(tile=make_test_tile(128, 0))
+
+
+def mixed_texture():
+    """Two non-square (64 x 128, seamless) float tiles, all three blends, offsets and rotations."""
+    a = make_test_tile(128, 1)[::2].copy()
+    b = make_test_tile(128, 2)[1::2].copy()
+    a[:, :, 3] = np.clip(a[:, :, 3] * 1.2 - 0.1, 0.0, 1.0)
+    layers = [Layer(size=7.0, tile=0, offset=(1.5, -2.0), rotation=10.0),
+              Layer(size=31.0, tile=1, offset=(-3.0, 4.0), rotation=137.5, blend="variance", opacity=0.8),
+              Layer(size=170.0, tile=0, rotation=-61.0, blend="detail"),
+              Layer(size=900.0, tile=1, offset=(100.0, 50.0), rotation=200.0, blend="alpha", opacity=0.6)]
+    return SpectralTexture([a, b], layers, bits=None)
+
+
+@pytest.fixture(scope="module")
+def exports(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("web")
+    return {name: export(make(), folder / name, formats="web").folder / "index.html"
+            for name, make in (("paper", paper_texture), ("mixed", mixed_texture))}
+
+
+@pytest.fixture(scope="module")
+def textures():
+    return {"paper": paper_texture(), "mixed": mixed_texture()}
+
+
+def view_url(html: Path, camera: Camera, *, extra: str = "") -> str:
+    x, y, z = camera.position
+    cam = ",".join(repr(float(v)) for v in (x, y, z, camera.yaw, camera.pitch))
+    return f"{html.as_uri()}#camera={cam}&fov={camera.fov!r}{extra}"
+
+
+def open_page(browser, url, size=SIZE, *, requests=None):
+    h, w = size
+    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
+    if requests is not None:
+        page.on("request", lambda r: requests.append(r.url))
+    page.goto(url)
+    page.wait_for_function("document.title.startsWith('spectex:')", timeout=120_000)
+    assert page.title() == "spectex:ready", page.inner_text("#error")
+    return page
+
+
+def screenshot(page) -> np.ndarray:
+    from PIL import Image
+
+    img = Image.open(io.BytesIO(page.screenshot()))
+    return np.asarray(img.convert("RGB"), dtype=np.float32) / np.float32(255.0)
+
+
+def psnr(image, reference) -> float:
+    mse = float(np.mean((np.asarray(image, np.float64) - np.asarray(reference, np.float64)) ** 2))
+    return float("inf") if mse == 0 else 10.0 * np.log10(1.0 / mse)
+
+
+def save_difference(name, image, reference):
+    """On failure: the screenshot, the reference and 8x their difference, stacked, for a person to look at."""
+    from spectex.io import write_image
+
+    folder = Path(os.environ.get("SPECTEX_TEST_ARTIFACTS", "/tmp")) / "spectex-web-viewer"
+    folder.mkdir(parents=True, exist_ok=True)
+    write_image(folder / f"{name}.png", np.concatenate([image, reference, np.clip(8 * np.abs(image - reference), 0, 1)]))
+    return folder / f"{name}.png"
+
+
+VIEWS = {
+    "closeup": Camera((0.0, 0.0, 2.0), yaw=0.0, pitch=-10.0),
+    "grazing": Camera((10.0, 20.0, 1.5), yaw=100.0, pitch=-2.0),
+    "far_from_origin": Camera((3.0e6, -2.0e6, 30.0), yaw=40.0, pitch=-20.0, fov=50.0),
+    "aerial": Camera((-500.0, 800.0, 3000.0), yaw=300.0, pitch=-60.0),
+    "straight_down": Camera((123.0, -45.0, 40.0), yaw=15.0, pitch=-90.0, fov=70.0),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("texture_name", ["paper", "mixed"])
+@pytest.mark.parametrize("view", list(VIEWS))
+@pytest.mark.parametrize("anisotropy", [8.0, 1.0])
+def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name, view, anisotropy):
+    camera = VIEWS[view]
+    extra = "&hud=0" + ("" if anisotropy == 8.0 else f"&aniso={anisotropy:g}")
+    page = open_page(browser, view_url(exports[texture_name], camera, extra=extra))
+    try:
+        image = screenshot(page)
+    finally:
+        page.close()
+    reference, backend = render(textures[texture_name], camera, SIZE, backend="cpu", anisotropy=anisotropy)
+    assert backend == "cpu" and image.shape == reference.shape
+    value = psnr(image, reference)
+    if value < 40.0:
+        where = save_difference(f"{texture_name}_{view}_{anisotropy:g}", image, reference)
+        pytest.fail(f"PSNR {value:.1f} dB < 40 dB; see {where}")
+
+
+@pytest.mark.slow
+def test_anisotropy_is_not_a_no_op(browser, exports, textures):
+    """Control: the viewer's default (anisotropy 8) and the CPU without anisotropy differ visibly."""
+    camera = VIEWS["closeup"]
+    page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
+    try:
+        image = screenshot(page)
+    finally:
+        page.close()
+    reference, _ = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0)
+    assert psnr(image, reference) < 52.0
+
+
+@pytest.mark.slow
+def test_layer_toggle_keys_match_cpu_with_layers_off(browser, exports, textures):
+    camera = VIEWS["closeup"]
+    page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0&aniso=1"))
+    try:
+        page.keyboard.press("Digit1")
+        page.keyboard.press("Digit3")
+        page.wait_for_timeout(300)
+        image = screenshot(page)
+    finally:
+        page.close()
+    enabled = [False, True, False, True, True]
+    reference, _ = render(textures["paper"], camera, SIZE, backend="cpu", enabled=enabled)
+    all_on, _ = render(textures["paper"], camera, SIZE, backend="cpu")
+    assert psnr(image, reference) >= 40.0
+    assert psnr(image, all_on) < 35.0  # control: the toggles changed the picture
+
+
+@pytest.mark.slow
+def test_fragment_is_written_back_when_flying(browser, exports):
+    camera = Camera((1000.0, -2000.0, 10.0), yaw=0.0, pitch=-10.0)
+    page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
+    try:
+        page.keyboard.down("KeyW")
+        page.wait_for_timeout(700)
+        page.keyboard.up("KeyW")
+        page.wait_for_timeout(300)
+        fragment = page.evaluate("location.hash")
+        title = page.title()
+    finally:
+        page.close()
+    match = re.fullmatch(r"#camera=([^&]+)&fov=([^&]+)&hud=0", fragment)
+    assert match, fragment
+    x, y, z, yaw, pitch = (float(v) for v in match.group(1).split(","))
+    assert float(match.group(2)) == 60.0
+    # yaw 0 looks along +y; the speed is 2 altitudes per second
+    assert x == 1000.0 and z == 10.0 and yaw == 0.0 and pitch == -10.0
+    assert -2000.0 + 2.0 < y < -2000.0 + 200.0
+    assert title == "spectex:ready"
+
+
+@pytest.mark.slow
+def test_a_new_fragment_moves_the_camera_and_says_ready_again(browser, exports, textures):
+    first, second = VIEWS["closeup"], VIEWS["aerial"]
+    page = open_page(browser, view_url(exports["paper"], first, extra="&hud=0"))
+    try:
+        page.evaluate("url => { location.hash = url.slice(url.indexOf('#')); }",
+                      view_url(exports["paper"], second, extra="&hud=0&aniso=1"))
+        page.wait_for_function("document.title === 'spectex:ready'", timeout=60_000)
+        image = screenshot(page)
+    finally:
+        page.close()
+    reference, _ = render(textures["paper"], second, SIZE, backend="cpu", anisotropy=1.0)
+    assert psnr(image, reference) >= 40.0
+
+
+@pytest.mark.slow
+def test_hud_shows_the_flight_and_hides_with_hud0(browser, exports):
+    camera = VIEWS["closeup"]
+    page = open_page(browser, view_url(exports["paper"], camera))
+    try:
+        assert page.is_visible("#hud")
+        text = page.inner_text("#hud")
+        assert "fps" in text and "alt     2.00 m" in text and "layers 12345" in text and "aniso 8x" in text
+        page.keyboard.press("Digit2")
+        page.keyboard.press("KeyM")
+        page.wait_for_timeout(200)
+        text = page.inner_text("#hud")
+        assert "layers 1-345" in text and "mip off" in text and "aniso off" in text
+    finally:
+        page.close()
+    page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
+    try:
+        assert not page.is_visible("#hud")
+    finally:
+        page.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fragment, problem", [
+    ("#camera=1,2,-3,0,0", "camera Z must be > 0"),
+    ("#camera=1,2,3,0", "five numbers"),
+    ("#camera=1,2,3,0,100", "PITCH must be in [-90, 90]"),
+    ("#camera=a,b,c,d,e", "five numbers"),
+    ("#camera=0,0,2,0,-10&fov=0", "fov must be in [1, 170]"),
+    ("#camera=0,0,2,0,-10&aniso=64", "aniso must be in [1, 16]"),
+])
+def test_bad_fragment_is_named_and_the_default_view_shown(browser, exports, fragment, problem):
+    page = open_page(browser, exports["paper"].as_uri() + fragment)
+    try:
+        assert problem in page.inner_text("#hud")
+        assert "alt" in page.inner_text("#hud")
+    finally:
+        page.close()
+
+
+@pytest.mark.slow
+def test_no_network_and_nothing_but_the_file(browser, exports):
+    requests = []
+    page = open_page(browser, view_url(exports["paper"], VIEWS["closeup"]), requests=requests)
+    try:
+        page.keyboard.down("KeyD")
+        page.wait_for_timeout(300)
+        page.keyboard.up("KeyD")
+        page.wait_for_timeout(200)
+    finally:
+        page.close()
+    assert requests and all(url.startswith(exports["paper"].as_uri()) for url in requests), requests
+    html = exports["paper"].read_text(encoding="utf-8")
+    assert not re.search(r"https?://", html)
+    assert not re.search(r"<(link|img|iframe)\b|\bsrc=", html)
+
+
+def test_embedded_levels_are_the_texels_spectex_samples():
+    """The page's data: URIs inflate to SpectralTexture.mip_levels(), level by level, bit for bit."""
+    for texture in (paper_texture(), mixed_texture()):
+        data = viewer_data(texture)
+        assert len(data["tiles"]) == len(texture.tiles)
+        for tile, levels in zip(data["tiles"], texture.mip_levels()):
+            assert len(tile["levels"]) == len(levels) > 1
+            for entry, level in zip(tile["levels"], levels):
+                assert entry["data"].startswith("data:application/octet-stream;base64,")
+                raw = zlib.decompress(base64.b64decode(entry["data"].split(",", 1)[1]))
+                if texture.bits == 8:
+                    got = np.frombuffer(raw, np.uint8).astype(np.float32) / np.float32(255.0)
+                else:
+                    got = np.frombuffer(raw, "<f4")
+                assert (entry["height"], entry["width"]) == level.shape[:2]
+                np.testing.assert_array_equal(got.reshape(level.shape), level)
+
+
+def test_layer_table_is_the_textures():
+    texture = mixed_texture()
+    data = json.loads(json.dumps(viewer_data(texture)))  # what the page parses
+    means = texture.mean_colours()[[layer.tile for layer in texture.layers]]
+    for entry, layer, mean in zip(data["layers"], texture.layers, means):
+        np.testing.assert_array_equal(np.array(entry["matrix"]).reshape(2, 2), layer.matrix())
+        assert tuple(entry["offset"]) == layer.offset and entry["opacity"] == layer.opacity
+        np.testing.assert_array_equal(entry["mean"], mean)
+    assert data["shader"]["fragment"].startswith("#version 300 es\n")
+    assert data["shader"]["iso_lod"] is False  # non-square tiles: each layer's own derivatives
+
+
+def write_docs_picture(path: Path) -> None:
+    """The documentation's picture: the paper's texture in the viewer, overlay on."""
+    from playwright.sync_api import sync_playwright
+    from PIL import Image
+
+    import tempfile
+
+    texture = SpectralTexture.paper_preset(seed=0)
+    with tempfile.TemporaryDirectory() as tmp:
+        html = export(texture, Path(tmp) / "web", formats="web").folder / "index.html"
+        with sync_playwright() as p:
+            b = p.chromium.launch(executable_path=chromium_path(), headless=True, args=CHROMIUM_ARGS)
+            page = open_page(b, view_url(html, Camera((0.0, 0.0, 25.0), yaw=20.0, pitch=-12.0)), (540, 960))
+            page.keyboard.down("KeyW")  # fly a little, for a frame rate in the overlay
+            page.wait_for_timeout(3000)
+            page.keyboard.up("KeyW")
+            page.wait_for_timeout(2000)
+            Image.open(io.BytesIO(page.screenshot())).convert("RGB").save(path, optimize=True)
+            b.close()
+
+
+if __name__ == "__main__":
+    target = Path(__file__).resolve().parent.parent / "docs" / "images" / "web_viewer.png"
+    write_docs_picture(target)
+    print(f"wrote {target}")
