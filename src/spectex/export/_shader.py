@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from importlib import resources
 
-__all__ = ["GLSL_TARGETS", "prelude", "vertex_source", "ground_template"]
+__all__ = ["GLSL_TARGETS", "prelude", "vertex_source", "ground_template", "ground_fragment"]
 
 #: GLSL dialects the exports write: WebGL2 / OpenGL ES 3.0, and desktop OpenGL 3.3.
 GLSL_TARGETS = ("es300", "330")
@@ -114,3 +114,18 @@ def _difference(base: str, more: str) -> str:
     while j < len(a) - i and a[-1 - j] == b[-1 - j]:
         j += 1
     return "\n".join(b[i:len(b) - j])
+
+
+def ground_fragment(texture, target: str, *, anisotropic: bool = True) -> str:
+    """The renderer's ground fragment shader for ``texture``, every layer drawn, for ``target``.
+
+    With ``anisotropic`` the anisotropic path is compiled in (the renderer's
+    ``ANISO``); ``u_max_aniso = 1`` then gives plain trilinear filtering.
+    """
+    from spectex.render.gl import fragment_source
+
+    n = len(texture.layers)
+    text = fragment_source(n, len(texture.tiles), [layer.tile for layer in texture.layers],
+                           [("alpha", "detail", "variance").index(layer.blend) for layer in texture.layers],
+                           anisotropic=anisotropic, iso_lod=texture.tile_shape[0] == texture.tile_shape[1])
+    return _retarget(text, target)

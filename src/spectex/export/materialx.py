@@ -165,24 +165,10 @@ def materialx_document(texture, tile_files) -> str:
     return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def tile_names(texture, stem: str = "tile") -> list[str]:
-    """File names of the texture's tiles: ``tile.png``, or ``tile0.png``, ``tile1.png``, ..."""
-    n = len(texture.tiles)
-    return [f"{stem}.png"] if n == 1 else [f"{stem}{i}.png" for i in range(n)]
-
-
-def write_tiles(texture, folder: Path) -> list[Path]:
-    """The tiles as lossless PNGs (8-bit RGBA for ``bits=8``, 16-bit for float tiles)."""
-    from spectex.io import write_image
-
-    paths = []
-    for name, tile in zip(tile_names(texture), texture.tiles):
-        paths.append(write_image(folder / name, tile, bit_depth=8 if texture.bits == 8 else 16))
-    return paths
-
-
 def write_materialx(texture, folder: Path) -> list[Path]:
     """Write ``folder/materialx/spectex_ground.mtlx`` and its tile(s); return the files."""
+    from ._tiles import write_tiles
+
     out = Path(folder) / "materialx"
     out.mkdir()
     tiles = write_tiles(texture, out)

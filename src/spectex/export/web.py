@@ -28,7 +28,7 @@ import numpy as np
 
 from ._shader import ground_template, vertex_source
 
-__all__ = ["write_web", "viewer_html", "DEFAULT_CAMERA", "DEFAULT_ANISOTROPY"]
+__all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_js", "DEFAULT_CAMERA", "DEFAULT_ANISOTROPY"]
 
 #: The view the page opens at without a fragment: (x, y, z, yaw, pitch, fov), as ``spectex view``.
 DEFAULT_CAMERA = (0.0, 0.0, 2.0, 0.0, -10.0, 60.0)
@@ -46,8 +46,9 @@ def _level_uri(level: np.ndarray, bits) -> str:
     return "data:application/octet-stream;base64," + base64.b64encode(data).decode("ascii")
 
 
-def viewer_data(texture, *, atmosphere=None) -> dict:
-    """Everything the page needs, as plain JSON values (float64 numbers kept exact)."""
+def layer_table(texture, *, atmosphere=None) -> dict:
+    """The texture's layers and the atmosphere as plain JSON values (float64 numbers kept exact):
+    what ``templates/uniforms.js`` reads."""
     from spectex.render import Atmosphere
 
     atmosphere = Atmosphere() if atmosphere is None else atmosphere
@@ -62,19 +63,28 @@ def viewer_data(texture, *, atmosphere=None) -> dict:
             "lod_offset": float(np.log2(w / layer.size)),
             "mean": [float(v) for v in means[layer.tile]],
             "size": float(layer.size),
+            "rotation": float(layer.rotation),
             "blend": layer.blend,
+            "tile": int(layer.tile),
         })
+    return {
+        "bits": 8 if texture.bits == 8 else 32,
+        "tile_shape": [int(h), int(w)],
+        "layers": layers,
+        "atmosphere": {"horizon": list(atmosphere.horizon), "zenith": list(atmosphere.zenith),
+                       "haze_distance": float(atmosphere.haze_distance)},
+    }
+
+
+def viewer_data(texture, *, atmosphere=None) -> dict:
+    """Everything the page needs, as plain JSON values."""
     tiles = [{"levels": [{"width": int(lv.shape[1]), "height": int(lv.shape[0]), "data": _level_uri(lv, texture.bits)}
                          for lv in levels]}
              for levels in texture.mip_levels()]
     shader = ground_template(texture, "es300")
     return {
-        "bits": 8 if texture.bits == 8 else 32,
-        "tile_shape": [int(h), int(w)],
-        "layers": layers,
+        **layer_table(texture, atmosphere=atmosphere),
         "tiles": tiles,
-        "atmosphere": {"horizon": list(atmosphere.horizon), "zenith": list(atmosphere.zenith),
-                       "haze_distance": float(atmosphere.haze_distance)},
         "camera": list(DEFAULT_CAMERA),
         "anisotropy": DEFAULT_ANISOTROPY,
         "shader": {"vertex": vertex_source("es300"), "fragment": shader["source"], "first": shader["first"],
@@ -88,10 +98,15 @@ def viewer_html(texture, *, atmosphere=None) -> str:
     data = json.dumps(viewer_data(texture, atmosphere=atmosphere), separators=(",", ":"), allow_nan=False)
     # Inside <script>, "</" could close the element; "<\/" is the same JSON string.
     data = data.replace("</", "<\\/")
-    marker = "/*@SPECTEX_DATA@*/"
-    if template.count(marker) != 1:
-        raise RuntimeError("viewer template: the data marker must appear once")
-    return template.replace(marker, data)
+    for marker in ("/*@SPECTEX_DATA@*/", "/*@SPECTEX_UNIFORMS_JS@*/"):
+        if template.count(marker) != 1:
+            raise RuntimeError(f"viewer template: {marker} must appear once")
+    return template.replace("/*@SPECTEX_UNIFORMS_JS@*/", uniforms_js()).replace("/*@SPECTEX_DATA@*/", data)
+
+
+def uniforms_js() -> str:
+    """The shader's uniforms in JavaScript (``templates/uniforms.js``), shared by the viewer and the glsl export."""
+    return resources.files("spectex.export").joinpath("templates", "uniforms.js").read_text(encoding="utf-8")
 
 
 def write_web(texture, folder: Path) -> list[Path]:

@@ -1,0 +1,168 @@
+"""The ``glsl`` export: the renderer's shaders as GLSL ES 3.00 (WebGL2, three.js) and GLSL 3.30.
+
+``glsl/`` holds:
+
+* ``ground.es300.vert``/``.frag`` and ``ground.330.vert``/``.frag``: the
+  renderer's own ground program (a full-screen triangle; every pixel casts
+  its ray to the ground plane, samples the layers, adds sky and haze),
+  every layer drawn, the anisotropic path compiled in (``u_max_aniso = 1``
+  turns it off);
+* ``spectex_texture.json``: the layer table (matrices, offsets, opacities,
+  level-of-detail offsets, mean colours) and the atmosphere;
+* ``spectex_uniforms.js``: the shader's uniforms from that table and a
+  camera, as an ES module (the web viewer's own code);
+* ``tile.png`` and ``mips/tile.level<d>.png``: the tile and every mip level
+  spectex samples (:meth:`SpectralTexture.mip_levels`), lossless, for
+  engines that accept given mip levels (three.js ``texture.mipmaps``);
+* ``README.md``: how to use them (three.js and plain OpenGL).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ._shader import GLSL_TARGETS, ground_fragment, vertex_source
+
+__all__ = ["write_glsl"]
+
+
+def _readme(texture, tiles, levels) -> str:
+    n = len(texture.layers)
+    h, w = texture.tile_shape
+    return f"""# spectex texture: GLSL
+
+Written by `spectex export`. {n} layers over {len(tiles)} tile(s) of {w} x {h} texels
+({', '.join(f'{layer.size:g} m' for layer in texture.layers)}). Every shader here is the
+text spectex's own OpenGL renderer compiles, with the first lines for its dialect.
+
+| file | what |
+|---|---|
+| `ground.es300.vert`, `ground.es300.frag` | the ground program, GLSL ES 3.00 (WebGL2) |
+| `ground.330.vert`, `ground.330.frag` | the same, desktop GLSL 3.30 |
+| `spectex_texture.json` | the layer table and the atmosphere |
+| `spectex_uniforms.js` | `spectexTextureUniforms(table)`, `spectexFrameUniforms(table, x, y, z, yaw, pitch, fov, width, height)` |
+| {', '.join(f'`{t}`' for t in tiles)} | the tile(s), RGBA, lossless; alpha is data (the blend weight) |
+| `mips/` | every mip level spectex samples ({levels} per tile), for exact texels |
+
+The ground program draws one full-screen triangle (no vertex buffer: it uses
+`gl_VertexID`); each pixel casts its ray from the camera to the ground plane
+`z = 0` (spectex's world: metres, `x` east, `y` north, `z` up), samples each
+layer with `textureLod` at the footprint's level of detail, blends the layers,
+and adds spectex's sky and haze. Uniforms:
+
+* from the texture, once: `u_tile` (sampler array, one unit per tile),
+  `u_tex_size`, `u_mat`, `u_opacity`, `u_lod_off`, `u_mean`;
+* per frame: `u_size` (framebuffer width, height), `u_height`, `u_fwd`,
+  `u_right`, `u_up`, `u_tan`, `u_ddx`, `u_ddy`, `u_horizon`, `u_zenith`, `u_haze`,
+  `u_far`, `u_anchor`;
+* filtering: `u_max_aniso` (1 = trilinear only, up to 16) and `u_mipmapped`
+  (1 when the minification filter uses mip-maps).
+
+`spectex_uniforms.js` computes all of them as spectex does, in float64: the
+layer anchors `u_anchor[k] = M_k (camera - offset_k) mod 2` are what keep the
+shader precise thousands of kilometres from the origin. From another language,
+follow `docs/sampling.md` (sections 6 and 7) or that file; it is 60 lines.
+
+## Textures
+
+Tile `i` goes to texture unit `i`, `u_tile[i] = i`. To sample exactly the
+texels spectex samples: RGBA8 (16-bit PNGs: a float format), wrap `REPEAT` on
+both axes, minification `LINEAR_MIPMAP_LINEAR`, magnification `LINEAR`, the
+levels from `mips/` uploaded one by one (not `glGenerateMipmap`, whose box
+filter is not specified), rows in file order (row 0 of the PNG is `t = 0`: no
+vertical flip), no premultiplied alpha, no sRGB decoding (the tile is data in
+[0, 1]; do not use an `SRGB8_ALPHA8` format). The anisotropic path is the
+shader's own (EXT_texture_filter_anisotropic's formula with `textureLod` taps),
+so do not also enable the driver's anisotropic filtering.
+
+## three.js
+
+```js
+import * as THREE from 'three';
+import {{ spectexTextureUniforms, spectexFrameUniforms }} from './spectex_uniforms.js';
+
+const table = await (await fetch('spectex_texture.json')).json();
+const [vert, frag] = await Promise.all(['ground.es300.vert', 'ground.es300.frag']
+  .map(async (f) => (await fetch(f)).text()));
+// three.js writes "#version 300 es" itself for glslVersion GLSL3: drop ours.
+const strip = (s) => s.replace(/^#version[^\\n]*\\n/, '');
+
+// Each tile with spectex's own mip levels: no flip, no premultiply, no colour conversion.
+const loader = new THREE.ImageBitmapLoader().setOptions(
+  {{ imageOrientation: 'none', premultiplyAlpha: 'none', colorSpaceConversion: 'none' }});
+async function tile(name, levels) {{
+  const images = await Promise.all([...Array(levels).keys()]
+    .map((d) => loader.loadAsync(`mips/${{name}}.level${{d}}.png`)));
+  const t = new THREE.Texture(images[0]);
+  t.mipmaps = images;                      // spectex's levels, not generated ones
+  t.generateMipmaps = false;
+  t.flipY = false;                         // row 0 of the PNG is t = 0
+  t.premultiplyAlpha = false;              // alpha is data: the layer's blend weight
+  t.colorSpace = THREE.NoColorSpace;       // the tile is data, not sRGB colour
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.minFilter = THREE.LinearMipmapLinearFilter;
+  t.magFilter = THREE.LinearFilter;
+  t.needsUpdate = true;
+  return t;
+}}
+const tiles = await Promise.all({json.dumps([t.rsplit('.', 1)[0] for t in tiles])}.map((n) => tile(n, {levels})));
+
+const uniforms = {{ u_tile: {{ value: tiles }}, u_max_aniso: {{ value: 8 }}, u_mipmapped: {{ value: 1 }} }};
+for (const [k, v] of Object.entries(spectexTextureUniforms(table))) uniforms[k] = {{ value: v }};
+const material = new THREE.RawShaderMaterial({{
+  glslVersion: THREE.GLSL3, vertexShader: strip(vert), fragmentShader: strip(frag),
+  uniforms, depthTest: false, depthWrite: false,
+}});
+const geometry = new THREE.BufferGeometry();  // three vertices; the shader makes the triangle
+geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+const ground = new THREE.Mesh(geometry, material);
+ground.frustumCulled = false;
+scene.add(ground);
+
+// Every frame, from a spectex camera (x, y, z in metres, yaw, pitch, fov in degrees):
+function update(x, y, z, yaw, pitch, fov) {{
+  const size = renderer.getDrawingBufferSize(new THREE.Vector2());
+  const f = spectexFrameUniforms(table, x, y, z, yaw, pitch, fov, size.x, size.y);
+  for (const [k, v] of Object.entries(f)) uniforms[k].value = v;
+}}
+```
+
+From a three.js camera in a Y-up scene (spectex `x, y, z` = three `X, -Z, Y`;
+no roll): `d = camera.getWorldDirection(new THREE.Vector3())`, `yaw =
+atan2(d.x, -d.z)`, `pitch = asin(d.y)` (in degrees), `fov = camera.fov`.
+"""
+
+
+def write_glsl(texture, folder: Path) -> list[Path]:
+    """Write ``folder/glsl/``; return the files written."""
+    from spectex.io import write_image
+
+    from ._tiles import tile_names
+    from .web import layer_table, uniforms_js
+
+    out = Path(folder) / "glsl"
+    (out / "mips").mkdir(parents=True)
+    files = []
+    for target in GLSL_TARGETS:
+        for suffix, text in (("vert", vertex_source(target)), ("frag", ground_fragment(texture, target))):
+            path = out / f"ground.{target}.{suffix}"
+            path.write_text(text, encoding="utf-8")
+            files.append(path)
+    path = out / "spectex_texture.json"
+    path.write_text(json.dumps(layer_table(texture), indent=1) + "\n", encoding="utf-8")
+    files.append(path)
+    path = out / "spectex_uniforms.js"
+    path.write_text(uniforms_js() + "\nexport { spectexTextureUniforms, spectexFrameUniforms };\n", encoding="utf-8")
+    files.append(path)
+    names = tile_names(texture)
+    depth = 8 if texture.bits == 8 else 16
+    for name, tile, levels in zip(names, texture.tiles, texture.mip_levels()):
+        files.append(write_image(out / name, tile, bit_depth=depth))
+        stem = name.rsplit(".", 1)[0]
+        for d, level in enumerate(levels):
+            files.append(write_image(out / "mips" / f"{stem}.level{d}.png", level, bit_depth=depth))
+    path = out / "README.md"
+    path.write_text(_readme(texture, names, len(texture.mip_levels()[0])), encoding="utf-8")
+    files.append(path)
+    return files
