@@ -148,7 +148,7 @@ def test_exported_files_alone_draw_spectex_picture(exported, gl, camera, anisotr
               "u_opacity": [layer["opacity"] for layer in table["layers"]],
               "u_lod_off": [layer["lod_offset"] for layer in table["layers"]],
               "u_mean": [tuple(layer["mean"]) for layer in table["layers"]],
-              "u_max_aniso": anisotropy, "u_mipmapped": 1, **frame_uniforms(table, camera, h, w)}
+              "u_max_aniso": anisotropy, **frame_uniforms(table, camera, h, w)}
     for name, value in values.items():
         if name not in program:  # optimised away
             continue

@@ -2,6 +2,10 @@
 
 ``glsl/`` holds:
 
+* ``spectex_layers.es300.glsl`` and ``spectex_layers.330.glsl``: the layer
+  library alone (the prelude, the generated constants and
+  ``shading/shaders/spectex_layers.glsl``), to put before an engine's own
+  ``main()``;
 * ``ground.es300.vert``/``.frag`` and ``ground.330.vert``/``.frag``: the
   renderer's own ground program (a full-screen triangle; every pixel casts
   its ray to the ground plane, samples the layers, adds sky and haze),
@@ -22,7 +26,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ._shader import GLSL_TARGETS, ground_fragment, vertex_source
+from ._shader import GLSL_TARGETS, ground_fragment, layer_library, prelude, vertex_source
 
 __all__ = ["write_glsl"]
 
@@ -38,6 +42,7 @@ text spectex's own OpenGL renderer compiles, with the first lines for its dialec
 
 | file | what |
 |---|---|
+| `spectex_layers.es300.glsl`, `spectex_layers.330.glsl` | the layer library alone (sampling, blending, haze, sky), for your own `main()` |
 | `ground.es300.vert`, `ground.es300.frag` | the ground program, GLSL ES 3.00 (WebGL2) |
 | `ground.330.vert`, `ground.330.frag` | the same, desktop GLSL 3.30 |
 | `spectex_texture.json` | the layer table and the atmosphere |
@@ -56,8 +61,7 @@ and adds spectex's sky and haze. Uniforms:
 * per frame: `u_size` (framebuffer width, height), `u_height`, `u_fwd`,
   `u_right`, `u_up`, `u_tan`, `u_ddx`, `u_ddy`, `u_horizon`, `u_zenith`, `u_haze`,
   `u_far`, `u_anchor`;
-* filtering: `u_max_aniso` (1 = trilinear only, up to 16) and `u_mipmapped`
-  (1 when the minification filter uses mip-maps).
+* filtering: `u_max_aniso` (1 = trilinear only, up to 16).
 
 `spectex_uniforms.js` computes all of them as spectex does, in float64: the
 layer anchors `u_anchor[k] = M_k (camera - offset_k) mod 2` are what keep the
@@ -108,7 +112,7 @@ async function tile(name, levels) {{
 }}
 const tiles = await Promise.all({json.dumps([t.rsplit('.', 1)[0] for t in tiles])}.map((n) => tile(n, {levels})));
 
-const uniforms = {{ u_tile: {{ value: tiles }}, u_max_aniso: {{ value: 8 }}, u_mipmapped: {{ value: 1 }} }};
+const uniforms = {{ u_tile: {{ value: tiles }}, u_max_aniso: {{ value: 8 }} }};
 for (const [k, v] of Object.entries(spectexTextureUniforms(table))) uniforms[k] = {{ value: v }};
 const material = new THREE.RawShaderMaterial({{
   glslVersion: THREE.GLSL3, vertexShader: strip(vert), fragmentShader: strip(frag),
@@ -131,6 +135,29 @@ function update(x, y, z, yaw, pitch, fov) {{
 From a three.js camera in a Y-up scene (spectex `x, y, z` = three `X, -Z, Y`;
 no roll): `d = camera.getWorldDirection(new THREE.Vector3())`, `yaw =
 atan2(d.x, -d.z)`, `pitch = asin(d.y)` (in degrees), `fov = camera.fov`.
+
+## Your own shader: the layer library
+
+`spectex_layers.<target>.glsl` is the prelude, the constants and the layer
+library: no uniforms, no `main()`; append your declarations and `main()` to it.
+For a ground mesh: pass the world position to the fragment shader as spectex
+ground coordinates relative to an anchor point `a` near the camera (`p =
+(X, -Z) - a` in a Y-up scene), set `anchor[k] = M_k (a - offset_k) mod 2` per
+layer from the host in double precision (as `spectexFrameUniforms` does with
+the camera), and per layer:
+
+```glsl
+vec2 jx = dFdx(p), jy = dFdy(p);              // the pixel's footprint on the ground
+vec2 st = spectex_layer_coords(anchor[k], mat[k], p);
+vec4 x = spectex_sample_grad(tile0, st, spectex_layer_deriv(mat[k], jx),
+                             spectex_layer_deriv(mat[k], jy), tex_size, max_aniso);
+c = spectex_blend(SPX_BLEND_ALPHA, c, x, opacity[k], mean[k]);   // SPX_BLEND_FIRST for the first layer
+```
+
+`spectex_texture.json` has `matrix` (`M_k` as m00, m01, m10, m11), `offset`,
+`opacity`, `mean` and `blend` per layer. `dFdx`/`dFdy` are per 2 x 2 pixel
+quad, not spectex's exact per-pixel derivatives: the level of detail can
+differ slightly from spectex's at steep angles.
 """
 
 
@@ -145,6 +172,9 @@ def write_glsl(texture, folder: Path) -> list[Path]:
     (out / "mips").mkdir(parents=True)
     files = []
     for target in GLSL_TARGETS:
+        path = out / f"spectex_layers.{target}.glsl"
+        path.write_text(prelude(target) + layer_library(anisotropic=True), encoding="utf-8")
+        files.append(path)
         for suffix, text in (("vert", vertex_source(target)), ("frag", ground_fragment(texture, target))):
             path = out / f"ground.{target}.{suffix}"
             path.write_text(text, encoding="utf-8")
