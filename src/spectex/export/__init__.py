@@ -28,7 +28,7 @@ from pathlib import Path
 __all__ = ["FORMATS", "ExportResult", "export", "parse_formats"]
 
 #: Export formats, in the order they are written; each is ``module.write_<name>(texture, folder)``.
-FORMATS = ("web", "glsl", "materialx")
+FORMATS = ("web", "glsl", "godot", "materialx", "hlsl")
 
 
 @dataclass(frozen=True)

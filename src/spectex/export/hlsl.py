@@ -1,0 +1,194 @@
+"""The ``hlsl`` export: spectex's layer library as an HLSL include, for Unity and Unreal.
+
+``hlsl/spectex_ground.hlsl`` is the shading core's layer library
+(:mod:`spectex.export._shader`) behind an HLSL prelude (``vec*`` as
+``float*``, textures as ``Texture2D`` + ``SamplerState``, ``SampleLevel``),
+the texture's layers as constants, and one entry point,
+
+``SpectexGround_float(float2 Ground, Texture2D Tile0, SamplerState Tile0Sampler, ..., out float3 Color, out float3 Linear)``
+
+with ``Ground`` the spectex ground point in metres (x east, y north):
+Unity Shader Graph's Custom Function node calls it in file mode (the
+``_float`` suffix is its precision convention) and Unreal's Custom node calls
+it from an include. ``Color`` is spectex's colour (stored, display-encoded
+values), ``Linear`` the same decoded from sRGB, for a base colour input.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._shader import layer_library
+
+__all__ = ["write_hlsl", "hlsl_include", "ENTRY_POINT"]
+
+#: The include's entry point (Unity: Custom Function name "SpectexGround").
+ENTRY_POINT = "SpectexGround_float"
+
+_PRELUDE = """// HLSL for the GLSL-subset layer library: vector types, textures as Texture2D +
+// SamplerState (Unreal names a texture input's sampler <name>Sampler; use the same in
+// Unity), SampleLevel for textureLod. Undefined again at the end of this file.
+#define vec2 float2
+#define vec3 float3
+#define vec4 float4
+#define SPX_TEX_ARG(name) Texture2D name, SamplerState name##Sampler
+#define SPX_TEX(name) name, name##Sampler
+// Unity addresses textures with v = 0 at the bottom row of the image, Unreal at the
+// top; spectex's t = 0 is the image's first (top) row: flip t under Unity.
+#ifndef SPECTEX_FLIP_V
+#ifdef UNITY_VERSION
+#define SPECTEX_FLIP_V 1
+#else
+#define SPECTEX_FLIP_V 0
+#endif
+#endif
+#if SPECTEX_FLIP_V
+#define SPX_LOD(name, uv, lod) name.SampleLevel(name##Sampler, float2(1.0, -1.0) * (uv), lod)
+#else
+#define SPX_LOD(name, uv, lod) name.SampleLevel(name##Sampler, uv, lod)
+#endif
+"""
+
+_UNDEF = ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD")
+
+
+def _f(value: float) -> str:
+    text = repr(float(value))
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+def _vec(values) -> str:
+    return f"float{len(values)}(" + ", ".join(_f(v) for v in values) + ")"
+
+
+def hlsl_include(texture, tile_names) -> str:
+    """The text of ``spectex_ground.hlsl`` for ``texture``."""
+    n = len(texture.layers)
+    h, w = texture.tile_shape
+    means = texture.mean_colours()
+    origin = texture.anchor_coords(0.0, 0.0)
+    tiles = range(len(texture.tiles))
+    args = ", ".join(f"Texture2D Tile{i}, SamplerState Tile{i}Sampler" for i in tiles)
+    lines = [
+        "// spectex spectral texture for Unity Shader Graph (Custom Function, file mode, name",
+        "// \"SpectexGround\") and Unreal (Custom node with this file as an include), written by",
+        "// `spectex export` (docs/export.md).",
+        f"// {n} layers over {len(texture.tiles)} tile(s) of {w} x {h} texels ("
+        + ", ".join(tile_names) + "): " + ", ".join(f"{layer.size:g} m" for layer in texture.layers) + ".",
+        "// The layer library below is spectex's own (spectex/shading/shaders/spectex_layers.glsl), unchanged.",
+        "#ifndef SPECTEX_GROUND_INCLUDED",
+        "#define SPECTEX_GROUND_INCLUDED",
+        "",
+        _PRELUDE + layer_library(anisotropic=True),
+        "// ---- the texture's layers",
+        f"static const float4 SPECTEX_MAT[{n}] = {{{', '.join(_vec(layer.matrix().reshape(-1)) for layer in texture.layers)}}};",
+        f"static const float3 SPECTEX_MEAN[{n}] = {{{', '.join(_vec(means[layer.tile]) for layer in texture.layers)}}};",
+        f"static const float SPECTEX_OPACITY[{n}] = {{{', '.join(_f(layer.opacity) for layer in texture.layers)}}};",
+        "// each layer's tile coordinates of the ground point (0, 0), computed in float64, mod 2",
+        f"static const float2 SPECTEX_ORIGIN_ANCHOR[{n}] = {{{', '.join(_vec(a) for a in origin)}}};",
+        f"static const float2 SPECTEX_TEX_SIZE = {_vec((w, h))};",
+        "#ifndef SPECTEX_MAX_ANISOTROPY",
+        "#define SPECTEX_MAX_ANISOTROPY 8.0  // spectex's own anisotropic filter; 1 = off",
+        "#endif",
+        "",
+        "// One layer over c.",
+        "void spectex_layer(int blend, SPX_TEX_ARG(tile), int k, inout vec3 c, vec2 p, vec2 jx, vec2 jy) {",
+        "    vec4 m = SPECTEX_MAT[k];",
+        "    vec2 st = spectex_layer_coords(SPECTEX_ORIGIN_ANCHOR[k], m, p);",
+        "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
+        "                                 SPECTEX_TEX_SIZE, SPECTEX_MAX_ANISOTROPY);",
+        "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k]);",
+        "}",
+        "",
+        "// Ground: the spectex ground point in metres (x east, y north). In a pixel shader only",
+        "// (the footprint comes from ddx/ddy). Color: spectex's colour; Linear: decoded from sRGB.",
+        f"void {ENTRY_POINT}(float2 Ground, {args}, out float3 Color, out float3 Linear) {{",
+        "    vec2 p = Ground;",
+        "    vec2 jx = ddx(p);",
+        "    vec2 jy = ddy(p);",
+        "    vec3 c = float3(0.0, 0.0, 0.0);",
+    ]
+    for k, layer in enumerate(texture.layers):
+        blend = "SPX_BLEND_FIRST" if k == 0 else f"SPX_BLEND_{layer.blend.upper()}"
+        lines.append(f"    spectex_layer({blend}, SPX_TEX(Tile{layer.tile}), {k}, c, p, jx, jy);")
+    lines += [
+        "    Color = saturate(c);",
+        "    float3 lo = Color / 12.92;",
+        "    float3 hi = pow((Color + 0.055) / 1.055, 2.4);",
+        "    Linear = lerp(hi, lo, step(Color, 0.04045));",
+        "}",
+        "",
+        *(f"#undef {name}" for name in _UNDEF),
+        "#endif  // SPECTEX_GROUND_INCLUDED",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _readme(texture, tile_names) -> str:
+    tiles = ", ".join(f"`{n}`" for n in tile_names)
+    ports = ", ".join(f"`Tile{i}` (Bare Texture2D), `Tile{i}Sampler` (SamplerState)" for i in range(len(tile_names)))
+    return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
+
+Written by `spectex export`: `spectex_ground.hlsl` and {tiles}.
+
+The include defines `{ENTRY_POINT}(Ground, Tile0, Tile0Sampler, ..., out Color, out Linear)`.
+`Ground` is the spectex ground point in metres: x east, y north.
+
+## Unity (Shader Graph)
+
+1. Import {tiles} with *sRGB (Color Texture): off* (the tile is data),
+   *Alpha Is Transparency: off* (it changes the colour of transparent texels),
+   *Compression: None*, *Generate Mip Maps: on*, *Wrap Mode: Repeat*,
+   *Filter Mode: Trilinear*.
+2. Add a *Custom Function* node: *Type: File*, *Source: spectex_ground.hlsl*,
+   *Name: SpectexGround*. Inputs: `Ground` (Vector 2), {ports}; outputs:
+   `Color` (Vector 3), `Linear` (Vector 3).
+3. `Ground`: *Position* node (World) into a *Swizzle* `xz` (Unity: x east,
+   z north; times metres per unit if a unit is not a metre). Texture inputs:
+   the tile(s) as Texture 2D properties; samplers: a *Sampler State* node
+   (Linear, Repeat).
+4. `Linear` into *Base Color* (in a linear-colour-space project; `Color` in a
+   gamma one).
+
+## Unreal
+
+1. Import {tiles}: *sRGB: off*, *Compression Settings: UserInterface2D (RGBA)*
+   or *VectorDisplacementmap* (uncompressed 8-bit RGBA, so the alpha survives),
+   *Mip Gen Settings: SimpleAverage*, *X/Y-axis Tiling Method: Wrap*.
+2. Put `spectex_ground.hlsl` in a shader directory your project maps (a
+   plugin's or module's `Shaders/` folder, mapped with
+   `AddShaderSourceDirectoryMapping`), e.g. as `/Project/spectex_ground.ush`.
+3. A *Custom* node: *Include File Paths*: that path; *Output Type*: Float 3;
+   inputs `Ground` (e.g. `WorldPosition.yx / 100`: Unreal's y east, x north,
+   centimetres) and the tile(s) as *Texture Object* inputs named `Tile0`, ...
+   (Unreal passes `Tile0` and `Tile0Sampler`); code:
+   `float3 c, lin; {ENTRY_POINT}(Ground, {', '.join(f'Tile{i}, Tile{i}Sampler' for i in range(len(tile_names)))}, c, lin); return lin;`
+
+Under Unity (`UNITY_VERSION` defined) the include flips the texture's v axis
+(Unity's v = 0 is the image's bottom row); elsewhere it does not. Define
+`SPECTEX_FLIP_V` 0 or 1 before the include to choose, and
+`SPECTEX_MAX_ANISOTROPY` (default 8, 1 = off) for spectex's own anisotropic
+filter.
+
+What matches spectex: the layer arithmetic (the same library text),
+addressing, level of detail and blend. What differs: the engine generates
+the mip levels; the footprint comes from `ddx`/`ddy` (per 2 x 2 pixel quad);
+the ground point is a 32-bit float, so the texture is exact near the origin
+and loses precision thousands of kilometres away (move the world origin).
+"""
+
+
+def write_hlsl(texture, folder: Path) -> list[Path]:
+    """Write ``folder/hlsl/``; return the files written."""
+    from ._tiles import write_tiles
+
+    out = Path(folder) / "hlsl"
+    out.mkdir()
+    tiles = write_tiles(texture, out)
+    names = [p.name for p in tiles]
+    files = []
+    for name, text in (("spectex_ground.hlsl", hlsl_include(texture, names)), ("README.md", _readme(texture, names))):
+        (out / name).write_text(text, encoding="utf-8")
+        files.append(out / name)
+    return files + tiles
