@@ -267,3 +267,12 @@ def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
     mse = float(np.mean((image[drawn] - reference[drawn]) ** 2))
     # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
     assert 10 * np.log10(1 / mse) >= 45.0
+
+
+@pytest.mark.parametrize("fmt", ["godot", "hlsl"])
+def test_non_periodic_layers_are_refused_not_drawn_wrong(tmp_path, fmt):
+    texture = textures()["paper"]
+    object.__setattr__(texture.layers[1], "tiling", "stochastic")  # as issue 12's layers will carry it
+    with pytest.raises(ValueError, match=r"layers\[1\]: tiling 'stochastic' is not in the"):
+        export(texture, tmp_path / "out", formats=fmt)
+    assert not list(tmp_path.iterdir())

@@ -24,7 +24,7 @@ from conftest import make_test_tile  # noqa: E402
 mx = pytest.importorskip("MaterialX")
 
 #: The nodes the graph may use: MaterialX standard library nodes, and not ``over``.
-ALLOWED = {"position", "dotproduct", "combine2", "subtract", "divide", "image", "convert", "extract", "multiply",
+ALLOWED = {"hextiledimage", "position", "dotproduct", "combine2", "subtract", "divide", "image", "convert", "extract", "multiply",
            "mix", "add", "sqrt", "clamp"}
 
 
@@ -224,3 +224,21 @@ def test_no_over_node_and_a_note_on_colour_space(exported):
     text = path.read_text(encoding="utf-8")
     assert "<over " not in text and "colorspace=\"lin_rec709\"" in text
     assert "sky" in text and "haze" in text  # the file says what it leaves out
+
+
+def test_a_layer_without_standard_node_equivalent_is_named_in_the_file(tmp_path):
+    """A non-periodic layer (spectex's stochastic tiling) becomes hextiledimage, with a note."""
+    texture = textures()["paper"]
+    object.__setattr__(texture.layers[2], "tiling", "stochastic")  # as issue 12's layers will carry it
+    path = export(texture, tmp_path / "out", formats="materialx").folder / "materialx" / "spectex_ground.mtlx"
+    text = path.read_text()
+    assert "layer 2 uses spectex's stochastic tiling, which has no standard-node equivalent" in text
+    doc = mx.createDocument()
+    mx.readFromXmlFile(doc, str(path))
+    lib, _ = stdlib()
+    doc.importLibrary(lib)
+    assert doc.validate()[0]
+    graph = doc.getNodeGraph("NG_spectex_ground")
+    assert graph.getNode("layer2_texel").getCategory() == "hextiledimage"
+    assert graph.getNode("layer2_texel").getNodeDef() is not None
+    assert graph.getNode("layer1_texel").getCategory() == "image"

@@ -12,6 +12,10 @@ not ``over``, which assumes premultiplied colour). Two materials use it:
 ``spectex_ground_unlit`` (``surface_unlit``, the texture as it is, as
 spectex draws it before sky and haze).
 
+A layer whose tiling has no standard-node equivalent (spectex's stochastic
+tiling) is drawn with ``hextiledimage`` instead, and the file says so next
+to it: that layer will not match spectex's picture.
+
 The document is written with the standard library's ``xml.etree``, so
 exporting needs no MaterialX installation; the tests read it with MaterialX,
 validate it and generate GLSL from it.
@@ -105,9 +109,6 @@ def materialx_document(texture, tile_files) -> str:
     first = True
     for k, layer in enumerate(texture.layers):
         tiling = getattr(layer, "tiling", "periodic")
-        if tiling != "periodic":
-            raise ValueError(f"layers[{k}]: tiling {tiling!r} has no MaterialX standard-node equivalent; "
-                             "export without the materialx format")
         th = np.radians(layer.rotation)
         c, sn = float(np.cos(th)), float(np.sin(th))
         g.comment(f"layer {k}: size {layer.size:g} m, offset ({layer.offset[0]:g}, {layer.offset[1]:g}) m, "
@@ -122,10 +123,17 @@ def materialx_document(texture, tile_files) -> str:
         v = g.node("dotproduct", "float", f"layer{k}_v", in1=rel, in2=("vector2", _vec((sn, -c))))
         sv = g.node("combine2", "vector2", f"layer{k}_rotated", in1=s_, in2=v)
         uv = g.node("divide", "vector2", f"layer{k}_uv", in1=sv, in2=("float", _num(layer.size)))
-        img = g.node("image", "color4", f"layer{k}_texel",
-                     file=("filename", tile_files[layer.tile], {"colorspace": "lin_rec709"}), texcoord=uv,
-                     uaddressmode=("string", "periodic"), vaddressmode=("string", "periodic"),
-                     filtertype=("string", "linear"))
+        file = ("filename", tile_files[layer.tile], {"colorspace": "lin_rec709"})
+        if tiling == "periodic":
+            img = g.node("image", "color4", f"layer{k}_texel", file=file, texcoord=uv,
+                         uaddressmode=("string", "periodic"), vaddressmode=("string", "periodic"),
+                         filtertype=("string", "linear"))
+        else:
+            g.comment(f"layer {k} uses spectex's {tiling} tiling, which has no standard-node equivalent: "
+                      "hextiledimage (MaterialX 1.39.4 and later) stands in for it. It breaks up the "
+                      "repetition too, but with its own cells, rotations and blending: this layer will not "
+                      "match spectex's picture.")
+            img = g.node("hextiledimage", "color4", f"layer{k}_texel", file=file, texcoord=uv)
         x = g.node("convert", "color3", f"layer{k}_rgb", in_=img)
         if first:  # the first layer sets the colour
             colour, first = x, False
