@@ -344,3 +344,64 @@ if __name__ == "__main__":
     target = Path(__file__).resolve().parent.parent / "docs" / "images" / "web_viewer.png"
     write_docs_picture(target)
     print(f"wrote {target}")
+
+
+def _camera_of(page):
+    fragment = page.evaluate("location.hash")
+    match = re.match(r"#camera=([^&]+)&fov=([^&]+)", fragment)
+    assert match, fragment
+    return tuple(float(v) for v in match.group(1).split(","))
+
+
+@pytest.mark.slow
+def test_mouse_drag_looks_around_and_wheel_sets_speed(browser, exports):
+    camera = Camera((0.0, 0.0, 10.0), yaw=0.0, pitch=-10.0)
+    page = open_page(browser, view_url(exports["paper"], camera))
+    try:
+        h = SIZE[0]
+        page.mouse.move(100, 90)
+        page.mouse.down()
+        page.mouse.move(100 + h // 2, 90 - h // 4, steps=4)  # half a height right, a quarter up
+        page.mouse.up()
+        page.wait_for_timeout(200)
+        x, y, z, yaw, pitch = _camera_of(page)
+        # one window height is one field of view (60 degrees)
+        assert (x, y, z) == (0.0, 0.0, 10.0)
+        assert abs(yaw - 30.0) < 0.5 and abs(pitch - (-10.0 + 15.0)) < 0.5
+        assert "speed    20.0 m/s" in page.inner_text("#hud")
+        page.mouse.wheel(0, -100)  # one click up: x1.25
+        page.wait_for_timeout(200)
+        assert "speed    25.0 m/s" in page.inner_text("#hud")
+    finally:
+        page.close()
+
+
+@pytest.mark.slow
+def test_touch_one_finger_looks_two_fingers_pinch_climb(browser, exports):
+    camera = Camera((0.0, 0.0, 10.0), yaw=0.0, pitch=-10.0)
+    h, w = SIZE
+    context = browser.new_context(viewport={"width": w, "height": h}, has_touch=True)
+    page = context.new_page()
+    try:
+        page.goto(view_url(exports["paper"], camera, extra="&hud=0"))
+        page.wait_for_function("document.title === 'spectex:ready'", timeout=120_000)
+        touch = """([type, points]) => {
+            const c = document.getElementById('view');
+            const touches = points.map(([x, y], i) => new Touch({identifier: i, target: c, clientX: x, clientY: y}));
+            c.dispatchEvent(new TouchEvent(type, {touches: type === 'touchend' ? [] : touches,
+                changedTouches: touches, cancelable: true, bubbles: true}));
+        }"""
+        page.evaluate(touch, ["touchstart", [[100, 100]]])
+        page.evaluate(touch, ["touchmove", [[100 + h, 100]]])  # one height right: one fov of yaw
+        page.evaluate(touch, ["touchend", [[100 + h, 100]]])
+        page.wait_for_timeout(200)
+        _, _, z, yaw, _ = _camera_of(page)
+        assert abs(yaw - 60.0) < 0.5 and z == 10.0
+        page.evaluate(touch, ["touchstart", [[100, 90], [200, 90]]])
+        page.evaluate(touch, ["touchmove", [[50, 90], [250, 90]]])  # spread x2: half the altitude
+        page.evaluate(touch, ["touchend", [[50, 90], [250, 90]]])
+        page.wait_for_timeout(200)
+        _, _, z, _, _ = _camera_of(page)
+        assert abs(z - 5.0) < 1e-3
+    finally:
+        context.close()
