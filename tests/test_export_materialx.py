@@ -21,7 +21,12 @@ from spectex.texture import Layer, SpectralTexture
 sys.path.insert(0, str(Path(__file__).parent))
 from conftest import make_test_tile  # noqa: E402
 
-mx = pytest.importorskip("MaterialX")
+try:
+    import MaterialX as mx
+except ImportError:  # CI installs it (the test extras): there a missing package is a failure
+    if os.environ.get("CI", "").lower() == "true":
+        raise
+    pytest.skip("MaterialX is not installed (pip install materialx)", allow_module_level=True)
 
 #: The nodes the graph may use: MaterialX standard library nodes, and not ``over``.
 ALLOWED = {"hextiledimage", "position", "dotproduct", "combine2", "subtract", "divide", "image", "convert", "extract", "multiply",

@@ -333,7 +333,8 @@ def write_docs_picture(path: Path) -> None:
             b = p.chromium.launch(executable_path=chromium_path(), headless=True, args=CHROMIUM_ARGS)
             page = open_page(b, view_url(html, Camera((0.0, 0.0, 25.0), yaw=20.0, pitch=-12.0)), (540, 960))
             page.keyboard.down("KeyW")  # fly a little, for a frame rate in the overlay
-            page.wait_for_timeout(3000)
+            page.wait_for_function("!/^\\s*- fps/.test(document.getElementById('hud').textContent)",
+                                   timeout=60_000)
             page.keyboard.up("KeyW")
             page.wait_for_timeout(2000)
             Image.open(io.BytesIO(page.screenshot())).convert("RGB").save(path, optimize=True)
