@@ -175,79 +175,55 @@ def test_godot_holds_the_library_text_tiles_and_script(exported):
     assert "Lossless" in readme and "Fix Alpha Border: off" in readme
 
 
-# ----------------------------------------------- the Godot shader's arithmetic, drawn by llvmpipe
-def _view_projection(camera, h, w):
-    """Godot world (X, Y, Z) = spectex (x, z, -y) -> clip space of spectex's camera (no depth range)."""
+# ------------------------------------ the engine shaders' arithmetic, drawn by llvmpipe on a ground mesh
+def _view_projection(camera, h, w, world_to_spectex):
+    """A world point (4-vector) -> clip space of spectex's camera (x, y as spectex's rays; w = depth)."""
     import numpy as np
 
     fwd, right, up = camera.basis()
     tan_x, tan_y = camera.tangents(h, w)
-    to_spectex = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
-    c = np.array(camera.position)
     view = np.eye(4)
     view[0, :3], view[1, :3], view[2, :3] = right / tan_x, up / tan_y, fwd
-    view[:3, 3] = -view[:3, :3] @ c
-    clip = np.array([view[0], view[1], 0.5 * view[2], view[2]])  # x, y, z = w / 2, w = forward distance
-    return clip @ to_spectex
+    view[:3, 3] = -view[:3, :3] @ np.array(camera.position)
+    clip = np.array([view[0], view[1], 0.5 * view[2], view[2]])
+    return clip @ world_to_spectex
 
 
-@pytest.mark.gl
-@pytest.mark.parametrize("camera_args, anchored", [
-    (((0.0, 0.0, 2.0), 30.0, -40.0), False),
-    (((1000.0, -500.0, 60.0), 200.0, -60.0), False),
-    (((900.0, -700.0, 6.0), 300.0, -35.0), True),
-])
-def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
-    """The exported .gdshader, translated to GLSL, on a ground mesh seen by spectex's camera,
-    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends.
-    (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
+#: Godot's world (X, Y, Z) is spectex's (x, z, -y).
+GODOT_TO_SPECTEX = [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+#: The HLSL entry point takes spectex's ground point itself.
+GROUND_TO_SPECTEX = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+
+ENCODE_SRGB = ("vec3 a = clamp(ALBEDO, 0.0, 1.0);\n    spectex_out = vec4(mix(1.055 * pow(a, vec3(1.0 / 2.4)) - 0.055, "
+               "12.92 * a, vec3(lessThanEqual(a, vec3(0.0031308)))), 1.0);")
+
+
+def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *, setup=None, flip_rows=False):
+    """Draw ``quad`` (4 world points, a triangle strip) with the shaders; RGBA uint8, row 0 at the top."""
     import moderngl
     import numpy as np
 
-    from spectex.render import Atmosphere, Camera
-    from spectex.render.cpu import render_cpu
     from spectex.render.gl import park_framebuffer
 
-    texture, folder = exported
-    position, yaw, pitch = camera_args
-    camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
-    h, w = 90, 160
-    text = (folder / "godot" / "spectex_ground.gdshader").read_text()
-    vert = godot_to_glsl(text, "vert").replace(
-        "#version 450\n", "#version 450\nuniform mat4 u_view_proj;\n").rstrip()[:-1] + (
-        "    gl_Position = u_view_proj * vec4(spectex_world, 1.0);\n}\n")
-    frag = godot_to_glsl(text, "frag").replace(
-        "spectex_out = vec4(ALBEDO, 1.0);",
-        "vec3 a = clamp(ALBEDO, 0.0, 1.0);\n"
-        "    spectex_out = vec4(mix(1.055 * pow(a, vec3(1.0 / 2.4)) - 0.055, 12.92 * a, "
-        "vec3(lessThanEqual(a, vec3(0.0031308)))), 1.0);")
+    h, w = size
     program = gl.program(vertex_shader=vert, fragment_shader=frag)
     textures = []
     for unit, levels in enumerate(texture.mip_levels()):
-        base = levels[0]
-        tex = gl.texture(base.shape[1::-1], 4, np.floor(base * 255 + 0.5).astype(np.uint8).tobytes(), alignment=1)
+        levels = [lv[::-1] for lv in levels] if flip_rows else levels  # as an engine with v = 0 at the bottom
+        raw = [np.ascontiguousarray(np.floor(lv * 255 + 0.5).astype(np.uint8)).tobytes() for lv in levels]
+        tex = gl.texture(levels[0].shape[1::-1], 4, raw[0], alignment=1)
         tex.build_mipmaps(0, len(levels) - 1)
-        for d, level in enumerate(levels[1:], start=1):
-            tex.write(np.floor(level * 255 + 0.5).astype(np.uint8).tobytes(), level=d, alignment=1)
+        for d, data in enumerate(raw[1:], start=1):
+            tex.write(data, level=d, alignment=1)
         tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         tex.repeat_x = tex.repeat_y = True
         tex.use(location=unit)
-        program[f"spectex_tile{unit}"].value = unit
         textures.append(tex)
-    x0, y0, _ = camera.position
-    if anchored:  # what spectex_ground.gd sets: a point near the camera, snapped, and its anchors
-        ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
-        program["spectex_anchored"].value = True
-        program["spectex_anchor_point"].value = (ax, ay)
-        anchors = [tuple(a) for a in texture.anchor_coords(ax, ay)]
-        program["spectex_anchor"].value = anchors if len(anchors) > 1 else anchors[0]
-    program["u_view_proj"].write(_view_projection(camera, h, w).T.astype("f4").tobytes())
-    program["MODEL_MATRIX"].write(np.eye(4, dtype="f4").tobytes())
-    r = 4000.0  # a ground quad around the camera (Godot: y up, spectex y = -Z)
-    quad = np.array([[x0 - r, 0, -(y0 - r)], [x0 + r, 0, -(y0 - r)], [x0 - r, 0, -(y0 + r)],
-                     [x0 + r, 0, -(y0 + r)]], dtype="f4")
-    vbo = gl.buffer(quad.tobytes())
-    vao = gl.vertex_array(program, [(vbo, "3f", "VERTEX")])
+    program["u_view_proj"].write(_view_projection(camera, h, w, np.array(world_to_spectex)).T.astype("f4").tobytes())
+    if setup is not None:
+        setup(program)
+    vbo = gl.buffer(np.asarray(quad, dtype="f4").tobytes())
+    vao = gl.vertex_array(program, [(vbo, f"{len(quad[0])}f", "VERTEX")])
     rb = gl.renderbuffer((w, h), 4)
     fbo = gl.framebuffer(color_attachments=[rb])
     try:
@@ -255,18 +231,138 @@ def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0)
         vao.render(moderngl.TRIANGLE_STRIP)
-        rgba = np.frombuffer(fbo.read(components=4, alignment=1), np.uint8).reshape(h, w, 4)[::-1]
+        return np.frombuffer(fbo.read(components=4, alignment=1), np.uint8).reshape(h, w, 4)[::-1]
     finally:
         park_framebuffer(gl)
         for obj in (vao, vbo, fbo, rb, program, *textures):
             obj.release()
-    image = rgba[..., :3] / 255.0
+
+
+def ground_psnr(texture, camera, rgba) -> float:
+    """PSNR of the drawn pixels against the CPU renderer without haze (anisotropy 8, as the engines' default)."""
+    import numpy as np
+
+    from spectex.render import Atmosphere
+    from spectex.render.cpu import render_cpu
+
     drawn = rgba[..., 3] > 0
     assert drawn.mean() > 0.99  # the views look down: the quad fills the picture
-    reference = render_cpu(texture, camera, (h, w), anisotropy=8.0, atmosphere=Atmosphere(haze_distance=1e9))
-    mse = float(np.mean((image[drawn] - reference[drawn]) ** 2))
+    reference = render_cpu(texture, camera, rgba.shape[:2], anisotropy=8.0, atmosphere=Atmosphere(haze_distance=1e9))
+    mse = float(np.mean((rgba[..., :3][drawn] / 255.0 - reference[drawn]) ** 2))
+    return 10 * np.log10(1 / mse)
+
+
+VIEWS = [
+    (((0.0, 0.0, 2.0), 30.0, -40.0), False),
+    (((1000.0, -500.0, 60.0), 200.0, -60.0), False),
+    (((900.0, -700.0, 6.0), 300.0, -35.0), True),
+]
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("camera_args, anchored", VIEWS)
+def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
+    """The exported .gdshader, translated to GLSL, on a ground mesh seen by spectex's camera,
+    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends.
+    (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
+    from spectex.render import Camera
+
+    texture, folder = exported
+    position, yaw, pitch = camera_args
+    camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    text = (folder / "godot" / "spectex_ground.gdshader").read_text()
+    vert = godot_to_glsl(text, "vert").replace(
+        "#version 450\n", "#version 450\nuniform mat4 u_view_proj;\n").rstrip()[:-1] + (
+        "    gl_Position = u_view_proj * vec4(spectex_world, 1.0);\n}\n")
+    frag = godot_to_glsl(text, "frag").replace("spectex_out = vec4(ALBEDO, 1.0);", ENCODE_SRGB)
+
+    def setup(program):
+        import numpy as np
+
+        for unit in range(len(texture.tiles)):
+            program[f"spectex_tile{unit}"].value = unit
+        program["MODEL_MATRIX"].write(np.eye(4, dtype="f4").tobytes())
+        if anchored:  # what spectex_ground.gd sets: a point near the camera, snapped, and its anchors
+            x0, y0, _ = camera.position
+            ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
+            program["spectex_anchored"].value = True
+            program["spectex_anchor_point"].value = (ax, ay)
+            anchors = [tuple(a) for a in texture.anchor_coords(ax, ay)]
+            program["spectex_anchor"].value = anchors if len(anchors) > 1 else anchors[0]
+
+    x0, y0, _ = camera.position
+    r = 4000.0
+    quad = [[x0 - r, 0, -(y0 - r)], [x0 + r, 0, -(y0 - r)], [x0 - r, 0, -(y0 + r)], [x0 + r, 0, -(y0 + r)]]
+    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GODOT_TO_SPECTEX, setup=setup)
     # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
-    assert 10 * np.log10(1 / mse) >= 45.0
+    assert ground_psnr(texture, camera, rgba) >= 45.0
+
+
+def hlsl_to_glsl(text: str) -> str:
+    """The HLSL include as GLSL 4.50: GLSL texture macros for its HLSL prelude, HLSL names as macros."""
+    from spectex.export.hlsl import _PRELUDE
+
+    assert _PRELUDE in text
+    glsl_prelude = """#define SPX_TEX_ARG(name) sampler2D name
+#define SPX_TEX(name) name
+#if SPECTEX_FLIP_V
+#define SPX_LOD(name, uv, lod) textureLod(name, vec2(1.0, -1.0) * (uv), lod)
+#else
+#define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
+#endif
+"""
+    text = text.replace(_PRELUDE, glsl_prelude)
+    text = re.sub(r"Texture2D (\w+), SamplerState \w+Sampler", r"sampler2D \1", text)
+    text = text.replace("static const ", "const ")
+    head = ("#version 450\n#define float2 vec2\n#define float3 vec3\n#define float4 vec4\n#define ddx dFdx\n"
+            "#define ddy dFdy\n#define lerp mix\n#define saturate(x) clamp(x, 0.0, 1.0)\n")
+    return head + text
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("camera_args, flip", [(VIEWS[0][0], False), (VIEWS[1][0], True), (VIEWS[2][0], False)])
+def test_hlsl_entry_point_draws_spectex_ground(exported, gl, camera_args, flip):
+    """The exported HLSL include's entry point, its HLSL names mapped to GLSL, on a ground mesh:
+    matches the CPU renderer (measured 53-58 dB). ``flip``: Unity's convention (SPECTEX_FLIP_V,
+    the tile uploaded bottom row first). (Control, run by hand: the rows in the other order
+    than the flip expects, 7-23 dB.)"""
+    from spectex.render import Camera
+
+    texture, folder = exported
+    position, yaw, pitch = camera_args
+    camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    include = hlsl_to_glsl((folder / "hlsl" / "spectex_ground.hlsl").read_text())
+    include = include.replace("#version 450\n", f"#version 450\n#define SPECTEX_FLIP_V {int(flip)}\n")
+    tiles = ", ".join(f"Tile{i}" for i in range(len(texture.tiles)))
+    samplers = "".join(f"uniform sampler2D Tile{i};\n" for i in range(len(texture.tiles)))
+    frag = include + samplers + f"""in vec2 v_ground;
+out vec4 spectex_out;
+void main() {{
+    vec3 c, lin;
+    SpectexGround_float(v_ground, {tiles}, c, lin);
+    spectex_out = vec4(c, 1.0);
+}}
+"""
+    vert = """#version 450
+uniform mat4 u_view_proj;
+in vec2 VERTEX;
+out vec2 v_ground;
+void main() {
+    v_ground = VERTEX;
+    gl_Position = u_view_proj * vec4(VERTEX, 0.0, 1.0);
+}
+"""
+
+    def setup(program):
+        for unit in range(len(texture.tiles)):
+            program[f"Tile{unit}"].value = unit
+
+    x0, y0, _ = camera.position
+    r = 4000.0
+    quad = [[x0 - r, y0 - r], [x0 + r, y0 - r], [x0 - r, y0 + r], [x0 + r, y0 + r]]
+    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GROUND_TO_SPECTEX, setup=setup,
+                       flip_rows=flip)
+    assert ground_psnr(texture, camera, rgba) >= 45.0
 
 
 @pytest.mark.parametrize("fmt", ["godot", "hlsl"])

@@ -114,8 +114,8 @@ def hlsl_include(texture, tile_names) -> str:
     lines += [
         "    Color = saturate(c);",
         "    float3 lo = Color / 12.92;",
-        "    float3 hi = pow((Color + 0.055) / 1.055, 2.4);",
-        "    Linear = lerp(hi, lo, step(Color, 0.04045));",
+        "    float3 hi = pow((Color + 0.055) / 1.055, float3(2.4, 2.4, 2.4));",
+        "    Linear = lerp(hi, lo, step(Color, float3(0.04045, 0.04045, 0.04045)));  // lo where Color <= 0.04045",
         "}",
         "",
         *(f"#undef {name}" for name in _UNDEF),
