@@ -128,8 +128,9 @@ scene.add(ground);
 function update(x, y, z, yaw, pitch, fov) {{
   const size = renderer.getDrawingBufferSize(new THREE.Vector2());
   const f = spectexFrameUniforms(table, x, y, z, yaw, pitch, fov, size.x, size.y);
-  for (const [k, v] of Object.entries(f)) uniforms[k].value = v;
+  for (const [k, v] of Object.entries(f)) (uniforms[k] ??= {{ value: null }}).value = v;
 }}
+update(0, 0, 2, 0, -10, 60);  // before the first render, so that every uniform has a value
 ```
 
 From a three.js camera in a Y-up scene (spectex `x, y, z` = three `X, -Z, Y`;
