@@ -130,7 +130,8 @@ def save_difference(name, image, reference):
 
     folder = Path(os.environ.get("SPECTEX_TEST_ARTIFACTS", "/tmp")) / "spectex-web-viewer"
     folder.mkdir(parents=True, exist_ok=True)
-    write_image(folder / f"{name}.png", np.concatenate([image, reference, np.clip(8 * np.abs(image - reference), 0, 1)]))
+    difference = np.clip(8 * np.abs(image - reference), 0, 1)
+    write_image(folder / f"{name}.png", np.concatenate([image, reference, difference]))
     return folder / f"{name}.png"
 
 

@@ -5,7 +5,8 @@
 ``float*``, textures as ``Texture2D`` + ``SamplerState``, ``SampleLevel``),
 the texture's layers as constants, and one entry point,
 
-``SpectexGround_float(float2 Ground, Texture2D Tile0, SamplerState Tile0Sampler, ..., out float3 Color, out float3 Linear)``
+``SpectexGround_float(float2 Ground, Texture2D Tile0, SamplerState Tile0Sampler, ...,
+out float3 Color, out float3 Linear)``
 
 with ``Ground`` the spectex ground point in metres (x east, y north):
 Unity Shader Graph's Custom Function node calls it in file mode (the
@@ -68,6 +69,8 @@ def hlsl_include(texture, tile_names) -> str:
     means = texture.mean_colours()
     origin = texture.anchor_coords(0.0, 0.0)
     tiles = range(len(texture.tiles))
+    mats = [layer.matrix() for layer in texture.layers]
+    tile_of = [layer.tile for layer in texture.layers]
     args = ", ".join(f"Texture2D Tile{i}, SamplerState Tile{i}Sampler" for i in tiles)
     lines = [
         "// spectex spectral texture for Unity Shader Graph (Custom Function, file mode, name",
@@ -81,8 +84,8 @@ def hlsl_include(texture, tile_names) -> str:
         "",
         _PRELUDE + layer_library(anisotropic=True),
         "// ---- the texture's layers",
-        f"static const float4 SPECTEX_MAT[{n}] = {{{', '.join(_vec(layer.matrix().reshape(-1)) for layer in texture.layers)}}};",
-        f"static const float3 SPECTEX_MEAN[{n}] = {{{', '.join(_vec(means[layer.tile]) for layer in texture.layers)}}};",
+        f"static const float4 SPECTEX_MAT[{n}] = {{{', '.join(_vec(m.reshape(-1)) for m in mats)}}};",
+        f"static const float3 SPECTEX_MEAN[{n}] = {{{', '.join(_vec(means[t]) for t in tile_of)}}};",
         f"static const float SPECTEX_OPACITY[{n}] = {{{', '.join(_f(layer.opacity) for layer in texture.layers)}}};",
         "// each layer's tile coordinates of the ground point (0, 0), computed in float64, mod 2",
         f"static const float2 SPECTEX_ORIGIN_ANCHOR[{n}] = {{{', '.join(_vec(a) for a in origin)}}};",
@@ -127,6 +130,7 @@ def hlsl_include(texture, tile_names) -> str:
 
 def _readme(texture, tile_names) -> str:
     tiles = ", ".join(f"`{n}`" for n in tile_names)
+    call = ", ".join(f"Tile{i}, Tile{i}Sampler" for i in range(len(tile_names)))
     ports = ", ".join(f"`Tile{i}` (Bare Texture2D), `Tile{i}Sampler` (SamplerState)" for i in range(len(tile_names)))
     return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
 
@@ -163,7 +167,7 @@ The include defines `{ENTRY_POINT}(Ground, Tile0, Tile0Sampler, ..., out Color, 
    inputs `Ground` (e.g. `WorldPosition.yx / 100`: Unreal's y east, x north,
    centimetres) and the tile(s) as *Texture Object* inputs named `Tile0`, ...
    (Unreal passes `Tile0` and `Tile0Sampler`); code:
-   `float3 c, lin; {ENTRY_POINT}(Ground, {', '.join(f'Tile{i}, Tile{i}Sampler' for i in range(len(tile_names)))}, c, lin); return lin;`
+   `float3 c, lin; {ENTRY_POINT}(Ground, {call}, c, lin); return lin;`
 
 Under Unity (`UNITY_VERSION` defined) the include flips the texture's v axis
 (Unity's v = 0 is the image's bottom row); elsewhere it does not. Define

@@ -72,7 +72,8 @@ class _Graph:
             if isinstance(value, tuple) and value[0] == "interface":
                 ET.SubElement(node, "input", name=key, type=value[2], interfacename=value[1])
             elif isinstance(value, tuple):
-                ET.SubElement(node, "input", name=key, type=value[0], value=value[1], **(value[2] if len(value) > 2 else {}))
+                extra = value[2] if len(value) > 2 else {}
+                ET.SubElement(node, "input", name=key, type=value[0], value=value[1], **extra)
             else:
                 ET.SubElement(node, "input", name=key, type=value.type_, nodename=value.name)
         return _Ref(name, type_)
@@ -153,7 +154,8 @@ def materialx_document(texture, tile_files) -> str:
             b = g.node("subtract", "float", f"layer{k}_one_minus_alpha", in1=("float", "1"), in2=a)
             a2 = g.node("multiply", "float", f"layer{k}_alpha2", in1=a, in2=a)
             b2 = g.node("multiply", "float", f"layer{k}_one_minus_alpha2", in1=b, in2=b)
-            den = g.node("sqrt", "float", f"layer{k}_norm", in_=g.node("add", "float", f"layer{k}_sum2", in1=a2, in2=b2))
+            sum2 = g.node("add", "float", f"layer{k}_sum2", in1=a2, in2=b2)
+            den = g.node("sqrt", "float", f"layer{k}_norm", in_=sum2)
             scaled = g.node("divide", "color3", f"layer{k}_dev_scaled", in1=num, in2=den)
             colour = g.node("add", "color3", f"layer{k}_variance", in1=scaled, in2=("color3", mu))
     out = g.node("clamp", "color3", "ground_colour", in_=colour, low=("float", "0"), high=("float", "1"))

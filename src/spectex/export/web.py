@@ -28,7 +28,8 @@ import numpy as np
 
 from ._shader import ground_template, vertex_source
 
-__all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_js", "DEFAULT_CAMERA", "DEFAULT_ANISOTROPY"]
+__all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_js", "DEFAULT_CAMERA",
+           "DEFAULT_ANISOTROPY"]
 
 #: The view the page opens at without a fragment: (x, y, z, yaw, pitch, fov), as ``spectex view``.
 DEFAULT_CAMERA = (0.0, 0.0, 2.0, 0.0, -10.0, 60.0)
