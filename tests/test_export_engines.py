@@ -365,7 +365,7 @@ void main() {
     assert ground_psnr(texture, camera, rgba) >= 45.0
 
 
-@pytest.mark.parametrize("fmt", ["godot", "hlsl"])
+@pytest.mark.parametrize("fmt", ["web", "glsl", "godot", "hlsl"])
 def test_non_periodic_layers_are_refused_not_drawn_wrong(tmp_path, fmt):
     texture = textures()["paper"]
     object.__setattr__(texture.layers[1], "tiling", "stochastic")  # as issue 12's layers will carry it

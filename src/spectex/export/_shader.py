@@ -10,7 +10,8 @@ beyond the few lines that connect the library to an engine.
 
 from __future__ import annotations
 
-__all__ = ["GLSL_TARGETS", "prelude", "layer_library", "vertex_source", "ground_fragment", "ground_template"]
+__all__ = ["GLSL_TARGETS", "require_periodic", "prelude", "layer_library", "vertex_source", "ground_fragment",
+           "ground_template"]
 
 #: GLSL dialects the exports write: WebGL2 / OpenGL ES 3.0, and desktop OpenGL 3.3.
 GLSL_TARGETS = ("es300", "330")
@@ -116,3 +117,16 @@ def _difference(base: str, more: str) -> str:
     while j < min(len(a), len(b)) - i and a[-1 - j] == b[-1 - j]:
         j += 1
     return "\n".join(line for line in b[i:len(b) - j] if line.strip())
+
+
+def require_periodic(texture, fmt: str) -> None:
+    """Refuse layers whose tiling this export cannot draw yet (only periodic layers so far).
+
+    Raises ``ValueError`` naming the layer, its tiling and the format, so that
+    no export draws a layer differently from spectex without saying so.
+    """
+    for k, layer in enumerate(texture.layers):
+        tiling = getattr(layer, "tiling", "periodic")
+        if tiling != "periodic":
+            raise ValueError(f"layers[{k}]: tiling {tiling!r} is not in the {fmt} export yet; "
+                             f"export the other formats (--format)")

@@ -26,7 +26,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ._shader import GLSL_TARGETS, ground_fragment, layer_library, prelude, vertex_source
+from ._shader import GLSL_TARGETS, ground_fragment, layer_library, prelude, require_periodic, vertex_source
 
 __all__ = ["write_glsl"]
 
@@ -169,6 +169,7 @@ def write_glsl(texture, folder: Path) -> list[Path]:
     from ._tiles import tile_names
     from .web import layer_table, uniforms_js
 
+    require_periodic(texture, "glsl")
     out = Path(folder) / "glsl"
     (out / "mips").mkdir(parents=True)
     files = []

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._shader import layer_library
+from ._shader import layer_library, require_periodic
 
 __all__ = ["write_godot", "godot_shader", "godot_script"]
 
@@ -234,7 +234,7 @@ def write_godot(texture, folder: Path) -> list[Path]:
     """Write ``folder/godot/``; return the files written."""
     from ._tiles import write_tiles
 
-    _check_periodic(texture)
+    require_periodic(texture, "godot")
     out = Path(folder) / "godot"
     out.mkdir()
     tiles = write_tiles(texture, out)
@@ -245,12 +245,3 @@ def write_godot(texture, folder: Path) -> list[Path]:
         (out / name).write_text(text, encoding="utf-8")
         files.append(out / name)
     return files + tiles
-
-
-def _check_periodic(texture) -> None:
-    """This export's main() samples periodic layers only (``spectex_sample_grad``)."""
-    for k, layer in enumerate(texture.layers):
-        tiling = getattr(layer, "tiling", "periodic")
-        if tiling != "periodic":
-            raise ValueError(f"layers[{k}]: tiling {tiling!r} is not in the godot export yet; "
-                             f"export the other formats (--format)")

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._shader import layer_library
+from ._shader import layer_library, require_periodic
 
 __all__ = ["write_hlsl", "hlsl_include", "ENTRY_POINT"]
 
@@ -187,7 +187,7 @@ def write_hlsl(texture, folder: Path) -> list[Path]:
     """Write ``folder/hlsl/``; return the files written."""
     from ._tiles import write_tiles
 
-    _check_periodic(texture)
+    require_periodic(texture, "hlsl")
     out = Path(folder) / "hlsl"
     out.mkdir()
     tiles = write_tiles(texture, out)
@@ -197,12 +197,3 @@ def write_hlsl(texture, folder: Path) -> list[Path]:
         (out / name).write_text(text, encoding="utf-8")
         files.append(out / name)
     return files + tiles
-
-
-def _check_periodic(texture) -> None:
-    """This export's main() samples periodic layers only (``spectex_sample_grad``)."""
-    for k, layer in enumerate(texture.layers):
-        tiling = getattr(layer, "tiling", "periodic")
-        if tiling != "periodic":
-            raise ValueError(f"layers[{k}]: tiling {tiling!r} is not in the hlsl export yet; "
-                             f"export the other formats (--format)")

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._shader import ground_template, vertex_source
+from ._shader import ground_template, require_periodic, vertex_source
 
 __all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_js", "DEFAULT_CAMERA",
            "DEFAULT_ANISOTROPY"]
@@ -112,6 +112,7 @@ def uniforms_js() -> str:
 
 def write_web(texture, folder: Path) -> list[Path]:
     """Write ``folder/index.html``; return the files written."""
+    require_periodic(texture, "web")
     path = Path(folder) / "index.html"
     path.write_text(viewer_html(texture), encoding="utf-8")
     return [path]
