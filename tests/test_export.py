@@ -93,6 +93,15 @@ def test_export_into_an_empty_folder(tmp_path, texture):
     assert (tmp_path / "out" / "index.html").is_file()
 
 
+def test_export_refuses_an_earlier_export_with_files_added(tmp_path, texture):
+    export(texture, tmp_path / "out", formats="web,godot")
+    (tmp_path / "out" / "godot" / "my_scene.tscn").write_text("mine")
+    before = snapshot(tmp_path)
+    with pytest.raises(ValueError, match="godot/my_scene.tscn"):
+        export(texture, tmp_path / "out", formats="web")
+    assert snapshot(tmp_path) == before
+
+
 @pytest.mark.parametrize("make, message", [
     (lambda p: (p / "out").mkdir() or (p / "out" / "mine.txt").write_text("keep"), "not written by spectex export"),
     (lambda p: (p / "out").write_text("a file"), "not a folder"),

@@ -6,8 +6,8 @@ only when every file is complete is the folder moved into place. A failure
 anywhere removes the staging folder and leaves the target as it was.
 
 A target that already exists is replaced only if it is empty or was written
-by an earlier export (it holds :data:`MANIFEST`): an export never deletes
-files it did not write.
+by an earlier export (it holds :data:`MANIFEST`) and holds nothing else than
+what that export lists: an export never deletes files it did not write.
 """
 
 from __future__ import annotations
@@ -42,10 +42,30 @@ def check_output_dir(name: str, path) -> Path:
     if path.exists() or path.is_symlink():
         if path.is_symlink() or not path.is_dir():
             raise ValueError(f"{name} exists and is not a folder: '{path}'")
-        if any(path.iterdir()) and not (path / MANIFEST).is_file():
-            raise ValueError(f"{name} '{path}' exists, is not empty and was not written by spectex export "
-                             f"(no {MANIFEST}); choose a new or empty folder")
+        if any(path.iterdir()):
+            if not (path / MANIFEST).is_file():
+                raise ValueError(f"{name} '{path}' exists, is not empty and was not written by spectex export "
+                                 f"(no {MANIFEST}); choose a new or empty folder")
+            stray = _unlisted(path)
+            if stray:
+                raise ValueError(f"{name} '{path}' holds a file the earlier export did not write ('{stray}'); "
+                                 "move it away or choose another folder")
     return path
+
+
+def _unlisted(path: Path) -> str | None:
+    """The first file under an earlier export's folder that its manifest does not list, if any."""
+    import json
+
+    try:
+        manifest = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
+        listed = {MANIFEST, *(name for files in manifest["formats"].values() for name in files)}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return MANIFEST  # not a manifest this module wrote
+    for item in sorted(path.rglob("*")):
+        if (item.is_file() or item.is_symlink()) and item.relative_to(path).as_posix() not in listed:
+            return item.relative_to(path).as_posix()
+    return None
 
 
 @contextlib.contextmanager
