@@ -112,6 +112,11 @@ def open_page(browser, url, size=SIZE, *, requests=None):
     return page
 
 
+def wait_drawn(page, condition: str) -> None:
+    """Wait until the last frame drawn satisfies ``condition`` (JavaScript, on ``d = window.spectexDrawn``)."""
+    page.wait_for_function(f"(d => !!d && ({condition}))(window.spectexDrawn)", timeout=60_000)
+
+
 def screenshot(page) -> np.ndarray:
     from PIL import Image
 
@@ -184,7 +189,7 @@ def test_layer_toggle_keys_match_cpu_with_layers_off(browser, exports, textures)
     try:
         page.keyboard.press("Digit1")
         page.keyboard.press("Digit3")
-        page.wait_for_timeout(300)
+        wait_drawn(page, "d.layers === '-2-45'")
         image = screenshot(page)
     finally:
         page.close()
@@ -201,9 +206,11 @@ def test_fragment_is_written_back_when_flying(browser, exports):
     page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
     try:
         page.keyboard.down("KeyW")
-        page.wait_for_timeout(700)
+        wait_drawn(page, "d.camera[1] > -2000 + 2")
         page.keyboard.up("KeyW")
-        page.wait_for_timeout(300)
+        # the frame after the key is let go writes the final fragment
+        page.wait_for_function("location.hash.split(',')[1] === String(window.spectexDrawn.camera[1].toFixed(3))"
+                               ".replace(/0+$/, '').replace(/\\.$/, '')", timeout=60_000)
         fragment = page.evaluate("location.hash")
         title = page.title()
     finally:
@@ -243,7 +250,7 @@ def test_hud_shows_the_flight_and_hides_with_hud0(browser, exports):
         assert "fps" in text and "alt     2.00 m" in text and "layers 12345" in text and "aniso 8x" in text
         page.keyboard.press("Digit2")
         page.keyboard.press("KeyM")
-        page.wait_for_timeout(200)
+        wait_drawn(page, "d.layers === '1-345' && !d.mipmaps")
         text = page.inner_text("#hud")
         assert "layers 1-345" in text and "mip off" in text and "aniso off" in text
     finally:
@@ -372,8 +379,8 @@ def test_mouse_drag_looks_around_and_wheel_sets_speed(browser, exports):
         assert abs(yaw - 30.0) < 0.5 and abs(pitch - (-10.0 + 15.0)) < 0.5
         assert "speed    20.0 m/s" in page.inner_text("#hud")
         page.mouse.wheel(0, -100)  # one click up: x1.25
-        page.wait_for_timeout(200)
-        assert "speed    25.0 m/s" in page.inner_text("#hud")
+        page.wait_for_function("document.getElementById('hud').textContent.includes('speed    25.0 m/s')",
+                               timeout=60_000)
     finally:
         page.close()
 
