@@ -36,12 +36,13 @@ def _max_error(got, want, x):
     return float(np.abs(got.astype(np.float64) - want).max() / np.abs(x).max())
 
 
+@pytest.mark.parametrize("multiply", ["blend", "shader"])
 @pytest.mark.parametrize("filt,sigma", FILTER_CASES)
 @pytest.mark.parametrize("shape,factor", CASES)
-def test_gl_equals_cpu_to_float32_precision(gl, filt, sigma, shape, factor):
+def test_gl_equals_cpu_to_float32_precision(gl, filt, sigma, shape, factor, multiply):
     rng = np.random.default_rng(sum(shape))
     x = rng.standard_normal(shape).astype(np.float32)
-    got = magnify_gl(x, factor, filter=filt, sigma=sigma, ctx=gl)
+    got = magnify_gl(x, factor, filter=filt, sigma=sigma, multiply=multiply, ctx=gl)
     want = magnify(x.astype(np.float64), factor, filter=filt, sigma=sigma)
     assert got.image.shape == want.shape and got.image.dtype == np.float32
     assert _max_error(got.image, want, x) <= RTOL
@@ -87,12 +88,13 @@ def test_pass_count_is_footprint_squared_whatever_the_sizes(gl, filt, sigma, t):
     assert filter_passes(filt, sigma=sigma) == t
     for shape, factor in [((2, 2), 2), ((4, 4), 16), ((7, 3), 5), ((16, 12), (3, 8))]:
         x = np.ones(shape, dtype=np.float32)
-        query = gl.query(primitives=True)
-        with query:
-            got = magnify_gl(x, factor, filter=filt, sigma=sigma, ctx=gl)
-        assert got.passes == t * t and got.footprint == t and got.channel_groups == 1
-        assert got.draws == 3 * t * t
-        assert query.primitives == 2 * got.draws
+        for multiply, draws_per_pass in (("blend", 3), ("shader", 1)):
+            query = gl.query(primitives=True)
+            with query:
+                got = magnify_gl(x, factor, filter=filt, sigma=sigma, multiply=multiply, ctx=gl)
+            assert got.passes == t * t and got.footprint == t and got.channel_groups == 1
+            assert got.draws == draws_per_pass * t * t
+            assert query.primitives == 2 * got.draws
 
 
 def test_channel_groups_repeat_the_passes(gl):
@@ -124,22 +126,23 @@ def test_pass_offsets():
 # Controls: the comparison must see a wrong offset, a missing pass and a
 # wrong redistribution.
 
-def _control_error(gl, filt="bspline"):
+def _control_error(gl, filt="bspline", multiply="blend"):
     x = np.random.default_rng(6).standard_normal((5, 6)).astype(np.float32)
-    got = magnify_gl(x, 4, filter=filt, ctx=gl)
+    got = magnify_gl(x, 4, filter=filt, multiply=multiply, ctx=gl)
     return _max_error(got.image, magnify(x.astype(np.float64), 4, filter=filt), x), got
 
 
 @pytest.mark.parametrize("filt", ["box", "bspline"])
-def test_control_offset_one_texel_off_is_seen(gl, monkeypatch, filt):
+@pytest.mark.parametrize("multiply", ["blend", "shader"])
+def test_control_offset_one_texel_off_is_seen(gl, monkeypatch, filt, multiply):
     right = mgl.pass_offsets
 
     def off_by_one(footprint, factor, start):
         return [(key, (c0 + 1, c1)) for key, (c0, c1) in right(footprint, factor, start)]
 
-    assert _control_error(gl, filt)[0] <= RTOL
+    assert _control_error(gl, filt, multiply)[0] <= RTOL
     monkeypatch.setattr(mgl, "pass_offsets", off_by_one)
-    assert _control_error(gl, filt)[0] > 1e-2
+    assert _control_error(gl, filt, multiply)[0] > 1e-2
 
 
 def test_control_missing_pass_is_seen(gl, monkeypatch):
@@ -168,6 +171,8 @@ def test_bad_inputs(gl):
         magnify(np.ones((2, 2)), 2, backend="vulkan")
     with pytest.raises(ValueError, match="filter"):
         magnify_gl(np.ones((2, 2)), 2, filter="lanczos", ctx=gl)
+    with pytest.raises(ValueError, match="multiply"):
+        magnify_gl(np.ones((2, 2)), 2, multiply="accum", ctx=gl)
     with pytest.raises(ValueError, match="image"):
         magnify_gl(np.array([[np.nan, 0.0]]), 2, ctx=gl)
     with pytest.raises(ValueError, match="GL_MAX_TEXTURE_SIZE"):

@@ -40,7 +40,12 @@ Per axis, and as the product of two axes in 2-D:
       profiles no longer have.
 
 So the pass count is ``T^2`` for a ``T x T`` footprint, whatever the input
-and output sizes; each pass touches every output texel three times. The
+and output sizes; each pass touches every output texel three times. With
+``multiply='shader'`` steps a-c are one draw instead: the fragment shader
+multiplies the sub-texture's texel by the filter texture's weight (same
+offsets, same ``GL_NEAREST`` lookups) and the result goes straight into the
+accumulation framebuffer with the additive blend; the same passes, one
+third of the fill. The
 colour planes carry three channels at a time (the alpha plane holds the
 filter), so an image with ``C`` channels takes ``ceil(C / 3)`` channel
 groups of ``T^2`` passes each. The arithmetic is float32 throughout.
@@ -57,7 +62,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import check_choice
 from ._octaves import _check_filter, _check_image, _factors, discrete_filter, filter_passes
+
+#: How a pass multiplies texel by weight: the seed's blend, or the shader.
+MULTIPLY = ("blend", "shader")
 
 _VERTEX = """
 #version 330 core
@@ -96,6 +105,37 @@ void main() {
 }
 """
 
+# Steps a-c in one draw (multiply='shader'): texel times weight, blended
+# (GL_ONE, GL_ONE) into the accumulation framebuffer.
+_PRODUCT_VERTEX = """
+#version 330 core
+in vec2 corner;
+uniform vec2 size;
+uniform vec2 offset;
+uniform vec2 period;         // of the sub-texture
+uniform vec2 filter_period;  // of the filter texture
+out vec2 uv;
+out vec2 uv_filter;
+void main() {
+    uv = (corner * size - offset) / period;
+    uv_filter = (corner * size - offset) / filter_period;
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+_PRODUCT_FRAGMENT = """
+#version 330 core
+uniform sampler2D sub_texture;
+uniform sampler2D filter_texture;
+in vec2 uv;
+in vec2 uv_filter;
+out vec4 color;
+void main() {
+    float w = texture(filter_texture, uv_filter).r;
+    color = vec4(texture(sub_texture, uv).rgb * w, w);
+}
+"""
+
 # Step c: the scratch framebuffer, blended with (GL_ONE, GL_ONE) into the
 # accumulation framebuffer (texel for texel: same size, no sampling).
 _ACCUMULATE_FRAGMENT = """
@@ -124,7 +164,8 @@ class GLMagnification:
     channel_groups : int
         Groups of up to three channels, each made in ``passes`` passes.
     draws : int
-        Draw calls made: three per pass and channel group.
+        Draw calls made: per pass and channel group, three
+        (``multiply='blend'``) or one (``multiply='shader'``).
     weight_sum : ndarray of float32, shape (H, W)
         The accumulated alpha plane: the sum of the filter weights each
         output texel received, 1 up to rounding (the filter is normalised
@@ -182,10 +223,11 @@ class _Programs:
         self.filter = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FILTER_FRAGMENT)
         self.texel = ctx.program(vertex_shader=_VERTEX, fragment_shader=_TEXEL_FRAGMENT)
         self.accumulate = ctx.program(vertex_shader=_VERTEX, fragment_shader=_ACCUMULATE_FRAGMENT)
+        self.product = ctx.program(vertex_shader=_PRODUCT_VERTEX, fragment_shader=_PRODUCT_FRAGMENT)
         self.vaos = {
             name: ctx.vertex_array(prog, [(self.vbo, "2f", "corner")])
             for name, prog in (("filter", self.filter), ("texel", self.texel),
-                               ("accumulate", self.accumulate))
+                               ("accumulate", self.accumulate), ("product", self.product))
         }
         # The default framebuffer, bound before our framebuffers are released
         # (moderngl re-binds the last one used when it makes new objects).
@@ -246,7 +288,7 @@ def redistribute(x: np.ndarray, footprint: int) -> dict:
 
 
 def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
-               ctx=None) -> GLMagnification:
+               multiply: str = "blend", ctx=None) -> GLMagnification:
     """Magnify a small periodic image on the GPU, the seed's multi-pass way.
 
     The same result as :func:`~spectex.spectral.magnify` (to float32
@@ -266,6 +308,11 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         As for :func:`~spectex.spectral.magnify`.
     sigma : float
         The Gaussian's standard deviation in input texels.
+    multiply : {'blend', 'shader'}
+        ``'blend'``: the seed's way, three draws per pass (filter into the
+        alpha plane; sub-texture blended with ``GL_DST_ALPHA, GL_ZERO``;
+        accumulate). ``'shader'``: the product in the fragment shader, one
+        draw per pass. Same passes, offsets and lookups, same numbers.
     ctx : moderngl.Context, optional
         An OpenGL 3.3 context; by default one headless EGL context, made on
         first use and kept. Blending is left disabled afterwards.
@@ -292,6 +339,7 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
     filter, sigma = _check_filter(filter, sigma)
+    multiply = check_choice("multiply", multiply, MULTIPLY)
     m0, m1 = _factors(factor)
     x = _check_image(image)
     out_dtype = x.dtype
@@ -331,24 +379,26 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         filt = texture((t * m1, t * m0), 1, np.outer(h0, h1).astype("f4").tobytes())
         filt.filter = (moderngl.NEAREST, moderngl.NEAREST)
         filt.repeat_x = filt.repeat_y = True
-        scratch = texture((big1, big0), 4)
-        accum = texture((big1, big0), 4)
-        scratch_fbo = ctx.framebuffer(color_attachments=[scratch])
-        made.append(scratch_fbo)
-        accum_fbo = ctx.framebuffer(color_attachments=[accum])
-        made.append(accum_fbo)
-        for fbo in (scratch_fbo, accum_fbo):
-            fbo.viewport = (0, 0, big1, big0)
-        for prog in (progs.filter, progs.texel):
+        fbos = {}
+        for name in ("accumulation", "scratch") if multiply == "blend" else ("accumulation",):
+            fbos[name] = ctx.framebuffer(color_attachments=[texture((big1, big0), 4)])
+            fbos[name].viewport = (0, 0, big1, big0)
+            made.append(fbos[name])
+        accum_fbo, scratch_fbo = fbos["accumulation"], fbos.get("scratch")
+        for prog in (progs.filter, progs.texel, progs.product):
             prog["size"].value = (big1, big0)
         progs.filter["filter_texture"].value = 0
+        progs.product["filter_texture"].value = 0
         progs.texel["sub_texture"].value = 1
+        progs.product["sub_texture"].value = 1
         progs.accumulate["scratch"].value = 2
         progs.filter["period"].value = (t * m1, t * m0)
+        progs.product["filter_period"].value = (t * m1, t * m0)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
         ctx.blend_equation = moderngl.FUNC_ADD
         filt.use(location=0)
-        scratch.use(location=2)
+        if scratch_fbo is not None:
+            scratch_fbo.color_attachments[0].use(location=2)
 
         for g in range(groups):
             chunk = np.zeros((n0, n1, 3), dtype=np.float32)
@@ -361,8 +411,19 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
                 subs[key] = tex
             p0, p1 = subs[0, 0].height, subs[0, 0].width
             progs.texel["period"].value = (t * m1 * p1, t * m0 * p0)
+            progs.product["period"].value = (t * m1 * p1, t * m0 * p0)
             accum_fbo.clear(0.0, 0.0, 0.0, 0.0)
             for key, (c0, c1) in passes:
+                subs[key].use(location=1)
+                if multiply == "shader":
+                    # a-c in one draw: texel times weight, added in.
+                    accum_fbo.use()
+                    ctx.enable(moderngl.BLEND)
+                    ctx.blend_func = moderngl.ONE, moderngl.ONE
+                    progs.product["offset"].value = (c1, c0)
+                    progs.vaos["product"].render(moderngl.TRIANGLE_STRIP)
+                    draws += 1
+                    continue
                 # a. the filter into the alpha plane, at the pass's offset.
                 scratch_fbo.use()
                 ctx.disable(moderngl.BLEND)
@@ -371,7 +432,6 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
                 # b. the sub-texture, NEAREST-magnified, times the alpha plane.
                 ctx.enable(moderngl.BLEND)
                 ctx.blend_func = moderngl.DST_ALPHA, moderngl.ZERO
-                subs[key].use(location=1)
                 progs.texel["offset"].value = (c1, c0)
                 progs.vaos["texel"].render(moderngl.TRIANGLE_STRIP)
                 # c. accumulate: additive blending into the float32 framebuffer.
