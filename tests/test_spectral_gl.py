@@ -50,9 +50,10 @@ def test_gl_equals_cpu_to_float32_precision(gl, filt, sigma, shape, factor, mult
     np.testing.assert_allclose(got.weight_sum, 1.0, atol=1e-6, rtol=0)
 
 
-@pytest.mark.parametrize("filt", ["bspline", "catmull-rom"])
-def test_gl_at_larger_sizes(gl, filt):
-    x = np.random.default_rng(3).standard_normal((24, 40)).astype(np.float32)
+@pytest.mark.parametrize("filt", ["bspline", "catmull-rom", "gaussian"])
+@pytest.mark.parametrize("shape", [(24, 40), (25, 38)])
+def test_gl_at_larger_sizes(gl, filt, shape):
+    x = np.random.default_rng(3).standard_normal(shape).astype(np.float32)
     got = magnify_gl(x, 13, filter=filt, ctx=gl).image
     want = magnify(x.astype(np.float64), 13, filter=filt)
     assert _max_error(got, want, x) <= RTOL
@@ -105,17 +106,35 @@ def test_channel_groups_repeat_the_passes(gl):
 
 def test_redistribution_is_the_seeds():
     """4 x 4 texels numbered 0..15 row by row, 2 x 2 footprint: four 2 x 2
-    sub-textures; texels 5, 7, 13 and 15 go together (their regions of the
-    output do not overlap)."""
+    sub-textures, one period each; texels 5, 7, 13 and 15 go together (their
+    regions of the output do not overlap)."""
     x = np.arange(16).reshape(4, 4)
-    subs = mgl.redistribute(x, 2)
+    subs = mgl.redistribute(x, 2, (16, 16), (-16, -16))
     assert sorted(subs) == [(0, 0), (0, 1), (1, 0), (1, 1)]
-    np.testing.assert_array_equal(subs[1, 1], [[5, 7], [13, 15]])
-    np.testing.assert_array_equal(subs[0, 0], [[0, 2], [8, 10]])
-    # T does not divide n: the sub-texture is one period, n / gcd(n, T) texels.
-    row = mgl.redistribute(np.arange(5)[None, :], 2)[0, 0]
-    np.testing.assert_array_equal(row, [[0, 2, 4, 1, 3]])
-    assert mgl.redistribute(np.zeros((6, 9)), 3)[2, 1].shape == (2, 3)
+    np.testing.assert_array_equal(subs[1, 1][0], [[5, 7], [13, 15]])
+    np.testing.assert_array_equal(subs[0, 0][0], [[0, 2], [8, 10]])
+    assert all(origin == (0, 0) for _, origin in subs.values())
+
+
+def test_redistribution_when_the_footprint_does_not_divide_the_input():
+    """n = 5, T = 2, m = 3, tent (its window starts at -2): pass a = 0 has
+    offset c = -2 and reads i = floor((p + 2) / 6) for p = 0..14, i.e.
+    i = 0, 1, 2, texels 0, 2, 4; pass a = 1 has c = 1 and reads i = -1..2,
+    texels 4, 1, 3, 0 (wrapping both ways). About n / T texels each, not a
+    period of n / gcd(n, T)."""
+    start = mgl._filter_window("tent", 3, 0.5, 2)[1]
+    assert start == -2
+    x = np.arange(5)[None, :] * np.ones((4, 1), dtype=int)
+    subs = mgl.redistribute(x, 2, (3, 3), (start, start))
+    np.testing.assert_array_equal(subs[0, 0][0][0], [0, 2, 4])
+    assert subs[0, 0][1] == (0, 0) and subs[0, 0][0].shape == (2, 3)
+    np.testing.assert_array_equal(subs[0, 1][0][0], [4, 1, 3, 0])
+    assert subs[0, 1][1] == (0, -1)
+    # Larger: 101 texels, bspline (T = 4): at most n / T + 2 per axis.
+    y = np.zeros((101, 101))
+    start = mgl._filter_window("bspline", 7, 0.5, 4)[1]
+    for sub, _ in mgl.redistribute(y, 4, (7, 7), (start, start)).values():
+        assert max(sub.shape) <= 101 // 4 + 2
 
 
 def test_pass_offsets():
@@ -157,8 +176,8 @@ def test_control_missing_pass_is_seen(gl, monkeypatch):
 def test_control_wrong_redistribution_is_seen(gl, monkeypatch):
     right = mgl.redistribute
 
-    def swapped(x, footprint):
-        subs = right(x, footprint)
+    def swapped(x, footprint, *rest):
+        subs = right(x, footprint, *rest)
         subs[0, 1], subs[1, 0] = subs[1, 0], subs[0, 1]
         return subs
 

@@ -20,8 +20,11 @@ Per axis, and as the product of two axes in 2-D:
    sub-textures, sub-texture ``(a, b)`` holding
    ``x[(a + T i) mod n0, (b + T j) mod n1]``. When ``T`` divides ``n`` these
    are the seed's ``n/T x n/T`` textures (A-D for its 4 x 4 input and 2 x 2
-   footprint); otherwise the sub-texture repeats every ``n / gcd(n, T)``
-   texels, and that is its size, so that ``GL_REPEAT`` wraps it correctly.
+   footprint), one period each, and ``GL_REPEAT`` wraps them as the octave
+   wraps. Otherwise such a sequence repeats only every ``n / gcd(n, T)``
+   texels (up to ``T^2`` times the input in all), so the sub-texture holds
+   instead just the ``i`` that the pass reaches across the output, about
+   ``n / T + 2``, and the wrap happens in the redistribution's ``mod n``.
 2. *Filter texture.* ``h`` over its window, ``T m0 x T m1`` float texels
    (the outer product of the two axes' filters), ``GL_NEAREST`` and
    ``GL_REPEAT``.
@@ -45,10 +48,10 @@ and output sizes; each pass touches every output texel three times. With
 multiplies the sub-texture's texel by the filter texture's weight (same
 offsets, same ``GL_NEAREST`` lookups) and the result goes straight into the
 accumulation framebuffer with the additive blend; the same passes, one
-third of the fill. The
-colour planes carry three channels at a time (the alpha plane holds the
-filter), so an image with ``C`` channels takes ``ceil(C / 3)`` channel
-groups of ``T^2`` passes each. The arithmetic is float32 throughout.
+third of the fill. The colour planes carry three channels at a time (the
+alpha plane holds the filter), so an image with ``C`` channels takes
+``ceil(C / 3)`` channel groups of ``T^2`` passes each. The arithmetic is
+float32 throughout.
 
 All coordinates here are array indices: row ``i`` of every array is GL's
 ``y = i``, both for the textures uploaded and for the framebuffer read back,
@@ -57,7 +60,6 @@ so no flip between top-down images and GL's bottom-left origin is needed.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,14 +113,15 @@ _PRODUCT_VERTEX = """
 #version 330 core
 in vec2 corner;
 uniform vec2 size;
-uniform vec2 offset;
-uniform vec2 period;         // of the sub-texture
-uniform vec2 filter_period;  // of the filter texture
+uniform vec2 offset;         // of the sub-texture
+uniform vec2 period;
+uniform vec2 filter_offset;  // of the filter texture
+uniform vec2 filter_period;
 out vec2 uv;
 out vec2 uv_filter;
 void main() {
     uv = (corner * size - offset) / period;
-    uv_filter = (corner * size - offset) / filter_period;
+    uv_filter = (corner * size - filter_offset) / filter_period;
     gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 }
 """
@@ -214,7 +217,7 @@ def default_context():
 
 
 class _Programs:
-    """The three programs and their rectangles, compiled once per context."""
+    """The four programs and their rectangles, compiled once per context."""
 
     def __init__(self, ctx):
         self.ctx = ctx
@@ -267,23 +270,37 @@ def pass_offsets(footprint: int, factor, start) -> list:
             for a in range(footprint) for b in range(footprint)]
 
 
-def redistribute(x: np.ndarray, footprint: int) -> dict:
-    """The input's texels redistributed into ``T x T`` periodic sub-textures.
+def _axis_texels(n: int, t: int, a: int, m: int, start: int):
+    """Input texels of sub-texture ``a`` along one axis, and the first ``i``."""
+    if n % t == 0:  # one period; GL_REPEAT does the wrapping
+        return (a + t * np.arange(n // t)) % n, 0
+    # Output texel p reads i = floor((p - c) / (T m)), c = a m + start: the
+    # i for p = 0 .. n m - 1, in order.
+    c = a * m + start
+    first, last = -c // (t * m), (n * m - 1 - c) // (t * m)
+    return (a + t * np.arange(first, last + 1)) % n, first
 
-    Returns ``{(a, b): sub}`` with ``sub[i, j] = x[(a + T i) mod n0,
-    (b + T j) mod n1]``, of shape ``(n0 / gcd(n0, T), n1 / gcd(n1, T))``: one
-    period of the sub-texture, so that ``GL_REPEAT`` wraps it as the octave
-    wraps.
+
+def redistribute(x: np.ndarray, footprint: int, factor=(1, 1), start=(0, 0)) -> dict:
+    """The input's texels redistributed into ``T x T`` sub-textures.
+
+    Returns ``{(a, b): (sub, origin)}`` with ``sub[i - origin[0], j -
+    origin[1]] = x[(a + T i) mod n0, (b + T j) mod n1]``. Along an axis that
+    ``T`` divides, ``sub`` is one period, ``n / T`` texels from ``i = 0``
+    (``GL_REPEAT`` wraps it); along any other, it holds the ``i`` that pass
+    ``(a, b)`` reaches across the output (see :func:`pass_offsets` for
+    ``factor`` and ``start``), from ``i = origin``.
     """
     t = footprint
     n0, n1 = x.shape[:2]
-    p0, p1 = n0 // math.gcd(n0, t), n1 // math.gcd(n1, t)
+    m0, m1 = factor
+    s0, s1 = start
     subs = {}
     for a in range(t):
-        rows = (a + t * np.arange(p0)) % n0
+        rows, o0 = _axis_texels(n0, t, a, m0, s0)
         for b in range(t):
-            cols = (b + t * np.arange(p1)) % n1
-            subs[a, b] = np.ascontiguousarray(x[rows][:, cols])
+            cols, o1 = _axis_texels(n1, t, b, m1, s1)
+            subs[a, b] = (np.ascontiguousarray(x[rows][:, cols]), (o0, o1))
     return subs
 
 
@@ -404,23 +421,27 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
             chunk = np.zeros((n0, n1, 3), dtype=np.float32)
             chunk[:, :, :min(3, channels - 3 * g)] = planes[:, :, 3 * g:3 * g + 3]
             subs = {}
-            for key, sub in redistribute(chunk, t).items():
+            for key, (sub, origin) in redistribute(chunk, t, (m0, m1), (s0, s1)).items():
                 tex = texture((sub.shape[1], sub.shape[0]), 3, sub.tobytes())
                 tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
                 tex.repeat_x = tex.repeat_y = True
-                subs[key] = tex
-            p0, p1 = subs[0, 0].height, subs[0, 0].width
-            progs.texel["period"].value = (t * m1 * p1, t * m0 * p0)
-            progs.product["period"].value = (t * m1 * p1, t * m0 * p0)
+                subs[key] = tex, origin
             accum_fbo.clear(0.0, 0.0, 0.0, 0.0)
             for key, (c0, c1) in passes:
-                subs[key].use(location=1)
+                tex, (o0, o1) = subs[key]
+                tex.use(location=1)
+                # The sub-texture's texel i spans output texels c + i T m ..
+                # c + (i + 1) T m - 1: GL_NEAREST magnification by T m.
+                sub_offset = (c1 + o1 * t * m1, c0 + o0 * t * m0)
+                sub_period = (t * m1 * tex.width, t * m0 * tex.height)
                 if multiply == "shader":
                     # a-c in one draw: texel times weight, added in.
                     accum_fbo.use()
                     ctx.enable(moderngl.BLEND)
                     ctx.blend_func = moderngl.ONE, moderngl.ONE
-                    progs.product["offset"].value = (c1, c0)
+                    progs.product["offset"].value = sub_offset
+                    progs.product["period"].value = sub_period
+                    progs.product["filter_offset"].value = (c1, c0)
                     progs.vaos["product"].render(moderngl.TRIANGLE_STRIP)
                     draws += 1
                     continue
@@ -432,7 +453,8 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
                 # b. the sub-texture, NEAREST-magnified, times the alpha plane.
                 ctx.enable(moderngl.BLEND)
                 ctx.blend_func = moderngl.DST_ALPHA, moderngl.ZERO
-                progs.texel["offset"].value = (c1, c0)
+                progs.texel["offset"].value = sub_offset
+                progs.texel["period"].value = sub_period
                 progs.vaos["texel"].render(moderngl.TRIANGLE_STRIP)
                 # c. accumulate: additive blending into the float32 framebuffer.
                 accum_fbo.use()
