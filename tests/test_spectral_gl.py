@@ -59,6 +59,19 @@ def test_gl_at_larger_sizes(gl, filt, shape):
     assert _max_error(got, want, x) <= RTOL
 
 
+@pytest.mark.parametrize("filt", FILTERS)
+def test_blend_and_shader_products_agree(gl, filt):
+    """One float32 multiply either way, in the blender or in the shader: on
+    llvmpipe the two give the same bits; elsewhere float32 precision."""
+    x = np.random.default_rng(7).standard_normal((5, 7, 3)).astype(np.float32)
+    blend = magnify_gl(x, 3, filter=filt, multiply="blend", ctx=gl)
+    shader = magnify_gl(x, 3, filter=filt, multiply="shader", ctx=gl)
+    if "llvmpipe" in gl.info["GL_RENDERER"]:
+        np.testing.assert_array_equal(blend.image, shader.image)
+    assert _max_error(blend.image, shader.image.astype(np.float64), x) <= RTOL
+    assert blend.passes == shader.passes and blend.draws == 3 * shader.draws
+
+
 def test_gl_output_tiles_and_shifts_with_the_input(gl):
     x = np.random.default_rng(4).standard_normal((5, 6)).astype(np.float32)
     y = magnify_gl(x, 4, ctx=gl).image

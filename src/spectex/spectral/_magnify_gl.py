@@ -329,7 +329,8 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         ``'blend'``: the seed's way, three draws per pass (filter into the
         alpha plane; sub-texture blended with ``GL_DST_ALPHA, GL_ZERO``;
         accumulate). ``'shader'``: the product in the fragment shader, one
-        draw per pass. Same passes, offsets and lookups, same numbers.
+        draw per pass. Same passes, offsets and lookups; the same numbers
+        to float32 precision (the same bits on llvmpipe).
     ctx : moderngl.Context, optional
         An OpenGL 3.3 context; by default one headless EGL context, made on
         first use and kept. Blending is left disabled afterwards.
