@@ -82,9 +82,9 @@ def test_gl_output_tiles_and_shifts_with_the_input(gl):
     assert np.abs(y[:, 0] - y[:, -1]).max() <= inside
 
 
-def test_public_magnify_backend_gl_keeps_dtype():
+def test_public_magnify_backend_gl_keeps_dtype(gl):
     x = np.random.default_rng(5).standard_normal((3, 5))
-    y = magnify(x, 3, filter="tent", backend="gl")
+    y = magnify(x, 3, filter="tent", backend="gl")  # makes and keeps its own context
     assert y.dtype == np.float64 and y.shape == (9, 15)
     assert _max_error(y, magnify(x, 3, filter="tent"), x) <= RTOL
     y32 = magnify(x.astype(np.float32), 3, backend="gl")
@@ -92,6 +92,10 @@ def test_public_magnify_backend_gl_keeps_dtype():
     yi = magnify(np.arange(6).reshape(2, 3), 2, filter="box", backend="gl")
     assert yi.dtype == np.float64
     np.testing.assert_array_equal(yi, np.kron(np.arange(6).reshape(2, 3), np.ones((2, 2))))
+    # magnify_gl makes the context it is given current and leaves it so: the
+    # session's context is the current one again, for the fixture's check and
+    # the tests after this one.
+    assert _max_error(magnify_gl(x, 3, filter="tent", ctx=gl).image, y, x) <= RTOL
 
 
 @pytest.mark.parametrize("filt,sigma,t", [("box", 0.5, 1), ("tent", 0.5, 2), ("gaussian", 0.5, 3),
@@ -196,6 +200,24 @@ def test_control_wrong_redistribution_is_seen(gl, monkeypatch):
 
     monkeypatch.setattr(mgl, "redistribute", swapped)
     assert _control_error(gl)[0] > 1e-2
+
+
+def test_another_current_context_does_not_take_the_passes(gl):
+    """Making a second context makes it current, and moderngl sends every
+    call to the current context; magnify_gl must still draw in the context
+    it is given, before and after the other one is released."""
+    import moderngl
+
+    x = np.random.default_rng(8).standard_normal((4, 6)).astype(np.float32)
+    want = magnify(x.astype(np.float64), 3)
+    magnify_gl(x, 3, ctx=gl)  # programs cached in gl
+    other = moderngl.create_standalone_context(backend="egl", require=330)
+    try:
+        assert _max_error(magnify_gl(x, 3, ctx=gl).image, want, x) <= RTOL
+        assert _max_error(magnify_gl(x, 3, ctx=other).image, want, x) <= RTOL
+    finally:
+        other.release()
+    assert _max_error(magnify_gl(x, 3, ctx=gl).image, want, x) <= RTOL  # gl current again
 
 
 def test_bad_inputs(gl):

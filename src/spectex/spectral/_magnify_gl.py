@@ -206,11 +206,27 @@ def create_context():
             "install Mesa's EGL and drivers (Debian/Ubuntu: libegl1 libgl1-mesa-dri)") from None
 
 
+def _make_current(ctx):
+    """Make ``ctx`` the current context, and leave it current.
+
+    moderngl sends every call to the current context, whichever context
+    object it is made through, and making a second context makes that one
+    current. ``with ctx:`` would not do here: on leaving, glcontext's EGL
+    backend makes *no* context current, not the previous one.
+    """
+    ctx.__enter__()
+
+
 _DEFAULT: list = []
 
 
 def default_context():
-    """The context :func:`magnify_gl` uses when given none: made once, kept."""
+    """The context :func:`magnify_gl` uses when given none: made once, kept.
+
+    Making a context makes it the current one, and moderngl sends every call
+    to the current context: code that holds another context should pass it
+    as ``ctx``, or make it current again before its own calls.
+    """
     if not _DEFAULT:
         _DEFAULT.append(create_context())
     return _DEFAULT[0]
@@ -333,7 +349,9 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         to float32 precision (the same bits on llvmpipe).
     ctx : moderngl.Context, optional
         An OpenGL 3.3 context; by default one headless EGL context, made on
-        first use and kept. Blending is left disabled afterwards.
+        first use and kept. It is made current and stays current afterwards
+        (moderngl sends every call to the current context); blending is left
+        disabled.
 
     Returns
     -------
@@ -366,6 +384,7 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     t = filter_passes(filter, sigma=sigma)
     if ctx is None:
         ctx = default_context()
+    _make_current(ctx)
     limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
     big0, big1 = n0 * m0, n1 * m1
     if max(big0, big1) > limit:
