@@ -222,25 +222,31 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     }
     params = json.loads(json.dumps(params))  # as the attributes will read back (lists, floats)
 
-    # --- open (resume) or create the store
-    path = path.absolute()
-    state = _open_or_create(path, params, text, shapes, chunk, shard, dtype)
-    tasks = [(k, i, j) for k, (lh, lw) in enumerate(shapes)
-             for i in range(-(-lh // shard)) for j in range(-(-lw // shard))]
-    if state == "complete":
-        return BakeResult(path, shapes, sizes, dtype, len(tasks), 0, len(tasks), 0, 0.0)
-    done = _finished_markers(path)
-    todo = [t for t in tasks if _marker_name(*t) not in done]
-    job = _Job(str(path), window_packed(texture, (ox, oy), p), tuple(shapes), tuple(sizes), chunk, shard, dtype)
-    total = sum(_shard_pixels(job, *t) for t in todo)
-    t0 = time.perf_counter()
-    if todo:
-        if scheduler is None:
-            _run_local(job, todo, workers, progress, total)
-        else:
-            _run_distributed(job, todo, scheduler, progress, total)
-    seconds = time.perf_counter() - t0
-    _finish(path, params, text, shapes, sizes, (ox, oy), tasks, texture)
+    # --- connect first: an unreachable scheduler must not leave a store behind
+    client = _connect(scheduler) if scheduler is not None else None
+    try:
+        path = path.absolute()
+        state = _open_or_create(path, params, text, shapes, chunk, shard, dtype)
+        tasks = [(k, i, j) for k, (lh, lw) in enumerate(shapes)
+                 for i in range(-(-lh // shard)) for j in range(-(-lw // shard))]
+        if state == "complete":
+            return BakeResult(path, shapes, sizes, dtype, len(tasks), 0, len(tasks), 0, 0.0)
+        done = _finished_markers(path)
+        todo = [t for t in tasks if _marker_name(*t) not in done]
+        job = _Job(str(path), window_packed(texture, (ox, oy), p), tuple(shapes), tuple(sizes), chunk, shard,
+                   dtype)
+        total = sum(_shard_pixels(job, *t) for t in todo)
+        t0 = time.perf_counter()
+        if todo:
+            if client is None:
+                _run_local(job, todo, workers, progress, total)
+            else:
+                _run_distributed(job, todo, client, progress, total)
+        seconds = time.perf_counter() - t0
+        _finish(path, params, text, sizes, (ox, oy), tasks)
+    finally:
+        if client is not None:
+            client.close()
     return BakeResult(path, shapes, sizes, dtype, len(tasks), len(todo), len(tasks) - len(todo), total, seconds)
 
 
@@ -255,8 +261,9 @@ def bake_shard(job: _Job, k: int, i: int, j: int) -> int:
 
     The shard is assembled in a ``(3, h, w)`` buffer from strips of ``chunk``
     rows (float32 only a strip at a time) and written with one assignment
-    that covers the whole shard, so zarr encodes it without reading anything.
+    that covers the whole shard.
     """
+    import numba
     import zarr
 
     lh, lw = job.shapes[k]
@@ -265,13 +272,21 @@ def bake_shard(job: _Job, k: int, i: int, j: int) -> int:
     packed = job.packed[:-2] + (job.pixel_sizes[k], job.packed[-1])  # same anchor, this level's pixel size
     buf = np.empty((3, sh, sw), dtype=job.dtype)
     strip = np.empty((min(job.chunk, sh), sw, 3), dtype=np.float32)
-    for a in range(0, sh, job.chunk):
-        rows = min(job.chunk, sh - a)
-        block = strip[:rows]
-        run_window(packed, r0 + a, c0, block)
-        buf[:, a:a + rows, :] = np.moveaxis(to_dtype(block, job.dtype), 2, 0)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # this thread's setting only: the Dask threads are the parallelism
+    try:
+        for a in range(0, sh, job.chunk):
+            rows = min(job.chunk, sh - a)
+            block = strip[:rows]
+            run_window(packed, r0 + a, c0, block)
+            buf[:, a:a + rows, :] = np.moveaxis(to_dtype(block, job.dtype), 2, 0)
+    finally:
+        numba.set_num_threads(threads)
     del strip
     array = zarr.open_array(store=job.path, path=str(k), mode="r+")
+    # zarr reads an edge shard back before writing it (it merges into the full shard shape), so a
+    # half-written file left by a killed worker would be read, or fail its checksum: remove it first.
+    (Path(job.path) / str(k) / array.metadata.encode_chunk_key((0, i, j))).unlink(missing_ok=True)
     array[:, r0:r0 + sh, c0:c0 + sw] = buf
     marker = Path(job.path) / MARKERS / _marker_name(k, i, j)
     marker.parent.mkdir(parents=True, exist_ok=True)
@@ -311,19 +326,30 @@ def _run_local(job, todo, workers, progress, total) -> None:
         get(graph, keys, num_workers=workers or os.cpu_count() or 1)
 
 
-def _run_distributed(job, todo, scheduler, progress, total) -> None:
-    from distributed import Client, as_completed
+def _connect(scheduler):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
+    try:
+        return Client(scheduler, timeout="10s", set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise OSError(f"cannot reach the scheduler {scheduler}: {exc}") from None
 
-    with Client(scheduler, timeout="10s", set_as_default=False) as client:
-        job_future = client.scatter(job, broadcast=True)
-        futures = [client.submit(bake_shard, job_future, k, i, j, key=f"spectex-bake-{k}-{i}-{j}-{_token(job)}",
-                                 pure=False, retries=2)
-                   for k, i, j in todo]
-        done = 0
-        for future in as_completed(futures):
-            done += future.result()
-            if progress is not None:
-                progress(done, total)
+
+def _run_distributed(job, todo, client, progress, total) -> None:
+    from distributed import as_completed
+
+    job_future = client.scatter(job, broadcast=True)
+    token = _token(job)
+    futures = [client.submit(bake_shard, job_future, k, i, j, key=f"spectex-bake-{k}-{i}-{j}-{token}",
+                             pure=False, retries=2)
+               for k, i, j in todo]
+    done = 0
+    for future in as_completed(futures):
+        done += future.result()
+        if progress is not None:
+            progress(done, total)
 
 
 def _token(job) -> str:
@@ -416,7 +442,7 @@ def _brief(value) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _finish(path, params, text, shapes, sizes, origin, tasks, texture) -> None:
+def _finish(path, params, text, sizes, origin, tasks) -> None:
     import zarr
 
     missing = set(_marker_name(*t) for t in tasks) - _finished_markers(path)
@@ -425,13 +451,13 @@ def _finish(path, params, text, shapes, sizes, origin, tasks, texture) -> None:
                       "run it again to finish them")
     group = zarr.open_group(store=str(path), mode="r+")
     group.attrs.put({
-        "ome": ome_metadata(path.name, shapes, sizes, origin, params["dtype"]),
+        "ome": ome_metadata(path.name, sizes, origin, params["dtype"]),
         ATTRS: {"bake": params, "complete": True, "texture_file": text},
     })
     shutil.rmtree(path / MARKERS, ignore_errors=True)
 
 
-def ome_metadata(name, shapes, sizes, origin, dtype) -> dict:
+def ome_metadata(name, sizes, origin, dtype) -> dict:
     """OME-NGFF 0.5 ``ome`` attributes: one multiscale image, axes (c, y, x) in metres.
 
     Level ``k``'s pixel ``(r, c)`` covers the world square with corner
