@@ -103,12 +103,40 @@ def memory(args, folder: Path):
         shutil.rmtree(out)
 
 
+def cluster_runs(tex, n, origin, folder, best, repeats):
+    """The same bake through a dask.distributed LocalCluster of 1 and 2 worker processes (1 thread each)."""
+    from distributed import LocalCluster
+
+    from spectex.bake import bake_zarr
+
+    print(f"\nthrough a dask.distributed LocalCluster ({n}x{n} px, 1 thread per worker process, best of {repeats}):")
+    rates = {}
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                          silence_logs=50) as cluster:
+            bake_zarr(tex, folder / "cwarm.zarr", (64, 64), pixel_size=PAPER_TEXEL, levels=1, chunk=64, shard=64,
+                      scheduler=cluster.scheduler_address)
+            shutil.rmtree(folder / "cwarm.zarr")
+            for rep in range(repeats):
+                out = folder / f"c{workers}-{rep}.zarr"
+                result = bake_zarr(tex, out, (n, n), pixel_size=PAPER_TEXEL, origin=origin, levels=1, chunk=512,
+                                   shard=max(512, min(2048, n // 4)), scheduler=cluster.scheduler_address)
+                rates[workers] = max(rates.get(workers, 0.0), result.pixels_per_second / 1e6)
+                shutil.rmtree(out)
+        mem = n * n / best[("in memory", min(workers, max(t for _, t in best)))] / 1e6
+        print(f"  {workers} worker{'s' if workers > 1 else ' '}: {rates[workers]:6.2f} Mpx/s "
+              f"(in memory on as many threads: {mem:.2f}; ratio {rates[workers] / mem:.2f})")
+    print(f"  scaling 1 -> 2 worker processes: x{rates[2] / rates[1]:.2f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, default=4096, help="region edge for the throughput runs (default 4096)")
     parser.add_argument("--repeats", type=int, default=3, help="best of this many measurements (default 3)")
     parser.add_argument("--memory", action="store_true", help="also measure peak memory up to --memory-max")
     parser.add_argument("--memory-max", type=int, default=32768)
+    parser.add_argument("--cluster", action="store_true",
+                        help="also bake through a LocalCluster of 1 and of 2 worker processes")
     parser.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.child:
@@ -166,6 +194,8 @@ def main(argv=None):
             print(f"  scaling 1 -> 2 threads: in memory x{best[('in memory', 1)] / best[('in memory', 2)]:.2f}, "
                   f"to Zarr x{best[('to Zarr', 1)] / best[('to Zarr', 2)]:.2f}")
         bpp = sizes_on_disk / px
+        if args.cluster:
+            cluster_runs(tex, n, origin, folder, best, args.repeats)
 
         # per-pixel cost at coarser pixel sizes (pyramid levels 0, 3, 6), one thread
         print("\ncost per pixel by level (to Zarr, 1 thread, 2048 x 2048 px):")

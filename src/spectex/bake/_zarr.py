@@ -156,10 +156,13 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
 
     Notes
     -----
-    Memory per worker thread is about ``3 * shard**2 * itemsize`` for the
-    shard being assembled, plus up to as much again while zarr encodes it,
-    plus a float32 strip of ``chunk x shard`` pixels: it depends on
-    ``chunk`` and ``shard`` only, never on ``shape``.
+    Peak memory per worker thread is bounded by about ``4 * 3 * shard**2 *
+    itemsize + 24 * chunk * shard`` bytes: the shard as stored, up to about
+    three times as much again while zarr splits, compresses and joins it,
+    and the float32 strip of ``chunk`` rows with its conversion (about 200
+    MiB for uint8 at ``shard=4096``, ``chunk=512``; measured 193 MiB). It
+    depends on ``chunk`` and ``shard`` only, never on ``shape``
+    (``benchmarks/bench_bake.py --memory``).
     """
     from ..texture import SpectralTexture, dumps_toml
 
