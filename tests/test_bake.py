@@ -282,7 +282,8 @@ def test_bake_on_a_local_cluster_of_two_processes_equals_the_local_bake(texture,
     remote.parent.mkdir()
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
                                   silence_logs=50) as cluster:
-        with distributed.Client(cluster) as client, distributed.get_task_stream(client) as stream:
+        with distributed.Client(cluster, set_as_default=False) as client, \
+                distributed.get_task_stream(client) as stream:
             result = bake_zarr(texture, remote, SHAPE, scheduler=cluster.scheduler_address, **kw)
     workers = {task["worker"] for task in stream.data if "spectex-bake" in str(task["key"])}
     assert len(workers) == 2  # both processes baked shards

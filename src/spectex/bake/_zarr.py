@@ -349,7 +349,7 @@ def _run_distributed(job, todo, client, progress, total) -> None:
                              pure=False, retries=2)
                for k, i, j in todo]
     done = 0
-    for future in as_completed(futures):
+    for future in as_completed(futures, loop=client.loop):  # this client's loop: it need not be the default
         done += future.result()
         if progress is not None:
             progress(done, total)
