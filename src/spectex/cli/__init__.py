@@ -24,6 +24,7 @@ _COMMANDS = (
     "text",
     "compare",
     "fit",
+    "bake",
 )
 
 
