@@ -5,6 +5,8 @@ import math
 import tomllib
 
 import numpy as np
+
+from spectex import texture_file
 import pytest
 
 from spectex.bake import bake_window, bake_zarr, level_shapes, to_dtype
@@ -117,7 +119,7 @@ def test_bake_zarr_every_level_is_the_bake_at_its_pixel_size_read_by_ome_zarr(te
     assert ours["complete"] is True
     assert ours["bake"]["shape"] == list(SHAPE) and ours["bake"]["origin"] == list(ORIGIN)
     assert ours["bake"]["pixel_size"] == P and ours["bake"]["levels"] == 4 and ours["bake"]["dtype"] == "uint8"
-    assert tomllib.loads(ours["texture_file"])["layers"] == texture.to_dict([])["layers"]
+    assert tomllib.loads(ours["texture_file"])["layers"] == texture_file.to_dict(texture, [])["layers"]
     assert "[[layers]]" in ours["texture_file"] and f"size = {texture.layers[0].size!r}" in ours["texture_file"]
     array = zarr.open_array(out, path="0", mode="r")
     assert array.chunks == (3, 32, 32) and array.shards == (3, 64, 64)

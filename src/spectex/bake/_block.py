@@ -39,13 +39,15 @@ def to_dtype(rgb, dtype="uint8") -> np.ndarray:
 
 
 def window_packed(texture, origin, pixel_size):
-    """The kernel arguments for windows of the bake of ``texture`` at ``origin``, ``pixel_size``.
+    """The shading core's bake arguments for windows of the bake of ``texture`` at ``origin``, ``pixel_size``.
 
-    The same arguments, and the same per-layer anchor, as
-    ``SpectralTexture.bake`` builds for the whole region (default filter,
-    mip-mapping on, one sample per pixel).
+    ``(tables, anchor, pixel_size, supersample)``: the same tables and the
+    same per-layer anchor as ``SpectralTexture.bake`` builds for the whole
+    region (default filter, mip-mapping on, one sample per pixel).
     """
-    return texture.packed() + (texture.anchor_coords(*origin), float(pixel_size), 1)
+    from ..shading import pack
+
+    return (pack(texture), texture.anchor_coords(*origin), float(pixel_size), 1)
 
 
 def bake_window(texture, window, *, origin=(0.0, 0.0), pixel_size=1.0, out=None) -> np.ndarray:
@@ -96,7 +98,17 @@ def bake_window(texture, window, *, origin=(0.0, 0.0), pixel_size=1.0, out=None)
 
 
 def run_window(packed, row0, col0, out) -> None:
-    """Run the block kernel on prepared arguments (:func:`window_packed`); no checks."""
-    from ._kernel import bake_block_kernel
+    """Rows ``row0 ..`` and columns ``col0 ..`` of the whole bake into ``out``, on prepared
+    arguments (:func:`window_packed`); no checks.
 
-    bake_block_kernel(*packed, int(row0), int(col0), out)
+    The shading core's ``bake_kernel``, which ``SpectralTexture.bake`` runs
+    too (its ``start``): the same expression for every pixel, so a window
+    has the bits of the whole bake. The kernel's rows run in ``prange`` even
+    on one numba thread: the outlined parallel loop compiles to code about
+    twice as fast as the same loop serial (measured: 6.1 against 2.4-3.1
+    Mpx/s on one thread, paper preset).
+    """
+    from ..shading.view import bake_kernel
+
+    tables, anchor, pixel_size, n = packed
+    bake_kernel(tables, anchor, pixel_size, n, int(row0), int(col0), out)

@@ -164,7 +164,8 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     depends on ``chunk`` and ``shard`` only, never on ``shape``
     (``benchmarks/bench_bake.py --memory``).
     """
-    from ..texture import SpectralTexture, dumps_toml
+    from .. import texture_file
+    from ..texture import SpectralTexture
 
     # --- everything is checked before anything is written
     text = None
@@ -175,9 +176,8 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     elif not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture or a texture file, got {type(texture).__name__}")
     if text is None:
-        names = ([f"texture.tile{i}.png" for i in range(len(texture.tiles))] if len(texture.tiles) > 1
-                 else ["texture.tile.png"])
-        text = dumps_toml(texture.to_dict(names))
+        text = texture_file.dumps(texture_file.to_dict(texture, texture_file.tile_names(Path("texture"),
+                                                                                         len(texture.tiles))))
     path = Path(path)
     if not path.name.lower().endswith(".zarr"):
         raise ValueError(f"path must end in .zarr, got '{path}'")
@@ -220,7 +220,7 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
         "spectex_version": _version(),
         "shape": [h, w], "origin": [ox, oy], "pixel_size": p, "levels": levels,
         "chunk": chunk, "shard": shard, "dtype": dtype, "filter": "trilinear",
-        "layers": texture.to_dict([])["layers"], "bits": texture.to_dict([])["bits"],
+        "layers": texture_file.to_dict(texture, [])["layers"], "bits": texture_file.to_dict(texture, [])["bits"],
         "tiles_sha256": [_tile_hash(t) for t in texture.tiles],
     }
     params = json.loads(json.dumps(params))  # as the attributes will read back (lists, floats)
