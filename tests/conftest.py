@@ -21,7 +21,10 @@ def _gl_context():
 
 @pytest.fixture
 def gl(_gl_context):
-    """The session's EGL context; the GL error state must be clean before and after."""
+    """The session's EGL context, made current (moderngl sends calls to the current
+    context, and another test may have made its own); the GL error state must be
+    clean before and after."""
+    _gl_context.__enter__()
     assert _gl_context.error == "GL_NO_ERROR"
     yield _gl_context
     assert _gl_context.error == "GL_NO_ERROR"

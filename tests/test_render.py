@@ -286,3 +286,18 @@ def test_row_order_is_a_permutation_spread_over_the_picture(h):
         for half in (rows[: h // 2], rows[h // 2:]):
             counts = np.histogram(half, bins=4, range=(0, h))[0]
             assert counts.min() >= 0.6 * counts.mean(), counts
+
+
+def test_gl_renderer_draws_with_its_own_context_after_another_was_made(full_contrast):
+    """moderngl sends calls to the current context: a renderer used after a second
+    one was made (which made its context current) must still draw its own picture."""
+    from spectex.render.gl import GLRenderer
+
+    cam = VIEWS["ground"]
+    with GLRenderer(full_contrast) as first:
+        before = first.render(cam, (36, 64))
+        with GLRenderer(SpectralTexture.plain(make_tile(32, seed=5), 3.0)) as second:
+            other = second.render(cam, (36, 64))
+            after = first.render(cam, (36, 64))
+    np.testing.assert_array_equal(after, before)
+    assert np.abs(other - before).mean() > 0.01  # the control: the other texture looks different

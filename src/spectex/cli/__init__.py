@@ -25,6 +25,7 @@ _COMMANDS = (
     "text",
     "compare",
     "fit",
+    "bake",
 )
 
 

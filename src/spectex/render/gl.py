@@ -186,6 +186,13 @@ class GLRenderer:
         tex.repeat_y = True
         return tex
 
+    def _make_current(self):
+        """Make a headless context of our own current: moderngl sends every call to the
+        current context, and making another context (a second renderer, ``spectral.magnify_gl``)
+        makes that one current. (A window's context is the viewer's to manage.)"""
+        if self._own_ctx:
+            self.ctx.__enter__()
+
     def _set_uniform(self, name, value):
         if name not in self.program:  # optimised away
             return
@@ -307,6 +314,7 @@ class GLRenderer:
         """
         h, w = check_size(size, supersample)
         n = int(supersample)
+        self._make_current()
         fbo = self._framebuffer(h * n, w * n)
         fbo.use()
         fbo.viewport = (0, 0, w * n, h * n)
@@ -323,6 +331,7 @@ class GLRenderer:
         import time
 
         h, w = check_size(size)
+        self._make_current()
         fbo = self._framebuffer(h, w)
         fbo.use()
         fbo.viewport = (0, 0, w, h)

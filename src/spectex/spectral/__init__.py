@@ -2,7 +2,8 @@
 
 Octaves (Blythe et al. 1999, 6.21.3)
     :func:`magnify`, :func:`octave`, :func:`discrete_filter`,
-    :func:`filter_passes`, ``FILTERS``.
+    :func:`filter_passes`, ``FILTERS``; the seed's multi-pass GPU route
+    :func:`magnify_gl` (returns a :class:`GLMagnification`).
 Spectral synthesis (6.21.4)
     :func:`octave_sum`, :func:`octave_amplitudes`, :func:`spectral_noise`,
     :func:`band_limit`.
@@ -14,6 +15,7 @@ Analysis
 Frequencies are in cycles per pixel (Nyquist is 0.5). See ``docs/tiles.md``.
 """
 
+from ._magnify_gl import GLMagnification, magnify_gl
 from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
 from ._synthesis import (
     SlopeFit,
@@ -29,12 +31,14 @@ from ._synthesis import (
 
 __all__ = [
     "FILTERS",
+    "GLMagnification",
     "SlopeFit",
     "band_limit",
     "discrete_filter",
     "filter_passes",
     "hann_window",
     "magnify",
+    "magnify_gl",
     "octave",
     "octave_amplitudes",
     "octave_sum",

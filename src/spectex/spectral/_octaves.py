@@ -59,6 +59,9 @@ from .._validate import check_choice, check_float, check_int, check_seed
 
 FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
 
+#: Where :func:`magnify` computes: NumPy, or OpenGL through moderngl.
+BACKENDS = ("cpu", "gl")
+
 #: Gaussian truncation radius, in standard deviations.
 GAUSSIAN_TRUNCATE = 3.0
 
@@ -194,7 +197,22 @@ def _factors(factor):
             check_int("factor[1]", factor[1], minimum=1, maximum=1 << 14))
 
 
-def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5) -> np.ndarray:
+def _check_image(image) -> np.ndarray:
+    """The image as a float32 or float64 array of shape (H, W) or (H, W, C)."""
+    x = np.asarray(image)
+    if x.ndim not in (2, 3):
+        raise ValueError(f"image must have shape (H, W) or (H, W, C), got shape {x.shape}")
+    if x.shape[0] < 1 or x.shape[1] < 1 or (x.ndim == 3 and x.shape[2] < 1):
+        raise ValueError(f"image must not be empty, got shape {x.shape}")
+    if x.dtype not in (np.float32, np.float64):
+        x = x.astype(np.float64)
+    if not np.all(np.isfinite(x)):
+        raise ValueError("image must hold finite values, got NaN or infinity")
+    return x
+
+
+def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
+            backend: str = "cpu") -> np.ndarray:
     """Magnify a small periodic image with a reconstruction filter, wrapping around.
 
     Separable and vectorised: ``T`` passes per axis, ``T`` the number of
@@ -214,28 +232,37 @@ def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5) -> np
         deviation ``sigma`` input texels, truncated at 3 sigma.
     sigma : float
         The Gaussian's standard deviation in input texels.
+    backend : {'cpu', 'gl'}
+        ``'cpu'``: NumPy, separable, ``T`` passes per axis. ``'gl'``: the
+        seed's non-separable multi-pass method on OpenGL 3.3 (moderngl,
+        headless EGL), ``T^2`` passes computed in float32 and equal to the
+        CPU route to float32 precision; see
+        :func:`~spectex.spectral.magnify_gl`, which also reports the passes.
 
     Returns
     -------
     ndarray, shape (n0 m0, n1 m1) or (n0 m0, n1 m1, C)
         The magnified image; it tiles with period ``(n0 m0, n1 m1)``.
 
+    Raises
+    ------
+    OSError
+        With ``backend='gl'``, if moderngl or a headless OpenGL 3.3 context
+        (EGL) is missing; the message says what to install.
+
     References
     ----------
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
+    backend = check_choice("backend", backend, BACKENDS)
+    if backend == "gl":
+        from ._magnify_gl import magnify_gl
+
+        return magnify_gl(image, factor, filter=filter, sigma=sigma).image
     filter, sigma = _check_filter(filter, sigma)
     m0, m1 = _factors(factor)
-    x = np.asarray(image)
-    if x.ndim not in (2, 3):
-        raise ValueError(f"image must have shape (H, W) or (H, W, C), got shape {x.shape}")
-    if x.shape[0] < 1 or x.shape[1] < 1:
-        raise ValueError(f"image must not be empty, got shape {x.shape}")
-    if x.dtype not in (np.float32, np.float64):
-        x = x.astype(np.float64)
-    if not np.all(np.isfinite(x)):
-        raise ValueError("image must hold finite values, got NaN or infinity")
+    x = _check_image(image)
     w0, f0 = _phase_weights(filter, m0, sigma)
     w1, f1 = (w0, f0) if m1 == m0 else _phase_weights(filter, m1, sigma)
     planes = x[None] if x.ndim == 2 else np.moveaxis(x, 2, 0)  # (C, n0, n1)

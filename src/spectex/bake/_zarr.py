@@ -1,0 +1,492 @@
+"""A bake of a spectral texture to a sharded OME-Zarr pyramid, on Dask.
+
+Layout (OME-NGFF 0.5 on Zarr v3): the root group's attributes hold ``ome``
+(``multiscales`` and ``omero``) and ``spectex`` (the parameters and the
+texture file); arrays ``0``, ``1``, ... are the levels, axes ``(c, y, x)``,
+chunks ``(3, chunk, chunk)`` inside shards ``(3, shard, shard)``.
+
+One Dask task bakes one whole shard of one level and writes it (no two tasks
+touch one shard), then leaves a marker file; a run that finds markers
+skips those shards. The ``ome`` metadata and ``spectex.complete = true`` are
+written last, after every marker is there, so a store that a reader opens
+as an image is a finished one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import re
+import shutil
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import check_choice, check_float, check_int, check_shape
+from ._block import DTYPES, run_window, to_dtype, window_packed
+
+__all__ = ["BakeResult", "bake_zarr", "level_shapes", "MAX_SHARD_BYTES"]
+
+#: Largest shard, in bytes of stored pixels (3 * shard**2 * itemsize): 256 MiB.
+MAX_SHARD_BYTES = 1 << 28
+#: Folder inside the store for the per-shard markers of an unfinished bake.
+MARKERS = ".spectex-progress"
+#: The attribute group of our own parameters in the root ``zarr.json``.
+ATTRS = "spectex"
+_ADDRESS = re.compile(r"^[a-z][a-z0-9+.-]*://\S+$")
+_PARTIAL = re.compile(r"\.[0-9a-f]{32}\.partial$")  # zarr's LocalStore temporary files
+
+
+@dataclass(frozen=True)
+class BakeResult:
+    """What :func:`bake_zarr` wrote.
+
+    Attributes
+    ----------
+    path : Path
+        The store (a folder ending in ``.zarr``).
+    shapes : list of (int, int)
+        ``(height, width)`` of each level, level 0 first.
+    pixel_sizes : list of float
+        Metres per pixel of each level (``pixel_size * 2**k``).
+    dtype : str
+        Stored type of the pixels.
+    shards : int
+        Shards in the whole pyramid (one Dask task each).
+    baked : int
+        Shards baked and written by this call.
+    resumed : int
+        Shards found finished by an earlier, interrupted call, and kept.
+    pixels : int
+        Pixels baked by this call (all levels).
+    seconds : float
+        Wall time of the baking (tasks), excluding set-up.
+    """
+
+    path: Path
+    shapes: list
+    pixel_sizes: list
+    dtype: str
+    shards: int
+    baked: int
+    resumed: int
+    pixels: int
+    seconds: float
+
+    @property
+    def pixels_per_second(self) -> float:
+        return self.pixels / self.seconds if self.seconds > 0 else float("nan")
+
+
+@dataclass(frozen=True)
+class _Job:
+    """Everything a worker needs to bake any shard: sent once per worker."""
+
+    path: str
+    packed: tuple
+    shapes: tuple
+    pixel_sizes: tuple
+    chunk: int
+    shard: int
+    dtype: str
+
+
+def level_shapes(shape, levels) -> list[tuple[int, int]]:
+    """``(height, width)`` of each level: ``ceil(H / 2**k) x ceil(W / 2**k)``, the same region."""
+    h, w = shape
+    return [(-(-h // 2 ** k), -(-w // 2 ** k)) for k in range(levels)]
+
+
+def default_levels(shape, chunk) -> int:
+    """Levels until the coarsest fits in one chunk."""
+    n = 1
+    while max(level_shapes(shape, n)[-1]) > chunk:
+        n += 1
+    return n
+
+
+def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=None, chunk=512, shard=4096,
+              dtype="uint8", scheduler=None, workers=None, progress=None) -> BakeResult:
+    """Bake a region of a spectral texture into a sharded OME-Zarr pyramid.
+
+    Level ``k`` is ``texture.bake`` of the same region at ``pixel_size *
+    2**k`` (the sampler's mip-mapping filters it; no level is made from
+    another), converted by :func:`to_dtype`. Level 0 equals
+    ``to_dtype(texture.bake(shape, origin=origin, pixel_size=pixel_size))``
+    bit for bit, whatever ``chunk``, ``shard``, ``workers`` or scheduler.
+
+    Parameters
+    ----------
+    texture : SpectralTexture or path
+        The texture, or its file (``.toml``; its text goes into the attributes).
+    path : str or Path
+        The store to write, a folder ending in ``.zarr``. If it holds an
+        unfinished bake with the same arguments, the missing shards are
+        baked and the rest kept; with other arguments, ValueError.
+    shape : int or (int, int)
+        ``(height, width)`` of level 0, pixels.
+    pixel_size : float
+        Metres per pixel of level 0 (> 0).
+    origin : (float, float)
+        World (x, y) of the corner of pixel (0, 0), metres (rows go along +y).
+    levels : int, optional
+        Pyramid levels; by default until the coarsest fits in one chunk.
+    chunk : int
+        Chunk edge, pixels (the unit a reader fetches); a multiple of 16.
+    shard : int
+        Shard edge, pixels, a multiple of ``chunk`` (the unit of a file and
+        of a task); ``3 * shard**2 * itemsize <= MAX_SHARD_BYTES``.
+    dtype : {"uint8", "uint16", "float32"}
+    scheduler : str, optional
+        None: Dask's threaded scheduler on this machine. A ``dask.distributed``
+        scheduler address (``tcp://host:port``): the same tasks on its
+        cluster; every worker must see ``path`` under the same name.
+    workers : int, optional
+        Threads of the local scheduler (default: all cores). Not with ``scheduler``.
+    progress : callable, optional
+        Called as ``progress(done_pixels, total_pixels)`` as shards finish.
+
+    Returns
+    -------
+    BakeResult
+
+    Notes
+    -----
+    Peak memory per worker thread is bounded by about ``4 * 3 * shard**2 *
+    itemsize + 24 * chunk * shard`` bytes: the shard as stored, up to about
+    three times as much again while zarr splits, compresses and joins it,
+    and the float32 strip of ``chunk`` rows with its conversion (about 200
+    MiB for uint8 at ``shard=4096``, ``chunk=512``; measured 193 MiB). It
+    depends on ``chunk`` and ``shard`` only, never on ``shape``
+    (``benchmarks/bench_bake.py --memory``).
+    """
+    from .. import texture_file
+    from ..texture import SpectralTexture
+
+    # --- everything is checked before anything is written
+    text = None
+    if isinstance(texture, (str, os.PathLike)):
+        texture_path = Path(texture)
+        texture = SpectralTexture.load(texture_path)
+        text = texture_path.read_text(encoding="utf-8")
+    elif not isinstance(texture, SpectralTexture):
+        raise TypeError(f"texture must be a SpectralTexture or a texture file, got {type(texture).__name__}")
+    if text is None:
+        text = texture_file.dumps(texture_file.to_dict(texture, texture_file.tile_names(Path("texture"),
+                                                                                         len(texture.tiles))))
+    path = Path(path)
+    if not path.name.lower().endswith(".zarr"):
+        raise ValueError(f"path must end in .zarr, got '{path}'")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise ValueError(f"path is in a folder that does not exist: '{path}'")
+    h, w = check_shape("shape", shape, maximum_pixels=1 << 62)
+    p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+    if not isinstance(origin, (tuple, list)) or len(origin) != 2:
+        raise ValueError(f"origin must be a pair (x, y) of numbers, got {origin!r}")
+    ox, oy = check_float("origin[0]", origin[0]), check_float("origin[1]", origin[1])
+    dtype = check_choice("dtype", dtype, DTYPES)
+    chunk = check_int("chunk", chunk, minimum=16)
+    if chunk % 16:
+        raise ValueError(f"chunk must be a multiple of 16, got {chunk}")
+    shard = check_int("shard", shard, minimum=chunk)
+    if shard % chunk:
+        raise ValueError(f"shard must be a multiple of chunk ({chunk}), got {shard}")
+    itemsize = np.dtype(dtype).itemsize
+    if 3 * shard * shard * itemsize > MAX_SHARD_BYTES:
+        raise ValueError(f"shard of {shard} px holds {3 * shard * shard * itemsize / 2**20:.0f} MiB of {dtype}, "
+                         f"over the limit of {MAX_SHARD_BYTES / 2**20:.0f} MiB")
+    top = 1 + math.ceil(math.log2(max(h, w))) if max(h, w) > 1 else 1
+    levels = default_levels((h, w), chunk) if levels is None else check_int("levels", levels, minimum=1, maximum=top)
+    if scheduler is not None:
+        if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler):
+            raise ValueError(f"scheduler must be an address such as tcp://host:8786, got {scheduler!r}")
+        if workers is not None:
+            raise ValueError("workers applies to the local scheduler only; a cluster has its own workers "
+                             f"(got workers={workers!r} with scheduler={scheduler!r})")
+    elif workers is not None:
+        workers = check_int("workers", workers, minimum=1, maximum=1024)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable, got {type(progress).__name__}")
+    _require()
+
+    shapes = level_shapes((h, w), levels)
+    sizes = [p * 2.0 ** k for k in range(levels)]
+    params = {
+        "spectex_version": _version(),
+        "shape": [h, w], "origin": [ox, oy], "pixel_size": p, "levels": levels,
+        "chunk": chunk, "shard": shard, "dtype": dtype, "filter": "trilinear",
+        "layers": texture_file.to_dict(texture, [])["layers"], "bits": texture_file.to_dict(texture, [])["bits"],
+        "tiles_sha256": [_tile_hash(t) for t in texture.tiles],
+    }
+    params = json.loads(json.dumps(params))  # as the attributes will read back (lists, floats)
+
+    # --- connect first: an unreachable scheduler must not leave a store behind
+    client = _connect(scheduler) if scheduler is not None else None
+    try:
+        path = path.absolute()
+        state = _open_or_create(path, params, text, shapes, chunk, shard, dtype)
+        tasks = [(k, i, j) for k, (lh, lw) in enumerate(shapes)
+                 for i in range(-(-lh // shard)) for j in range(-(-lw // shard))]
+        if state == "complete":
+            return BakeResult(path, shapes, sizes, dtype, len(tasks), 0, len(tasks), 0, 0.0)
+        done = _finished_markers(path)
+        todo = [t for t in tasks if _marker_name(*t) not in done]
+        job = _Job(str(path), window_packed(texture, (ox, oy), p), tuple(shapes), tuple(sizes), chunk, shard,
+                   dtype)
+        total = sum(_shard_pixels(job, *t) for t in todo)
+        t0 = time.perf_counter()
+        if todo:
+            if client is None:
+                _run_local(job, todo, workers, progress, total)
+            else:
+                _run_distributed(job, todo, client, progress, total)
+        seconds = time.perf_counter() - t0
+        _finish(path, params, text, sizes, (ox, oy), tasks)
+    finally:
+        if client is not None:
+            client.close()
+    return BakeResult(path, shapes, sizes, dtype, len(tasks), len(todo), len(tasks) - len(todo), total, seconds)
+
+
+# ---------------------------------------------------------------------- tasks
+def _shard_pixels(job, k, i, j) -> int:
+    lh, lw = job.shapes[k]
+    return (min(job.shard, lh - i * job.shard)) * (min(job.shard, lw - j * job.shard))
+
+
+def bake_shard(job: _Job, k: int, i: int, j: int) -> int:
+    """Bake shard ``(i, j)`` of level ``k``, write it whole, then its marker; return its pixels.
+
+    The shard is assembled in a ``(3, h, w)`` buffer from strips of ``chunk``
+    rows (float32 only a strip at a time) and written with one assignment
+    that covers the whole shard.
+    """
+    import numba
+    import zarr
+
+    lh, lw = job.shapes[k]
+    r0, c0 = i * job.shard, j * job.shard
+    sh, sw = min(job.shard, lh - r0), min(job.shard, lw - c0)
+    packed = job.packed[:-2] + (job.pixel_sizes[k], job.packed[-1])  # same anchor, this level's pixel size
+    buf = np.empty((3, sh, sw), dtype=job.dtype)
+    strip = np.empty((min(job.chunk, sh), sw, 3), dtype=np.float32)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # this thread's setting only: the Dask threads are the parallelism
+    try:
+        for a in range(0, sh, job.chunk):
+            rows = min(job.chunk, sh - a)
+            block = strip[:rows]
+            run_window(packed, r0 + a, c0, block)
+            buf[:, a:a + rows, :] = np.moveaxis(to_dtype(block, job.dtype), 2, 0)
+    finally:
+        numba.set_num_threads(threads)
+    del strip
+    array = zarr.open_array(store=job.path, path=str(k), mode="r+")
+    # zarr reads an edge shard back before writing it (it merges into the full shard shape), so a
+    # half-written file left by a killed worker would be read, or fail its checksum: remove it first.
+    (Path(job.path) / str(k) / array.metadata.encode_chunk_key((0, i, j))).unlink(missing_ok=True)
+    array[:, r0:r0 + sh, c0:c0 + sw] = buf
+    marker = Path(job.path) / MARKERS / _marker_name(k, i, j)
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    marker.touch()
+    return sh * sw
+
+
+def _marker_name(k, i, j) -> str:
+    return f"{k}.{i}.{j}"
+
+
+def _finished_markers(path: Path) -> set[str]:
+    folder = path / MARKERS
+    return {f.name for f in folder.iterdir()} if folder.is_dir() else set()
+
+
+def _run_local(job, todo, workers, progress, total) -> None:
+    from dask.callbacks import Callback
+    from dask.threaded import get
+
+    job_key = "spectex-bake-job-" + _token(job)
+    graph = {job_key: job}
+    keys = []
+    for k, i, j in todo:
+        key = f"spectex-bake-{k}-{i}-{j}"
+        graph[key] = (bake_shard, job_key, k, i, j)
+        keys.append(key)
+    done = [0]
+
+    def posttask(key, result, dsk, state, worker_id):
+        if key != job_key:
+            done[0] += result
+            if progress is not None:
+                progress(done[0], total)
+
+    with Callback(posttask=posttask):
+        get(graph, keys, num_workers=workers or os.cpu_count() or 1)
+
+
+def _connect(scheduler):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
+    try:
+        return Client(scheduler, timeout="10s", set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise OSError(f"cannot reach the scheduler {scheduler}: {exc}") from None
+
+
+def _run_distributed(job, todo, client, progress, total) -> None:
+    from distributed import as_completed
+
+    job_future = client.scatter(job, broadcast=True)
+    token = _token(job)
+    futures = [client.submit(bake_shard, job_future, k, i, j, key=f"spectex-bake-{k}-{i}-{j}-{token}",
+                             pure=False, retries=2)
+               for k, i, j in todo]
+    done = 0
+    for future in as_completed(futures, loop=client.loop):  # this client's loop: it need not be the default
+        done += future.result()
+        if progress is not None:
+            progress(done, total)
+
+
+def _token(job) -> str:
+    return hashlib.sha256(f"{job.path}|{job.shapes}|{job.pixel_sizes}|{job.shard}|{job.dtype}".encode()).hexdigest()[:16]
+
+
+# ---------------------------------------------------------------------- store
+def _require() -> None:
+    missing = []
+    for name in ("zarr", "dask"):
+        try:
+            __import__(name)
+        except ImportError:
+            missing.append(name)
+    if missing:
+        raise ValueError(f"bake to Zarr needs {', '.join(missing)}: pip install 'spectex[bake]'")
+
+
+def _version() -> str:
+    from .. import __version__
+
+    return __version__
+
+
+def _tile_hash(tile) -> str:
+    tile = np.ascontiguousarray(tile, dtype=np.float32)
+    digest = hashlib.sha256(str(tile.shape).encode())
+    digest.update(tile.tobytes())
+    return digest.hexdigest()
+
+
+def _read_attrs(path: Path):
+    """The root group's attributes, or None if ``path`` is no Zarr v3 group."""
+    meta = path / "zarr.json"
+    if not meta.is_file():
+        return None
+    try:
+        doc = json.loads(meta.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not isinstance(doc, dict) or doc.get("node_type") != "group":
+        return None
+    return doc.get("attributes", {})
+
+
+def _open_or_create(path: Path, params, text, shapes, chunk, shard, dtype) -> str:
+    """Return "complete", "resume" or "new"; refuse a store that holds anything else."""
+    import zarr
+    from zarr.codecs import ZstdCodec
+
+    if path.exists() or path.is_symlink():
+        attrs = _read_attrs(path) if path.is_dir() else None
+        ours = attrs.get(ATTRS) if isinstance(attrs, dict) else None
+        if not isinstance(ours, dict) or "bake" not in ours:
+            raise ValueError(f"path '{path}' exists and is not a spectex bake; choose another path")
+        stored = ours["bake"]
+        if stored != params:
+            diff = next((key for key in params if stored.get(key) != params[key]),
+                        next(iter(set(stored) - set(params)), "?"))
+            raise ValueError(f"path '{path}' holds a bake with other arguments ({diff}: "
+                             f"{_brief(stored.get(diff))} there, {_brief(params.get(diff))} now); "
+                             "remove it or choose another path")
+        if ours.get("complete") is True:
+            shutil.rmtree(path / MARKERS, ignore_errors=True)  # left by a run stopped after its last write
+            return "complete"
+        state = "resume"
+        for f in path.rglob("*.partial"):  # temporary files of writes that a killed worker left
+            if _PARTIAL.search(f.name):
+                f.unlink(missing_ok=True)
+    else:
+        state = "new"
+        zarr.create_group(store=str(path), zarr_format=3,
+                          attributes={ATTRS: {"bake": params, "complete": False, "texture_file": text}})
+    for k, lshape in enumerate(shapes):
+        if (path / str(k) / "zarr.json").is_file():
+            array = zarr.open_array(store=str(path), path=str(k), mode="r")
+            if (array.shape != (3,) + lshape or array.chunks != (3, chunk, chunk)
+                    or array.shards != (3, shard, shard) or array.dtype != np.dtype(dtype)):
+                raise ValueError(f"path '{path}' has a level {k} that this bake did not make; "
+                                 "remove it or choose another path")
+            continue
+        zarr.create_array(store=str(path), name=str(k), shape=(3,) + lshape, dtype=dtype,
+                          chunks=(3, chunk, chunk), shards=(3, shard, shard), compressors=ZstdCodec(level=1),
+                          fill_value=0, dimension_names=("c", "y", "x"))
+    return state
+
+
+def _brief(value) -> str:
+    text = json.dumps(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _finish(path, params, text, sizes, origin, tasks) -> None:
+    import zarr
+
+    missing = set(_marker_name(*t) for t in tasks) - _finished_markers(path)
+    if missing:
+        raise OSError(f"bake of '{path}' ended with {len(missing)} shards unwritten (e.g. {sorted(missing)[0]}); "
+                      "run it again to finish them")
+    group = zarr.open_group(store=str(path), mode="r+")
+    group.attrs.put({
+        "ome": ome_metadata(path.name, sizes, origin, params["dtype"]),
+        ATTRS: {"bake": params, "complete": True, "texture_file": text},
+    })
+    shutil.rmtree(path / MARKERS, ignore_errors=True)
+
+
+def ome_metadata(name, sizes, origin, dtype) -> dict:
+    """OME-NGFF 0.5 ``ome`` attributes: one multiscale image, axes (c, y, x) in metres.
+
+    Level ``k``'s pixel ``(r, c)`` covers the world square with corner
+    ``origin + (c, r) * size_k``; OME-NGFF places pixel centres at ``scale *
+    index + translation``, so the translation is ``origin + size_k / 2``.
+    """
+    ox, oy = origin
+    datasets = [{"path": str(k), "coordinateTransformations": [
+        {"type": "scale", "scale": [1.0, s, s]},
+        {"type": "translation", "translation": [0.0, oy + 0.5 * s, ox + 0.5 * s]}]}
+        for k, s in enumerate(sizes)]
+    top = {"uint8": 255, "uint16": 65535, "float32": 1.0}[dtype]
+    channels = [{"label": label, "color": color, "active": True, "coefficient": 1.0, "family": "linear",
+                 "inverted": False, "window": {"min": 0, "max": top, "start": 0, "end": top}}
+                for label, color in (("red", "FF0000"), ("green", "00FF00"), ("blue", "0000FF"))]
+    return {
+        "version": "0.5",
+        "multiscales": [{
+            "name": name,
+            "axes": [{"name": "c", "type": "channel"},
+                     {"name": "y", "type": "space", "unit": "meter"},
+                     {"name": "x", "type": "space", "unit": "meter"}],
+            "datasets": datasets,
+            "type": "spectex mip-mapped sampling",
+            "metadata": {"description": "each level sampled directly at its own pixel size by spectex's "
+                                        "trilinear mip-mapped sampler; no level is computed from another"},
+        }],
+        "omero": {"name": name, "channels": channels, "rdefs": {"model": "color", "defaultZ": 0, "defaultT": 0}},
+    }

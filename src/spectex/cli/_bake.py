@@ -1,0 +1,87 @@
+"""``spectex bake``: a region of a spectral texture as a sharded OME-Zarr pyramid."""
+
+from __future__ import annotations
+
+from . import _common
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "bake",
+        help="bake a region of a spectral texture into a sharded OME-Zarr pyramid (Dask, clusters)",
+        description=(
+            "Bake the region of TEXTURE (a .toml) whose top-left pixel corner is --origin X,Y "
+            "(metres; rows go along +y) at --pixel-size metres per pixel into OUT.zarr: OME-NGFF "
+            "0.5 multiscales on Zarr v3 with the sharding codec, axes (c, y, x), level k sampled "
+            "directly at 2**k times the pixel size. One task per shard, on this machine's threads "
+            "or, with --scheduler tcp://HOST:PORT, on a dask.distributed cluster. Run again with "
+            "the same arguments to finish an interrupted bake; other arguments over an existing "
+            "store are refused. See docs/bake.md."
+        ),
+    )
+    p.add_argument("texture", help="texture file (.toml)")
+    p.add_argument("-o", "--output", required=True, help="output store (a folder ending in .zarr)")
+    p.add_argument("--size", type=_common.size, required=True, metavar="WxH", help="level 0 size in pixels")
+    p.add_argument("--pixel-size", type=_common.positive_float, required=True, metavar="P",
+                   help="metres per pixel of level 0")
+    p.add_argument("--origin", type=_common.floats(2), default=(0.0, 0.0), metavar="X,Y",
+                   help="world corner of pixel (0, 0), metres (default: 0,0)")
+    p.add_argument("--levels", type=_common.positive_int, default=None,
+                   help="pyramid levels (default: until the coarsest fits one chunk)")
+    p.add_argument("--chunk", type=_common.positive_int, default=512, help="chunk edge, pixels (default: 512)")
+    p.add_argument("--shard", type=_common.positive_int, default=4096,
+                   help="shard edge, pixels, a multiple of --chunk; one task each (default: 4096)")
+    p.add_argument("--dtype", choices=("uint8", "uint16", "float32"), default="uint8",
+                   help="stored pixel type (default: uint8 = round(v * 255))")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="dask.distributed scheduler address, tcp://HOST:PORT (default: threads on this machine)")
+    p.add_argument("--workers", type=_common.positive_int, default=None,
+                   help="threads on this machine (default: all cores); not with --scheduler")
+    p.set_defaults(func=run)
+
+
+def check_inputs_apart(texture_path, output) -> None:
+    """Refuse an output that is, or holds, the texture file or one of its tiles."""
+    import tomllib
+    from pathlib import Path
+
+    from . import UsageError
+
+    out = Path(output).resolve()
+    inputs = [Path(texture_path).resolve()]
+    try:
+        doc = tomllib.loads(Path(texture_path).read_text(encoding="utf-8"))
+        names = doc.get("tiles", []) if isinstance(doc, dict) else []
+        inputs += [(Path(texture_path).parent / n).resolve() for n in names if isinstance(n, str)]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        pass  # the texture's own loader says what is wrong with it
+    for path in inputs:
+        if path == out or out in path.parents:
+            raise UsageError(f"--output '{output}' is, or holds, the input '{path}'; choose another path")
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from spectex.bake import bake_zarr
+
+    from . import UsageError
+
+    if not Path(args.texture).is_file():
+        raise UsageError(f"texture file not found: '{args.texture}'")
+    check_inputs_apart(args.texture, args.output)
+    h, w = args.size
+    with _common.Progress("baking") as progress:
+        result = bake_zarr(args.texture, args.output, (h, w), pixel_size=args.pixel_size, origin=args.origin,
+                           levels=args.levels, chunk=args.chunk, shard=args.shard, dtype=args.dtype,
+                           scheduler=args.scheduler, workers=args.workers, progress=progress)
+    lh, lw = result.shapes[-1]
+    if result.baked == 0:
+        _common.report(f"{result.path} is complete already ({len(result.shapes)} levels, {w}x{h} to {lw}x{lh}); "
+                       "nothing to do")
+        return 0
+    resumed = f", {result.resumed} kept from an earlier run" if result.resumed else ""
+    _common.report(f"wrote {result.path}: {len(result.shapes)} levels, {w}x{h} to {lw}x{lh} {result.dtype}, "
+                   f"{result.baked} shards baked{resumed}; {result.pixels / 1e6:.1f} Mpx in {result.seconds:.1f} s "
+                   f"({result.pixels_per_second / 1e6:.2f} Mpx/s)")
+    return 0

@@ -1,0 +1,155 @@
+"""``spectex bake`` from the command line: output, resuming after a kill, hostile input."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectex.bake import to_dtype
+from spectex.cli import main
+from spectex.texture import SpectralTexture
+
+zarr = pytest.importorskip("zarr")
+
+
+@pytest.fixture(scope="module")
+def texture_file(tmp_path_factory, tile_maker):
+    folder = tmp_path_factory.mktemp("tex")
+    return SpectralTexture.paper_preset(tile_maker(64, 2)).save(folder / "ground.toml")
+
+
+def snapshot(folder):
+    return {str(f.relative_to(folder)): f.read_bytes() for f in sorted(Path(folder).rglob("*")) if f.is_file()}
+
+
+def test_cli_bake_writes_the_pyramid_and_resumes_nothing_twice(texture_file, tmp_path, capsys):
+    out = tmp_path / "g.zarr"
+    argv = ["bake", str(texture_file), "-o", str(out), "--size", "120x90", "--pixel-size", "0.25",
+            "--origin", "100,-50", "--chunk", "32", "--shard", "64", "--workers", "2"]
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""  # no progress bar: standard error is not a terminal
+    line, = captured.out.strip().splitlines()
+    assert "3 levels" in line and "120x90 to 30x23 uint8" in line and "shards baked" in line
+    tex = SpectralTexture.load(texture_file)
+    ref = to_dtype(tex.bake((90, 120), origin=(100.0, -50.0), pixel_size=0.25))
+    assert np.array_equal(zarr.open_array(out, path="0", mode="r")[:], np.moveaxis(ref, 2, 0))
+    doc = json.loads((out / "zarr.json").read_text())
+    assert doc["attributes"]["spectex"]["texture_file"] == texture_file.read_text()
+    before = snapshot(out)
+    assert main(argv[:-2]) == 0  # the same bake on all cores: nothing to do
+    assert "complete already" in capsys.readouterr().out
+    assert snapshot(out) == before
+
+
+def _run_cli(args, **kw):
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1] / "src"))
+    return subprocess.Popen([sys.executable, "-m", "spectex", "bake", *args], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, **kw)
+
+
+@pytest.mark.slow
+def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, tmp_path):
+    args = [str(texture_file), "--size", "640x512", "--pixel-size", "0.05", "--chunk", "16", "--shard", "32",
+            "--levels", "2", "--workers", "1"]
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    whole = tmp_path / "a" / "t.zarr"
+    proc = _run_cli([*args, "-o", str(whole)])
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 0, stderr
+
+    out = tmp_path / "b" / "t.zarr"
+    proc = _run_cli([*args, "-o", str(out)])
+    markers = out / ".spectex-progress"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if markers.is_dir() and len(list(markers.iterdir())) >= 20:
+            break
+        time.sleep(0.02)
+    assert proc.poll() is None, "the bake finished before it could be killed; make it larger"
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate()
+    doc = json.loads((out / "zarr.json").read_text())
+    assert doc["attributes"]["spectex"]["complete"] is False and "ome" not in doc["attributes"]
+    kept = len(list(markers.iterdir()))
+
+    proc = _run_cli([*args[:-2], "-o", str(out)])  # and on all cores this time
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 0, stderr
+    assert f"{kept} kept from an earlier run" in stdout
+    assert snapshot(out) == snapshot(whole)
+
+
+def _fails(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2, err
+    assert len(err) == 1 and "error" in err[0] and "Traceback" not in err[0], err
+    return err[0]
+
+
+@pytest.mark.parametrize("extra, word", [
+    (["-o", "{tex}"], "is, or holds, the input"),
+    (["-o", "{tile}"], "is, or holds, the input"),
+    (["-o", "{dir}"], "is, or holds, the input"),
+    (["-o", "{dir}/x.png"], "must end in .zarr"),
+    (["-o", "{dir}/no/x.zarr"], "does not exist"),
+    (["-o", "{dir}/x.zarr", "--size", "0x5"], "size"),
+    (["-o", "{dir}/x.zarr", "--pixel-size", "-1"], "pixel-size"),
+    (["-o", "{dir}/x.zarr", "--pixel-size", "nan"], "pixel-size"),
+    (["-o", "{dir}/x.zarr", "--origin", "1"], "origin"),
+    (["-o", "{dir}/x.zarr", "--chunk", "20"], "chunk"),
+    (["-o", "{dir}/x.zarr", "--shard", "100"], "shard"),
+    (["-o", "{dir}/x.zarr", "--levels", "0"], "levels"),
+    (["-o", "{dir}/x.zarr", "--levels", "40"], "levels"),
+    (["-o", "{dir}/x.zarr", "--dtype", "int8"], "dtype"),
+    (["-o", "{dir}/x.zarr", "--workers", "0"], "workers"),
+    (["-o", "{dir}/x.zarr", "--scheduler", "nohost"], "scheduler"),
+    (["-o", "{dir}/x.zarr", "--scheduler", "tcp://127.0.0.1:9", "--workers", "2"], "workers"),
+    (["-o", "{dir}/old.zarr"], "other arguments"),
+    (["-o", "{dir}/junk.zarr"], "not a spectex bake"),
+])
+def test_cli_bake_hostile_input_one_line_exit_2_nothing_written(texture_file, tmp_path, capsys, extra, word):
+    folder = tmp_path / "work"
+    folder.mkdir()
+    tex = folder / "ground.toml"
+    tex.write_bytes(texture_file.read_bytes())
+    (folder / "ground.tile.png").write_bytes((texture_file.parent / "ground.tile.png").read_bytes())
+    (folder / "junk.zarr").mkdir()
+    (folder / "junk.zarr" / "notes.txt").write_text("mine")
+    base = ["bake", str(tex), "--size", "40x30", "--pixel-size", "0.5", "--chunk", "16", "--shard", "32"]
+    assert main(base + ["-o", str(folder / "old.zarr"), "--levels", "1"]) == 0
+    capsys.readouterr()
+    before = snapshot(folder)
+    names = {"tex": tex, "tile": folder / "ground.tile.png", "dir": folder}
+    argv = base + [a.format(**names) for a in extra]
+    line = _fails(argv, capsys)
+    assert word in line, line
+    assert snapshot(folder) == before
+    assert sorted(p.name for p in folder.iterdir()) == ["ground.tile.png", "ground.toml", "junk.zarr", "old.zarr"]
+
+
+def test_cli_bake_missing_texture(tmp_path, capsys):
+    line = _fails(["bake", str(tmp_path / "none.toml"), "-o", str(tmp_path / "x.zarr"), "--size", "8x8",
+                   "--pixel-size", "1"], capsys)
+    assert "not found" in line and list(tmp_path.iterdir()) == []
+
+
+def test_cli_bake_help_lists_the_options(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["bake", "--help"])
+    assert info.value.code == 0
+    text = capsys.readouterr().out
+    for option in ("--size", "--pixel-size", "--origin", "--levels", "--chunk", "--shard", "--dtype",
+                   "--scheduler", "--workers"):
+        assert option in text
