@@ -2,6 +2,11 @@
 
 import sys
 
-from spectex.cli import main
+try:
+    from spectex.cli import main
 
-sys.exit(main())
+    status = main()
+except KeyboardInterrupt:  # Ctrl-C before a command started (while Python imports)
+    print("spectex: interrupted", file=sys.stderr)
+    status = 130
+sys.exit(status)

@@ -74,10 +74,13 @@ def floats(count: int):
 
 
 def existing_file(text: str) -> Path:
-    path = Path(text)
-    if not path.is_file():
-        raise argparse.ArgumentTypeError(f"file not found: '{text}'")
-    return path
+    """An existing regular file; the error says what the path is instead (missing, a folder, a pipe...)."""
+    from spectex._output import check_input_file
+
+    try:
+        return check_input_file("", text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).strip()) from None
 
 
 def report(message: str) -> None:
