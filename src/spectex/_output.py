@@ -317,7 +317,8 @@ def write_text(path, text: str, *, name: str = "output", inputs=()) -> Target:
     """Write ``text`` (UTF-8) to ``path``: atomically to a file, in place to a device or pipe."""
     target = plan_output(path, name=name, inputs=inputs, stream=True, probe=False)
     if target.stream:
-        with open(target.dest, "w", encoding="utf-8") as fh:
+        # Appending: /dev/stdout redirected to a file must not truncate what is already there.
+        with open(target.dest, "a", encoding="utf-8") as fh:
             fh.write(text)
         return target
     with atomic_path(path, name=name, inputs=inputs) as tmp:

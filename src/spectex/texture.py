@@ -43,7 +43,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validate import check_choice, check_float, check_image, check_int, check_shape
+from ._validate import (check_choice, check_float, check_image, check_int, check_relative_name, check_shape,
+                        check_tile_shape)
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "FORMAT", "FORMAT_VERSION", "MAX_BAKE_PIXELS"]
 
@@ -164,6 +165,7 @@ class SpectralTexture:
             raise ValueError(f"bits must be 8 or None, got {bits!r}")
         checked = []
         for i, tile in enumerate(tiles):
+            check_tile_shape(f"tiles[{i}]", np.shape(tile))  # issue 15: before any work on it
             tile = check_image(f"tiles[{i}]", tile, channels=(3, 4), min_size=1)
             if tile.shape[2] == 3:
                 tile = np.concatenate([tile, np.ones(tile.shape[:2] + (1,), np.float32)], axis=2)
@@ -444,34 +446,27 @@ class SpectralTexture:
 
         ``ground.toml`` gets ``ground.tile.png`` (or ``ground.tile0.png``,
         ``ground.tile1.png``, ... for several tiles): 8-bit RGBA PNGs for
-        ``bits=8``, 16-bit for float tiles. If any file fails, the files
-        written by this call are removed.
+        ``bits=8``, 16-bit for float tiles. The files replace earlier ones
+        only when all are complete: if anything fails, the folder is left as
+        it was.
 
         Returns
         -------
         Path
             The texture file.
         """
-        from .io import atomic_path, check_output_path, write_image
+        from ._output import OutputSet
+        from .io import check_output_path, write_image
 
         path = check_output_path("output", path, (".toml",))
         names = ([f"{path.stem}.tile.png"] if len(self.tiles) == 1
                  else [f"{path.stem}.tile{i}.png" for i in range(len(self.tiles))])
-        written = []
-        try:
+        text = dumps_toml(self.to_dict(names))
+        # issue 15: the tiles and the texture file replace the earlier ones together, or not at all
+        with OutputSet(path.parent, names + [path.name], create=False) as stage:
             for name, tile in zip(names, self.tiles):
-                target = path.parent / name
-                existed = target.exists()
-                write_image(target, tile, bit_depth=8 if self.bits == 8 else 16)
-                if not existed:
-                    written.append(target)
-            text = dumps_toml(self.to_dict(names))
-            with atomic_path(path) as tmp:
-                tmp.write_text(text, encoding="utf-8")
-        except BaseException:
-            for target in written:
-                target.unlink(missing_ok=True)
-            raise
+                write_image(stage / name, tile, bit_depth=8 if self.bits == 8 else 16)
+            (stage / path.name).write_text(text, encoding="utf-8")
         return path
 
     @classmethod
@@ -480,9 +475,10 @@ class SpectralTexture:
 
         Every field is checked; an error names the field and the file.
         """
-        path = Path(path)
-        if not path.is_file():
-            raise ValueError(f"texture file not found: '{path}'")
+        from ._output import check_input_file, note_input
+
+        path = check_input_file("texture", path)
+        note_input(path)  # issue 15: no output of this command may replace it
         try:
             text = path.read_text(encoding="utf-8")
             doc = tomllib.loads(text)
@@ -522,7 +518,7 @@ class SpectralTexture:
 
         tiles = []
         for i, name in enumerate(names):
-            tile_path = Path(base) / name
+            tile_path = Path(base) / check_relative_name(f"field 'tiles[{i}]'", name)  # issue 15
             try:
                 tile = read_image(tile_path, name=f"tiles[{i}]")
             except ValueError as exc:

@@ -62,6 +62,16 @@ def run(args) -> int:
     io.check_output_path("output", out, io.ANIMATION_SUFFIXES if animated
                          else io.IMAGE_SUFFIXES + io.ARRAY_SUFFIXES)
     h, w = args.size
+    if suffix == ".mp4":
+        io.check_mp4_size(h, w)
+    if args.kind in ("fbm", "turbulence") and args.octaves > 1:
+        import math
+
+        top = (args.octaves - 1) * math.log10(args.lacunarity)
+        if abs(top) > 300:
+            raise _common_error(f"--lacunarity {args.lacunarity:g} with --octaves {args.octaves} gives a finest "
+                                f"octave of 1e{top:.0f} times the first, beyond floating point: choose a "
+                                "lacunarity nearer 2 or fewer octaves")
     limit = 1 << 26
     if h * w * (args.frames or 1) > limit:
         raise _common_error(f"--size {w}x{h} with {args.frames or 1} frame(s) is over the limit of "

@@ -50,7 +50,8 @@ def run(args) -> int | None:
     from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, read_image, write_image
     from spectex import synthesis
 
-    output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES)
+    output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES,
+                               inputs=[args.exemplar, args.match])
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
     exemplar = read_image(args.exemplar, name="exemplar")

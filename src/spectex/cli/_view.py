@@ -26,10 +26,11 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from spectex.render import Camera
+    from spectex.render import Camera, check_size
     from spectex.render.viewer import check_display, run_viewer
     from spectex.texture import SpectralTexture
 
+    check_size(args.size)  # the render budget; X and GL refuse larger windows with a traceback
     check_display()
     camera = Camera.from_tuple(args.camera, fov=args.fov)
     texture = SpectralTexture.load(args.texture)
