@@ -307,6 +307,11 @@ def atomic_path(path, *, name: str = "output", inputs=()):
         os.chmod(tmp, 0o666 & ~_umask())
         _check_not_input(name, dest, path, inputs)  # again: an input may have appeared meanwhile
         os.replace(tmp, dest)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        # name the output, not the hidden temporary file
+        raise ValueError(f"{name} {_show(path)} could not be written: {exc.strerror or exc}") from None
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
@@ -318,8 +323,11 @@ def write_text(path, text: str, *, name: str = "output", inputs=()) -> Target:
     target = plan_output(path, name=name, inputs=inputs, stream=True, probe=False)
     if target.stream:
         # Appending: /dev/stdout redirected to a file must not truncate what is already there.
-        with open(target.dest, "a", encoding="utf-8") as fh:
-            fh.write(text)
+        try:
+            with open(target.dest, "a", encoding="utf-8") as fh:
+                fh.write(text)
+        except OSError as exc:
+            raise ValueError(f"{name} {_show(path)} could not be written: {exc.strerror or exc}") from None
         return target
     with atomic_path(path, name=name, inputs=inputs) as tmp:
         tmp.write_text(text, encoding="utf-8")
@@ -416,6 +424,9 @@ class OutputSet:
             return False
         try:
             self._commit(stage)
+        except OSError as exc:
+            raise ValueError(f"{self.name} {_show(self.path)} could not be written: {exc.strerror or exc}; "
+                             "the earlier files are as they were") from None
         finally:
             if stage.exists():
                 shutil.rmtree(stage, ignore_errors=True)

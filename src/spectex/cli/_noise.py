@@ -64,7 +64,7 @@ def run(args) -> int:
     h, w = args.size
     if suffix == ".mp4":
         io.check_mp4_size(h, w)
-    if args.kind in ("fbm", "turbulence") and args.octaves > 1:
+    if args.kind in ("fbm", "turbulence") and 1 < args.octaves <= 32:  # more: the library says so
         import math
 
         top = (args.octaves - 1) * math.log10(args.lacunarity)

@@ -31,8 +31,8 @@ def run(args) -> int:
     from spectex.texture import SpectralTexture
 
     check_size(args.size)  # the render budget; X and GL refuse larger windows with a traceback
-    check_display()
     camera = Camera.from_tuple(args.camera, fov=args.fov)
-    texture = SpectralTexture.load(args.texture)
+    texture = SpectralTexture.load(args.texture)  # a bad file is named before a missing display
+    check_display()
     run_viewer(texture, camera=camera, size=args.size)
     return 0
