@@ -45,7 +45,7 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "note_input",
+__all__ = ["OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "check_interrupted", "note_input",
            "plan_output", "same_file", "session", "write_text"]
 
 #: Prefix and marker of every temporary name this module makes (tests look for them).
@@ -68,25 +68,51 @@ def _raise_terminated(signum, frame):  # noqa: ARG001 - signal handler API
     raise Terminated(signum)
 
 
+# The signals received in the current session (None outside one). Kept so that an interrupt
+# swallowed by some library on its way up still stops every later write (check_interrupted).
+_received: list[int] | None = None
+_HELD = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s is not None)
+
+
+def _session_handler(signum, frame):  # noqa: ARG001 - signal handler API
+    if _received is not None:
+        _received.append(signum)
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Terminated(signum)
+
+
+def check_interrupted() -> None:
+    """Raise the interrupt of a signal received in this session, if any (it may have been swallowed)."""
+    if _received:
+        signum = _received[0]
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise Terminated(signum)
+
+
 @contextlib.contextmanager
 def session():
     """Run one command: record its inputs, and turn SIGTERM/SIGHUP into :class:`Terminated`.
 
-    The previous handlers and the previous input record are restored on exit.
+    SIGINT raises ``KeyboardInterrupt`` as usual. Every signal received is
+    also remembered, so that :func:`check_interrupted` (called before every
+    rename) stops the writes even if a library swallowed the exception. The
+    previous handlers and the previous input record are restored on exit.
     """
-    global _inputs
+    global _inputs, _received
     handlers = {}
     if threading.current_thread() is threading.main_thread():
-        for sig in (signal.SIGTERM, getattr(signal, "SIGHUP", None)):
-            if sig is not None:
-                handlers[sig] = signal.signal(sig, _raise_terminated)
+        for sig in _HELD:
+            handlers[sig] = signal.signal(sig, _session_handler)
     with _lock:
         saved, _inputs = _inputs, {}
+        saved_received, _received = _received, []
     try:
         yield
     finally:
         with _lock:
-            _inputs = saved
+            _inputs, _received = saved, saved_received
         for sig, old in handlers.items():
             signal.signal(sig, old)
 
@@ -170,13 +196,14 @@ def _check_not_input(name: str, dest, path, inputs) -> None:
 def _probe_writable(name: str, folder: Path, path) -> None:
     """Create and remove a file in ``folder``: the only sure test of writability."""
     try:
-        fd, probe = tempfile.mkstemp(prefix=".spectex-probe.", suffix=TEMP_MARK, dir=folder)
+        with _signals_held():  # no interrupt between making the probe and removing it
+            fd, probe = tempfile.mkstemp(prefix=".spectex-probe.", suffix=TEMP_MARK, dir=folder)
+            os.close(fd)
+            os.unlink(probe)
     except OSError as exc:
         why = exc.strerror or str(exc)
         raise ValueError(f"{name} {_show(path)} cannot be written: its folder {_show(folder)} is not "
                          f"writable ({why})") from None
-    os.close(fd)
-    os.unlink(probe)
 
 
 def _is_stream_path(path: str) -> bool:
@@ -267,18 +294,40 @@ def _umask() -> int:
     return mask
 
 
+def _deliver(signum: int, handler) -> None:
+    """Act on a signal that was held back, as ``handler`` would have."""
+    if callable(handler):
+        handler(signum, None)
+    elif handler == signal.SIG_DFL:
+        signal.raise_signal(signum)
+
+
 @contextlib.contextmanager
 def _signals_held():
-    """Hold SIGINT/SIGTERM/SIGHUP back while a few renames run (main thread only)."""
-    sigs = {signal.SIGINT, signal.SIGTERM} | ({signal.SIGHUP} if hasattr(signal, "SIGHUP") else set())
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+    """Hold SIGINT/SIGTERM/SIGHUP back while a few file operations run (main thread only).
+
+    The Python handlers are swapped for one that only notes the signal; the
+    first signal noted is acted on at the end, with the handler it would have
+    met. (Blocking the signals with ``pthread_sigmask`` is not enough: the
+    kernel then hands them to another thread, such as a renderer's, and
+    Python still raises in the main thread.)
+    """
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    pending = []
+
+    def note(signum, frame):  # noqa: ARG001 - signal handler API
+        pending.append(signum)
+
+    old = {sig: signal.signal(sig, note) for sig in _HELD}
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        if pending:
+            _deliver(pending[0], old[pending[0]])
 
 
 @contextlib.contextmanager
@@ -295,26 +344,31 @@ def atomic_path(path, *, name: str = "output", inputs=()):
     target = plan_output(path, name=name, inputs=inputs, probe=False)
     dest = target.dest
     folder = dest.parent if str(dest.parent) else Path(".")
+    tmp = None
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{dest.stem}.", suffix=TEMP_MARK + dest.suffix, dir=folder)
-    except OSError as exc:
-        raise ValueError(f"{name} {_show(path)} cannot be written: its folder {_show(folder)} is not "
-                         f"writable ({exc.strerror or exc})") from None
-    os.close(fd)
-    try:
+        try:
+            with _signals_held():  # the clean-up below knows the name as soon as the file exists
+                fd, tmp = tempfile.mkstemp(prefix=f".{dest.stem}.", suffix=TEMP_MARK + dest.suffix, dir=folder)
+                os.close(fd)
+        except OSError as exc:
+            raise ValueError(f"{name} {_show(path)} cannot be written: its folder {_show(folder)} is not "
+                             f"writable ({exc.strerror or exc})") from None
         yield Path(tmp)
         # mkstemp makes the file 0600; give it the usual permissions.
         os.chmod(tmp, 0o666 & ~_umask())
         _check_not_input(name, dest, path, inputs)  # again: an input may have appeared meanwhile
+        check_interrupted()
         os.replace(tmp, dest)
     except OSError as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         # name the output, not the hidden temporary file
         raise ValueError(f"{name} {_show(path)} could not be written: {exc.strerror or exc}") from None
     except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         raise
 
 
@@ -414,7 +468,16 @@ class OutputSet:
         else:
             where = self.folder.parent if str(self.folder.parent) else Path(".")
             prefix = f".{self.folder.name}."
-        self.stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
+        self.stage = None
+        try:
+            with _signals_held():  # no interrupt between making the stage and remembering it
+                self.stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
+        except OSError as exc:
+            raise ValueError(f"{self.name} {_show(self.path)} cannot be written: {exc.strerror or exc}") from None
+        except BaseException:  # a signal held back above, delivered as they are let through again
+            if self.stage is not None:
+                shutil.rmtree(self.stage, ignore_errors=True)
+            raise
         return self.stage
 
     def __exit__(self, exc_type, exc, tb):
@@ -433,6 +496,7 @@ class OutputSet:
         return False
 
     def _commit(self, stage: Path) -> None:
+        check_interrupted()
         staged = {p.name for p in stage.iterdir()}
         missing = [n for n in self.names if n not in staged]
         extra = sorted(staged - set(self.names))

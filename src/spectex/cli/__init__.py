@@ -77,30 +77,33 @@ def main(argv=None) -> int:
     SIGHUP get the clean-up of Ctrl-C (exit status 128 + the signal's number:
     130 for Ctrl-C, 143 for SIGTERM).
     """
-    from spectex._output import Terminated, session
+    from spectex._output import Terminated, check_interrupted, session
 
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 2
+    who = "spectex"
     try:
         with session():
+            parser = build_parser()
+            args = parser.parse_args(argv)
+            if not getattr(args, "func", None):
+                parser.print_help()
+                return 2
+            who = f"spectex {args.command}"
             result = args.func(args)
+            check_interrupted()  # a Ctrl-C that a library swallowed still ends the run as one
     except (UsageError, ValueError, TypeError) as exc:
-        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except OSError as exc:
-        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
-        print(f"spectex {args.command}: error: out of memory (try smaller sizes)", file=sys.stderr)
+        print(f"{who}: error: out of memory (try smaller sizes)", file=sys.stderr)
         return 2
     except Terminated as exc:
-        print(f"spectex {args.command}: terminated (signal {exc.signum})", file=sys.stderr)
+        print(f"{who}: terminated (signal {exc.signum})", file=sys.stderr)
         return 128 + exc.signum
     except KeyboardInterrupt:
-        print(f"spectex {args.command}: interrupted", file=sys.stderr)
+        print(f"{who}: interrupted", file=sys.stderr)
         return 130
     return 0 if result is None else int(result)
 

@@ -67,8 +67,10 @@ def run(args) -> int | None:
 
     output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[args.a, args.b])
               if args.output else None)
-    a = read_image(args.a, name="A")
-    b = read_image(args.b, name="B")
+    from spectex._validate import check_image
+
+    a = check_image("A", read_image(args.a, name="A"))  # errors name A or B, not the metric's argument
+    b = check_image("B", read_image(args.b, name="B"))
     a, b = _as_common_channels(a, b)
     result = metrics.compare(a, b, block=args.block, overlap=args.overlap)
     if args.json:  # strict JSON: NaN and infinity (flat images) become null
