@@ -454,3 +454,50 @@ def test_hostile(case, results):
             fh.write(f"{case.id}\trc {r['rc']}\tsignal at {r['sent']}\t{r['elapsed']:.2f} s\t{err.strip()}\n")
     if case.check is not None and r["rc"] == 0:
         case.check(r["folder"], r["out"])
+
+
+# ------------------------------------------------- the same bounds, from the library
+
+def test_texture_file_tiles_stay_in_its_folder(tmp_path):
+    from spectex.texture import SpectralTexture
+
+    tex = SpectralTexture.paper_preset(tile_size=16)
+    tex.save(tmp_path / "t.toml")
+    doc = tex.to_dict(["t.tile.png"])
+    assert SpectralTexture.from_dict(doc, base=tmp_path) == tex  # the control
+    (tmp_path / "sub").mkdir()
+    shutil.copyfile(tmp_path / "t.tile.png", tmp_path / "sub" / "t.png")
+    assert SpectralTexture.from_dict(dict(doc, tiles=["sub/t.png"]), base=tmp_path) == tex
+    for name, words in ((str(tmp_path / "t.tile.png"), "absolute path"), ("../t.tile.png", "'..'"),
+                        ("sub/../t.tile.png", "'..'"), ("C:\\t.tile.png", "absolute path"), ("", "file name")):
+        with pytest.raises(ValueError, match=words):
+            SpectralTexture.from_dict(dict(doc, tiles=[name]), base=tmp_path / "sub")
+
+
+def test_tile_sides_are_bounded_before_any_work():
+    from spectex.texture import SpectralTexture
+
+    strip = np.zeros((3, 8193, 4), np.float32)
+    with pytest.raises(ValueError, match=r"tiles\[0\] is 8193x3 texels; a tile side must be at most 8192"):
+        SpectralTexture.plain(strip, 10.0)
+
+
+def test_cutoff_cost_is_bounded_by_the_tile():
+    from spectex.tiles import _working_factor, make_tile
+
+    start = time.perf_counter()
+    assert _working_factor(512, 512, 1e-12) == 128  # the grid keeps 4 cells a side
+    assert _working_factor(512, 384, 0.25) == 2
+    assert time.perf_counter() - start < 1.0
+    with pytest.raises(ValueError, match=r"cutoff must be at least 1/64 .* got 0.01"):
+        make_tile(64, cutoff=0.01)
+
+
+def test_text_length_is_bounded():
+    from spectex.synthesis import generate_text, train_markov
+    from spectex.synthesis._markov import MAX_TEXT_LENGTH
+
+    model = train_markov("abcabd", order=1)
+    with pytest.raises(ValueError, match=f"length must be <= {MAX_TEXT_LENGTH}"):
+        generate_text(model, MAX_TEXT_LENGTH + 1)
+    assert len(generate_text(model, 5)) == 5
