@@ -104,10 +104,16 @@ def _make_inputs(folder: Path) -> None:
     (folder / "c.txt").write_text("the cat sat on the mat and the dog sat on the log. " * 40)
     (folder / "empty.txt").write_text("")
     (folder / "nul.txt").write_bytes(b"abc\x00def")
+    np.save(folder / "pickle.npy", np.array([[object()]], dtype=object), allow_pickle=True)
+    data16 = folder / "img16.png"
+    io.write_image(data16, rng.random((32, 32, 3)).astype(np.float32), bit_depth=16)
+    (folder / "trunc16.png").write_bytes(data16.read_bytes()[:300])
+    data16.unlink()
     # Links and folders.
     os.symlink("img.png", folder / "link.png")
     os.symlink("nowhere.png", folder / "dangling.png")
     os.symlink("c.txt", folder / "clink.txt")
+    os.symlink(".", folder / "here")
     (folder / "sub").mkdir()
     (folder / "adir.png").mkdir()
     # Earlier outputs, which an interrupted or failed run must leave as they are.
@@ -185,6 +191,11 @@ def _hardlink(src, dst):
     return setup
 
 
+def _sparse_huge_text(folder):
+    with open(folder / "huge.txt", "wb") as fh:  # 100 MB that take no disk (made here: copies are not sparse)
+        fh.truncate(100 << 20)
+
+
 def _mkdir_with_photo(folder):
     (folder / "out").mkdir()
     shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile.png")
@@ -219,6 +230,7 @@ CASES = [
     Case("tile-o-dotdot-spelling", ("tile", "--from", "img.png", "-o", "sub/../img.png"), 2, SAME),
     Case("tile-o-hard-link", ("tile", "--from", "img.png", "-o", "hard.png"), 2, SAME,
          setup=_hardlink("img.png", "hard.png")),
+    Case("tile-o-through-linked-folder", ("tile", "--from", "img.png", "-o", "here/img.png"), 2, SAME),
     Case("tile-from-link-o-target", ("tile", "--from", "link.png", "-o", "img.png"), 2, SAME),
     Case("tile-preview-is-input", ("tile", "--from", "x_preview.png", "--preview", "-o", "x.png"), 2, SAME,
          setup=_hardlink("img.png", "x_preview.png")),
@@ -269,6 +281,9 @@ CASES = [
     # --- empty, truncated, not an image, NaN and infinity
     Case("synth-empty", ("synth", "empty.png", "-o", "x.png"), 2, "not a readable image"),
     Case("spectrum-truncated", ("spectrum", "trunc.png"), 2, "truncated"),
+    Case("synth-truncated-16-bit", ("synth", "trunc16.png", "-o", "x.png"), 2, "not a readable PNG"),
+    Case("tile-from-pickle-npy", ("tile", "--from", "pickle.npy", "-o", "x.png"), 2, "numeric array"),
+    Case("noise-o-empty-name", ("noise", "perlin", "-o", ""), 2, "expected a file or folder name"),
     Case("tile-from-not-image", ("tile", "--from", "notimage.png", "-o", "x.png"), 2, "not a readable image"),
     Case("compare-nan", ("compare", "img.png", "nan.npy"), 2, "B must hold finite values"),
     Case("synth-inf", ("synth", "inf.npy", "--method", "histogram", "-o", "x.png"), 2, "finite"),
@@ -287,6 +302,7 @@ CASES = [
     Case("view-huge-window", ("view", "tex.toml", "--size", "100000x100000"), 2, "over the limit"),
     Case("tile-cutoff-tiny", ("tile", "--cutoff", "1e-12", "-o", "x.png"), 2, "cutoff must be at least"),
     Case("tile-size-huge", ("tile", "--size", "100000", "-o", "x.png"), 2, "over the limit"),
+    Case("text-corpus-huge", ("text", "huge.txt"), 2, "104857600 bytes, over the limit", setup=_sparse_huge_text),
     Case("text-length-huge", ("text", "c.txt", "--length", "1000000000000"), 2, "--length must be at most"),
     Case("synth-size-huge", ("synth", "img.png", "--size", "100000x100000", "-o", "x.png"), 2, "over the limit"),
     Case("noise-size-huge", ("noise", "perlin", "--size", "100000x100000", "-o", "x.png"), 2, "over the limit"),

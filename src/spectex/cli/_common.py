@@ -83,6 +83,13 @@ def existing_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(str(exc).strip()) from None
 
 
+def output_name(text: str) -> str:
+    """An output file or folder name: not empty (an empty name would mean the current folder)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"expected a file or folder name, got '{text}'")
+    return text
+
+
 def report(message: str) -> None:
     """Print a progress or result line (standard output)."""
     print(message, flush=True)

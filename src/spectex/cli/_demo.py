@@ -24,7 +24,7 @@ def register(subparsers) -> None:
             "size, the memory used against one image of the same texture, and render times."
         ),
     )
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR",
+    p.add_argument("--out", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="tile seed (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",

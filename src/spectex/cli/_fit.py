@@ -23,7 +23,7 @@ def register(subparsers) -> None:
         ),
     )
     p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR",
+    p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
                    help="output folder (created; files in an existing folder are replaced)")
     p.add_argument("--pixel-size", type=_common.positive_float, default=1.0,
                    help="world size of one photograph pixel, metres, 1e-6 to 1e5 (default: 1)")

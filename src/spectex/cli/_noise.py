@@ -37,7 +37,7 @@ def register(sub) -> None:
     p.add_argument("--speed", type=_common.finite_float, default=0.05,
                    help="lattice units moved per animation frame (default 0.05)")
     p.add_argument("--fps", type=_common.positive_float, default=24.0, help="animation frame rate")
-    p.add_argument("-o", "--output", required=True, metavar="PATH",
+    p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="PATH",
                    help=".png, .jpg, .tif, .npy (raw floats), or .gif/.mp4 with --frames")
     p.set_defaults(func=run)
 

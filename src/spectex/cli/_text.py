@@ -5,6 +5,10 @@ from __future__ import annotations
 from . import _common
 
 
+#: Largest corpus file read (its n-gram tables are built in memory, in Python).
+MAX_CORPUS_BYTES = 64 << 20
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "text",
@@ -24,7 +28,7 @@ def register(subparsers) -> None:
     p.add_argument("--length", type=_common.nonneg_int, default=500,
                    help="number of letters or words to generate (default: 500)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
-    p.add_argument("-o", "--output", default=None, help="write the text to this file instead of standard output")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None, help="write the text to this file instead of standard output")
     p.set_defaults(func=run)
 
 
@@ -41,6 +45,10 @@ def run(args) -> int | None:
     if args.output is not None:  # a file, or a device or pipe such as /dev/stdout (written in place)
         plan_output(args.output, inputs=[args.corpus], stream=True)
     note_input(args.corpus)
+    size = Path(args.corpus).stat().st_size
+    if size > MAX_CORPUS_BYTES:
+        raise ValueError(f"corpus '{args.corpus}' is {size} bytes, over the limit of {MAX_CORPUS_BYTES} bytes "
+                         f"({MAX_CORPUS_BYTES >> 20} MiB: the model is built in memory)")
     data = Path(args.corpus).read_bytes()
     if b"\x00" in data:
         raise ValueError(f"corpus is not a text file (it holds NUL bytes): '{args.corpus}'")
