@@ -26,7 +26,10 @@ and from the library alike. The rules:
   appears only when complete (the staging folder is renamed to it).
 * Inside a :func:`session`, SIGTERM (``kill``, ``timeout``) and SIGHUP raise
   :class:`Terminated`, a ``KeyboardInterrupt``, so they get the same clean-up
-  as Ctrl-C.
+  as Ctrl-C. Signals are held back while a temporary name is made (so that
+  the clean-up always knows it) and while a set is renamed into place (so
+  that it is never left half-replaced); a signal a library swallowed still
+  stops every later rename (:func:`check_interrupted`).
 
 The main entry points: :func:`plan_output` (check a single output before the
 work), :func:`atomic_path` (write one file), :func:`write_text` (text,
