@@ -16,7 +16,10 @@ Interrupt cases send SIGINT or SIGTERM after a delay, or as soon as a file
 appears (a staging folder or a temporary file: the moment of writing), and
 additionally assert that an interrupted run changed nothing at all (or, if
 the signal came during the final renames, which hold signals back, that the
-whole new set is in place).
+whole new set is in place). A signal in the first tenths of a second reaches
+Python before spectex runs (the interpreter is still importing ``site``):
+SIGTERM then ends the process silently (-15), and SIGINT gives Python's own
+traceback, which no program can prevent; so SIGINT delays here start at 1.5 s.
 
 The cases run in parallel, a few subprocesses at a time; most of them fail
 before any numba kernel is compiled.
@@ -341,7 +344,7 @@ CASES = [
          when=".newdemo.*", changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
     Case("demo-sigterm-existing-writing", ("demo", "--out", "demo_prev"), 143, signum=SIGTERM,
          when="demo_prev/.spectex-stage.*", changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
-    Case("demo-sigint-existing-early", ("demo", "--out", "demo_prev"), 130, signum=SIGINT, when=1.0,
+    Case("demo-sigint-existing-early", ("demo", "--out", "demo_prev"), 130, signum=SIGINT, when=2.0,
          changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
     Case("text-sighup-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 129,
          signum=signal.SIGHUP, when=1.5, changes=("prev.txt",)),

@@ -1,20 +1,23 @@
 """``python -m spectex``: the command line."""
 
-import signal
 import sys
 
-from spectex._output import Terminated, _raise_terminated
-
-# SIGTERM from the first moment, not only once a command runs (cli.main's session does the same).
-signal.signal(signal.SIGTERM, _raise_terminated)
 try:
+    import signal
+
+    from spectex._output import _raise_terminated
+
+    # SIGTERM from the first moment, not only once a command runs (cli.main's session does the same).
+    signal.signal(signal.SIGTERM, _raise_terminated)
     from spectex.cli import main
 
     status = main()
-except Terminated as exc:  # a signal while Python was still importing
-    print(f"spectex: terminated (signal {exc.signum})", file=sys.stderr)
-    status = 128 + exc.signum
-except KeyboardInterrupt:
-    print("spectex: interrupted", file=sys.stderr)
-    status = 130
+except KeyboardInterrupt as exc:  # a signal while Python was still importing
+    signum = getattr(exc, "signum", None)
+    if signum is None:
+        print("spectex: interrupted", file=sys.stderr)
+        status = 130
+    else:
+        print(f"spectex: terminated (signal {signum})", file=sys.stderr)
+        status = 128 + signum
 sys.exit(status)

@@ -107,7 +107,8 @@ def session():
     handlers = {}
     if threading.current_thread() is threading.main_thread():
         for sig in _HELD:
-            handlers[sig] = signal.signal(sig, _session_handler)
+            if signal.getsignal(sig) is not signal.SIG_IGN:  # nohup, background jobs: left ignored
+                handlers[sig] = signal.signal(sig, _session_handler)
     with _lock:
         saved, _inputs = _inputs, {}
         saved_received, _received = _received, []
@@ -323,7 +324,7 @@ def _signals_held():
     def note(signum, frame):  # noqa: ARG001 - signal handler API
         pending.append(signum)
 
-    old = {sig: signal.signal(sig, note) for sig in _HELD}
+    old = {sig: signal.signal(sig, note) for sig in _HELD if signal.getsignal(sig) is not signal.SIG_IGN}
     try:
         yield
     finally:
