@@ -338,7 +338,7 @@ CASES = [
     # so early that Python may not have started spectex yet: then the default action ends it (-15)
     Case("text-sigterm-at-start", ("text", "c.txt", "-o", "new.txt"), (143, -15), signum=SIGTERM, when=0.05,
          changes=("new.txt",)),
-    Case("demo-sigterm-new-folder", ("demo", "--out", "newdemo"), 143, signum=SIGTERM, when=1.0,
+    Case("demo-sigterm-new-folder", ("demo", "--out", "newdemo"), 143, signum=SIGTERM, when=1.5,
          changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
     Case("demo-sigint-new-folder-writing", ("demo", "--out", "newdemo"), 130, signum=SIGINT,
          when=".newdemo.*", changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
