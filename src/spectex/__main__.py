@@ -7,8 +7,11 @@ try:
 
     from spectex._output import _raise_terminated
 
-    # SIGTERM from the first moment, not only once a command runs (cli.main's session does the same).
-    signal.signal(signal.SIGTERM, _raise_terminated)
+    # SIGTERM and SIGHUP from the first moment, not only once a command runs (cli.main's session
+    # does the same); a signal that is ignored (nohup) stays ignored.
+    for sig in (signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+        if sig is not None and signal.getsignal(sig) is not signal.SIG_IGN:
+            signal.signal(sig, _raise_terminated)
     from spectex.cli import main
 
     status = main()
