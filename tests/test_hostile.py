@@ -180,6 +180,7 @@ class Case:
     when: object = None           # ... after this many seconds, or when this glob matches
     check: object = None          # f(folder, stdout) -> None, extra assertions
     unset: tuple = ()             # environment variables removed for this run
+    stdout: str = "pipe"          # 'closed': no standard output at all; 'broken': its reader has gone
 
 
 def _fifo(name):
@@ -272,6 +273,10 @@ CASES = [
          setup=lambda f: (f / "fo" / "comparison.png").mkdir(parents=True)),
     Case("demo-parent-missing", ("demo", "--out", "nope/demo"), 2, "parent folder 'nope' does not exist"),
     Case("text-o-disk-full", ("text", "c.txt", "-o", "/dev/full"), 2, "No space left on device"),
+    Case("text-stdout-closed", ("text", "c.txt"), 2, "standard output is closed", stdout="closed"),
+    Case("compare-stdout-closed", ("compare", "img.png", "m.png"), 2, "standard output is closed",
+         stdout="closed"),
+    Case("text-stdout-reader-gone", ("text", "c.txt", "--length", "300000"), 141, stdout="broken"),
     Case("text-o-stdout-streams", ("text", "c.txt", "--length", "50", "-o", "/dev/stdout"), 0,
          check=_stdout_has_text),
     Case("text-o-devnull-streams", ("text", "c.txt", "--length", "50", "-o", "/dev/null"), 0),
@@ -372,8 +377,14 @@ def _run(case: Case, base: Path, work: Path) -> dict:
     for name in case.unset:
         env.pop(name, None)
     start = time.perf_counter()
-    proc = subprocess.Popen([sys.executable, "-m", "spectex", *argv], cwd=folder, env=env,
+    command = [sys.executable, "-m", "spectex", *argv]
+    if case.stdout == "closed":
+        command = ["sh", "-c", 'exec "$0" "$@" >&-', *command]
+    proc = subprocess.Popen(command, cwd=folder, env=env,
                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if case.stdout == "broken":
+        proc.stdout.close()
+        proc.stdout = None
     sent = None
     if case.signum is not None:
         deadline = start + TIME_LIMIT
@@ -396,7 +407,7 @@ def _run(case: Case, base: Path, work: Path) -> dict:
     elapsed = time.perf_counter() - start
     after = _snapshot(folder)
     ro_after = sorted(os.listdir(ro)) if ro else None
-    return {"rc": proc.returncode, "out": out, "err": err, "elapsed": elapsed, "before": before, "after": after,
+    return {"rc": proc.returncode, "out": out or "", "err": err, "elapsed": elapsed, "before": before, "after": after,
             "ro": (ro_before, ro_after), "sent": sent, "folder": folder}
 
 

@@ -9,6 +9,7 @@ function; the modules import nothing heavy at the top, so that ``spectex
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import re
 import sys
@@ -93,6 +94,12 @@ def main(argv=None) -> int:
     except (UsageError, ValueError, TypeError) as exc:
         print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (spectex text | head): stop quietly, as C tools do
+        import os
+
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
+        return 141
     except OSError as exc:
         print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2

@@ -90,6 +90,14 @@ def output_name(text: str) -> str:
     return text
 
 
+def require_stdout(what: str) -> None:
+    """Refuse to run when standard output is closed and ``what`` would be printed there (and lost)."""
+    import sys
+
+    if sys.stdout is None:
+        raise ValueError(f"standard output is closed: {what}")
+
+
 def report(message: str) -> None:
     """Print a progress or result line (standard output)."""
     print(message, flush=True)

@@ -65,6 +65,7 @@ def run(args) -> int | None:
     from spectex import metrics
     from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
 
+    _common.require_stdout("the measures would be lost")
     output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[args.a, args.b])
               if args.output else None)
     from spectex._validate import check_image

@@ -44,6 +44,8 @@ def run(args) -> int | None:
                          f"got {args.length}")
     if args.output is not None:  # a file, or a device or pipe such as /dev/stdout (written in place)
         plan_output(args.output, inputs=[args.corpus], stream=True)
+    else:
+        _common.require_stdout("the text would be lost; give -o FILE")
     note_input(args.corpus)
     size = Path(args.corpus).stat().st_size
     if size > MAX_CORPUS_BYTES:
