@@ -217,7 +217,11 @@ def _is_stream_path(path: str) -> bool:
 
 @dataclass(frozen=True)
 class Target:
-    """A checked output: ``path`` as given, ``dest`` the file really written, ``stream`` whether it is written in place."""
+    """A checked output.
+
+    ``path`` as given; ``dest`` the file really written (a link's target);
+    ``stream`` whether it is a device or pipe, written in place.
+    """
 
     path: Path
     dest: Path

@@ -23,7 +23,8 @@ def register(subparsers) -> None:
                    help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="quilt overlap, for the seam energy")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
-    p.add_argument("-o", "--output", type=_common.output_name, default=None, help="also write A and B side by side to this image")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None,
+                   help="also write A and B side by side to this image")
     p.set_defaults(func=run)
 
 

@@ -28,7 +28,8 @@ def register(subparsers) -> None:
                    help="camera position (m) and heading/pitch (degrees)")
     p.add_argument("--fov", type=_common.positive_float, default=60.0, help="vertical field of view, degrees (default: 60)")
     p.add_argument("--size", type=_common.size, default=(540, 960), metavar="WxH", help="picture size (default: 960x540)")
-    p.add_argument("-o", "--output", type=_common.output_name, required=True, help="output picture (.png, ...) or, with --frames, .gif/.mp4")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True,
+                   help="output picture (.png, ...) or, with --frames, .gif/.mp4")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL, else the CPU)")
     p.add_argument("--supersample", type=_common.positive_int, default=1,

@@ -22,7 +22,8 @@ def register(subparsers) -> None:
         ),
     )
     p.add_argument("image", help="image file (PNG, JPEG, ..., or .npy)")
-    p.add_argument("-o", "--output", type=_common.output_name, default=None, help="plot file (.png, .pdf or .svg)")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None,
+                   help="plot file (.png, .pdf or .svg)")
     p.add_argument("--window", choices=_WINDOWS, default="periodic",
                    help="leakage control (default: periodic)")
     p.add_argument("--fmin", type=_common.positive_float, default=None,

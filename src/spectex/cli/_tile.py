@@ -63,7 +63,8 @@ def register(subparsers) -> None:
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
                    help="PNG bits per channel (default: 8)")
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
-    p.add_argument("-o", "--output", type=_common.output_name, required=True, help="output RGBA image (.png, .tif, .webp, or .npy)")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True,
+                   help="output RGBA image (.png, .tif, .webp, or .npy)")
     p.set_defaults(func=run)
 
 
