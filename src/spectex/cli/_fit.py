@@ -24,7 +24,8 @@ def register(subparsers) -> None:
     )
     p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
-                   help="output folder (created; files in an existing folder are replaced)")
+                   help="output folder (made if missing; in an existing folder the five files replace "
+                        "the earlier ones only when all are complete, and other files are left alone)")
     p.add_argument("--pixel-size", type=_common.positive_float, default=1.0,
                    help="world size of one photograph pixel, metres, 1e-6 to 1e5 (default: 1)")
     p.add_argument("--layers", type=_common.positive_int, default=5, help="number of layers, 2 to 8 (default: 5)")
