@@ -124,7 +124,7 @@ def check_relative_name(name: str, value: str) -> str:
     """
     from pathlib import PurePosixPath, PureWindowsPath
 
-    if not isinstance(value, str) or not value.strip():
+    if not isinstance(value, str) or not value.strip() or "\x00" in value:
         raise ValueError(f"{name} must be a file name, got {_show(value)}")
     posix, windows = PurePosixPath(value), PureWindowsPath(value)
     if posix.is_absolute() or windows.is_absolute() or windows.drive or value.startswith(("/", "\\")):
