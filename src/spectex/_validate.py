@@ -113,3 +113,30 @@ def check_image(name: str, image, *, channels=(None, 1, 2, 3, 4), min_size: int 
     else:
         raise TypeError(f"{name} must be a numeric array, got dtype {image.dtype}")
     return image
+
+
+def check_relative_name(name: str, value: str) -> str:
+    """Return ``value``, a file name relative to a folder that stays inside it.
+
+    Refuses absolute paths, drive letters, ``..`` parts and empty names: a
+    file that names other files (a texture file's tiles) must not reach
+    outside its own folder.
+    """
+    from pathlib import PurePosixPath, PureWindowsPath
+
+    if not isinstance(value, str) or not value.strip() or "\x00" in value:
+        raise ValueError(f"{name} must be a file name, got {_show(value)}")
+    posix, windows = PurePosixPath(value), PureWindowsPath(value)
+    if posix.is_absolute() or windows.is_absolute() or windows.drive or value.startswith(("/", "\\")):
+        raise ValueError(f"{name} must be a file name relative to the texture file's folder, got the "
+                         f"absolute path {_show(value)}")
+    if ".." in posix.parts or ".." in windows.parts:
+        raise ValueError(f"{name} must stay inside the texture file's folder, got {_show(value)} (with '..')")
+    return value
+
+
+def check_tile_shape(name: str, shape, *, maximum_side: int = 8192) -> None:
+    """Refuse a tile with a side over ``maximum_side`` texels (its mip chain would be unbounded)."""
+    h, w = int(shape[0]), int(shape[1])
+    if max(h, w) > maximum_side:
+        raise ValueError(f"{name} is {w}x{h} texels; a tile side must be at most {maximum_side}")

@@ -11,64 +11,41 @@ where they are converted to and from file formats:
 * ``.gif`` (Pillow) and ``.mp4`` (imageio-ffmpeg, ``pip install spectex[video]``)
   for animations.
 
-Every writer goes through :func:`atomic_path`: the file is written under a
-temporary name in the target folder and renamed when complete, so that a
-failure never leaves a partial file behind.
+Every writer goes through :func:`spectex._output.atomic_path`: the file is
+written under a temporary name in the target folder and renamed when
+complete, so that a failure never leaves a partial file behind; an output
+that is an input, a folder or a device is refused, and a symbolic link is
+written through. Every reader refuses images over :data:`MAX_IMAGE_PIXELS`
+pixels before decoding them (decompression bombs are small on disk).
 """
 
 from __future__ import annotations
 
-import contextlib
-import os
-import tempfile
+import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 
+from ._output import atomic_path, check_input_file, note_input, plan_output
 from ._validate import check_choice, check_float, check_int
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp")
 ARRAY_SUFFIXES = (".npy",)
 ANIMATION_SUFFIXES = (".gif", ".mp4")
+#: Most pixels an image file may have to be read (16384 x 8192; 2 GiB as float32 RGBA).
+#: Pillow's own limit (``PIL.Image.MAX_IMAGE_PIXELS``) is set to it while a file is opened.
+MAX_IMAGE_PIXELS = 1 << 27
 
 
-@contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path``; rename it to ``path`` on success.
+def check_output_path(name: str, path, suffixes, *, inputs=()) -> Path:
+    """Check an output file before the work (see :func:`spectex._output.plan_output`).
 
-    On any exception the temporary file is removed and ``path`` is left as it
-    was (absent, or the previous complete file).
+    The suffix must be one of ``suffixes``; the folder must exist and be
+    writable; the output must not be a folder, a device or any of ``inputs``.
+    Returns the path as given (a symbolic link is written through later).
     """
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise FileNotFoundError(f"output folder does not exist: '{folder}'")
-    # The real suffix comes last: writers such as imageio pick the format by it.
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".part" + path.suffix, dir=folder)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        # mkstemp creates the file as 0600; give it the usual permissions.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def check_output_path(name: str, path, suffixes) -> Path:
-    """Check that ``path`` has one of ``suffixes`` and an existing folder."""
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in suffixes:
-        raise ValueError(f"{name} must end in one of {', '.join(suffixes)}, got '{path}'")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise ValueError(f"{name} is in a folder that does not exist: '{path}'")
-    return path
+    return plan_output(path, name=name, suffixes=suffixes, inputs=inputs).path
 
 
 def to_uint(image: np.ndarray, bit_depth: int = 8) -> np.ndarray:
@@ -162,6 +139,86 @@ def _png_bit_depth(path: Path) -> int | None:
     return None
 
 
+def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
+    if width * height > MAX_IMAGE_PIXELS:
+        raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
+                         f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS)")
+
+
+def _read_npy(path: Path, name: str) -> np.ndarray:
+    try:
+        with open(path, "rb") as fh:
+            version = np.lib.format.read_magic(fh)
+            reader = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                      else np.lib.format.read_array_header_2_0)
+            shape, _, dtype = reader(fh)
+    except Exception as exc:
+        raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
+    if len(shape) not in (2, 3) or not np.issubdtype(dtype, np.number):
+        raise ValueError(f"{name} must hold a 2-D or 3-D numeric array, got shape {shape} and dtype {dtype} "
+                         f"in '{path}'")
+    _check_pixels(name, path, shape[1], shape[0])
+    if len(shape) == 3 and shape[2] > 4:
+        raise ValueError(f"{name} must have at most 4 channels, got shape {shape} in '{path}'")
+    try:
+        arr = np.load(path, allow_pickle=False)
+    except Exception as exc:
+        raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
+    return arr.astype(np.float32)
+
+
+def _read_png16(path: Path, name: str) -> np.ndarray:
+    import png
+
+    try:
+        with open(path, "rb") as fh:
+            reader = png.Reader(file=fh)
+            reader.preamble()
+            _check_pixels(name, path, reader.width, reader.height)
+            w, h, rows, info = reader.asDirect()
+            data = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
+    except ValueError:
+        raise
+    except Exception as exc:
+        raise ValueError(f"{name} is not a readable PNG: '{path}' ({exc})") from None
+    planes = info["planes"]
+    try:
+        data = data.reshape(h, w, planes)
+    except ValueError:
+        raise ValueError(f"{name} is not a readable PNG: '{path}' (it is truncated)") from None
+    if planes == 1:
+        data = data[:, :, 0]
+    top = float(2 ** info["bitdepth"] - 1)
+    return (data.astype(np.float32) / np.float32(top)).astype(np.float32)
+
+
+def _open_pil(path: Path, name: str):
+    """Open with Pillow, refusing images over MAX_IMAGE_PIXELS before they are decoded."""
+    from PIL import Image
+
+    saved = Image.MAX_IMAGE_PIXELS
+    try:
+        # Deliberately spectex's limit: Pillow then refuses (over twice it) or warns
+        # (over it) in open(); the warning is ours to turn into the one-line error below.
+        Image.MAX_IMAGE_PIXELS = MAX_IMAGE_PIXELS
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            im = Image.open(path)
+    except Image.DecompressionBombError as exc:
+        found = re.search(r"\((\d+) pixels\)", str(exc))
+        count = f"{found.group(1)} pixels" if found else "more pixels"
+        raise ValueError(f"{name} '{path}' has {count}, over the limit of {MAX_IMAGE_PIXELS} pixels "
+                         "(spectex.io.MAX_IMAGE_PIXELS)") from None
+    finally:
+        Image.MAX_IMAGE_PIXELS = saved
+    try:
+        _check_pixels(name, path, *im.size)
+    except BaseException:
+        im.close()
+        raise
+    return im
+
+
 def read_image(path, *, name: str = "image") -> np.ndarray:
     """Read an image file as float32 in [0, 1].
 
@@ -174,42 +231,25 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
       by 255, float TIFFs are taken as they are;
     * ``.npy`` files are loaded as they are (float32), and must be 2-D or 3-D.
 
+    Images over :data:`MAX_IMAGE_PIXELS` pixels are refused from their header,
+    before anything is decoded.
+
     Raises
     ------
     ValueError
-        If the file is missing, unreadable or not an image; the message names
-        ``name`` and the path.
+        If the file is missing, not a regular file, too large, unreadable or
+        not an image; the message names ``name`` and the path.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{name} file not found: '{path}'")
+    path = check_input_file(name, path)
+    note_input(path)
     if path.suffix.lower() == ".npy":
-        try:
-            arr = np.load(path, allow_pickle=False)
-        except Exception as exc:
-            raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
-        if arr.ndim not in (2, 3) or not np.issubdtype(arr.dtype, np.number):
-            raise ValueError(f"{name} must hold a 2-D or 3-D numeric array, got shape {arr.shape} in '{path}'")
-        return arr.astype(np.float32)
+        return _read_npy(path, name)
     if _png_bit_depth(path) == 16:
-        import png
-
-        try:
-            with open(path, "rb") as fh:
-                w, h, rows, info = png.Reader(file=fh).asDirect()
-                data = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
-        except Exception as exc:
-            raise ValueError(f"{name} is not a readable PNG: '{path}' ({exc})") from None
-        planes = info["planes"]
-        data = data.reshape(h, w, planes)
-        if planes == 1:
-            data = data[:, :, 0]
-        top = float(2 ** info["bitdepth"] - 1)
-        return (data.astype(np.float32) / np.float32(top)).astype(np.float32)
-    from PIL import Image, UnidentifiedImageError
+        return _read_png16(path, name)
+    from PIL import UnidentifiedImageError
 
     try:
-        with Image.open(path) as im:
+        with _open_pil(path, name) as im:
             im.load()
             mode = im.mode
             if mode == "P" or mode == "PA":
@@ -228,9 +268,16 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
             elif mode not in ("L", "LA", "RGB", "RGBA"):
                 im = im.convert("RGB")
             arr = np.asarray(im)
-    except (UnidentifiedImageError, OSError, SyntaxError) as exc:
+    except (UnidentifiedImageError, OSError, SyntaxError, EOFError) as exc:
         raise ValueError(f"{name} is not a readable image: '{path}' ({exc})") from None
     return arr.astype(np.float32) / np.float32(255)
+
+
+def check_mp4_size(height: int, width: int) -> None:
+    """Refuse a frame size that H.264 (yuv420p) cannot hold exactly: odd sides."""
+    if height % 2 or width % 2:
+        raise ValueError(f"an .mp4 needs even frame sides (H.264 stores colour per 2x2 pixels), got "
+                         f"{width}x{height}: choose even sides or a .gif")
 
 
 def write_animation(path, frames, *, fps: float = 24.0) -> Path:
@@ -241,7 +288,8 @@ def write_animation(path, frames, *, fps: float = 24.0) -> Path:
     path : str or Path
         ``.gif`` (Pillow) or ``.mp4`` (H.264 through imageio-ffmpeg).
     frames : sequence of ndarray, each (H, W) or (H, W, 3)
-        Values in [0, 1]; all frames must have the same shape.
+        Values in [0, 1]; all frames must have the same shape; for
+        ``.mp4``, H and W must be even (H.264 with yuv420p colour).
     fps : float
         Frames per second.
     """
@@ -259,6 +307,7 @@ def write_animation(path, frames, *, fps: float = 24.0) -> Path:
         data = [d[:, :, :-1] if d.shape[2] == 4 else d[:, :, 0] for d in data]
     suffix = path.suffix.lower()
     if suffix == ".mp4":
+        check_mp4_size(shape[0], shape[1])
         try:
             import imageio.v2 as iio  # noqa: F401
             import imageio_ffmpeg  # noqa: F401
@@ -274,9 +323,6 @@ def write_animation(path, frames, *, fps: float = 24.0) -> Path:
         else:
             import imageio.v2 as iio
 
-            # H.264 wants even sizes: pad by repeating the last row/column.
-            h, w = data[0].shape[:2]
-            ph, pw = h % 2, w % 2
             # yuv420p (the format most players accept) goes through imageio's own
             # `pixelformat`: imageio-ffmpeg always writes `-pix_fmt <pixelformat>`,
             # so repeating it in output_params makes ffmpeg warn about two options.
@@ -285,7 +331,5 @@ def write_animation(path, frames, *, fps: float = 24.0) -> Path:
                 for d in data:
                     if d.ndim == 2:
                         d = np.repeat(d[:, :, None], 3, axis=2)
-                    if ph or pw:
-                        d = np.pad(d, ((0, ph), (0, pw), (0, 0)), mode="edge")
                     writer.append_data(d)
     return path

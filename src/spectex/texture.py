@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import check_choice, check_float, check_image, check_int, check_shape
+from ._validate import check_choice, check_float, check_image, check_int, check_shape, check_tile_shape
 from .shading.constants import BLENDS, MAX_LAYERS, MAX_TILES
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS"]
@@ -159,6 +159,7 @@ class SpectralTexture:
             raise ValueError(f"bits must be 8 or None, got {bits!r}")
         checked = []
         for i, tile in enumerate(tiles):
+            check_tile_shape(f"tiles[{i}]", np.shape(tile))  # before any work on it
             tile = check_image(f"tiles[{i}]", tile, channels=(3, 4), min_size=1)
             if tile.shape[2] == 3:
                 tile = np.concatenate([tile, np.ones(tile.shape[:2] + (1,), np.float32)], axis=2)

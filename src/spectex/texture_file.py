@@ -29,6 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ._validate import check_relative_name
+from .shading.constants import MAX_TILES
+
 __all__ = ["FORMAT", "FORMAT_VERSION", "save", "load", "to_dict", "from_dict", "dumps"]
 
 #: File format name and version written to and required in texture files.
@@ -77,33 +80,26 @@ def save(texture, path) -> Path:
 
     ``ground.toml`` gets ``ground.tile.png`` (or ``ground.tile0.png``,
     ``ground.tile1.png``, ... for several tiles): 8-bit RGBA PNGs for
-    ``bits=8``, 16-bit for float tiles. If any file fails, the files
-    written by this call are removed.
+    ``bits=8``, 16-bit for float tiles. The files replace earlier ones
+    only when all are complete: if anything fails, the folder is left as
+    it was.
 
     Returns
     -------
     Path
         The texture file.
     """
-    from .io import atomic_path, check_output_path, write_image
+    from ._output import OutputSet
+    from .io import check_output_path, write_image
 
     path = check_output_path("output", path, (".toml",))
     names = tile_names(path, len(texture.tiles))
-    written = []
-    try:
+    text = dumps(to_dict(texture, names))
+    # the tiles and the texture file replace the earlier ones together, or not at all
+    with OutputSet(path.parent, names + [path.name], create=False) as stage:
         for name, tile in zip(names, texture.tiles):
-            target = path.parent / name
-            existed = target.exists()
-            write_image(target, tile, bit_depth=8 if texture.bits == 8 else 16)
-            if not existed:
-                written.append(target)
-        text = dumps(to_dict(texture, names))
-        with atomic_path(path) as tmp:
-            tmp.write_text(text, encoding="utf-8")
-    except BaseException:
-        for target in written:
-            target.unlink(missing_ok=True)
-        raise
+            write_image(stage / name, tile, bit_depth=8 if texture.bits == 8 else 16)
+        (stage / path.name).write_text(text, encoding="utf-8")
     return path
 
 
@@ -112,9 +108,10 @@ def load(path):
 
     Every field is checked; an error names the field and the file.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"texture file not found: '{path}'")
+    from ._output import check_input_file, note_input
+
+    path = check_input_file("texture", path)
+    note_input(path)  # no output of this command may replace it
     try:
         text = path.read_text(encoding="utf-8")
         doc = tomllib.loads(text)
@@ -152,11 +149,13 @@ def from_dict(doc: dict, *, base="."):
     names = doc["tiles"]
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {names!r}")
+    if len(names) > MAX_TILES:
+        raise ValueError(f"field 'tiles' names {len(names)} files; a texture has at most {MAX_TILES} tiles")
     from .io import read_image
 
     tiles = []
     for i, name in enumerate(names):
-        tile_path = Path(base) / name
+        tile_path = Path(base) / check_relative_name(f"field 'tiles[{i}]'", name)
         try:
             tile = read_image(tile_path, name=f"tiles[{i}]")
         except ValueError as exc:
@@ -185,7 +184,8 @@ def from_dict(doc: dict, *, base="."):
         try:
             layers.append(Layer(**entry))
         except (ValueError, TypeError) as exc:
-            raise ValueError(f"field 'layers[{i}].{exc}") from None
+            field, _, rest = str(exc).partition(" ")
+            raise ValueError(f"field 'layers[{i}].{field}' {rest}") from None
     try:
         return SpectralTexture(tiles, layers, bits=8 if bits == 8 else None)
     except (ValueError, TypeError) as exc:

@@ -261,8 +261,13 @@ def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 def _working_factor(h: int, w: int, cutoff: float) -> int:
-    """Largest m <= 1 / (2 cutoff) dividing h and w (the working grid step)."""
-    top = max(1, int(math.floor(0.5 / cutoff + 1e-9)))
+    """Largest m <= 1 / (2 cutoff) dividing h and w (the working grid step).
+
+    The search starts at most at ``min(h, w) // 4`` (the grid keeps at least
+    4 cells a side), so its cost is bounded by the tile size, not by
+    ``1 / cutoff``.
+    """
+    top = max(1, min(int(min(0.5 / cutoff + 1e-9, 1 << 30)), min(h, w) // 4))
     for m in range(top, 0, -1):
         if h % m == 0 and w % m == 0 and min(h, w) // m >= 4:
             return m
@@ -346,8 +351,9 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
         A ramp for :func:`spectex.color.apply_colormap` (``'earth'``,
         ``'stone'``, ``'moss'``, ... or any Matplotlib name, or stops).
     cutoff : float
-        The low-pass cut-off in cycles per pixel, in (0, 0.5]: no energy
-        above it. The default 0.25 is half the Nyquist frequency.
+        The low-pass cut-off in cycles per pixel, in [1 / max(H, W), 0.5]:
+        no energy above it (below one cycle across the tile, nothing but the
+        mean would be left). The default 0.25 is half the Nyquist frequency.
     beta : float
         Spectral exponent of the field (power ``~ 1/f^beta``) for
         ``'spectral'`` and ``'octaves'``.
@@ -384,6 +390,9 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
 
     filter = check_choice("filter", filter, FILTERS)
     cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
+    if cutoff * max(h, w) < 1.0:
+        raise ValueError(f"cutoff must be at least 1/{max(h, w)} = {1.0 / max(h, w):.4g} cycles per pixel "
+                         f"(one cycle across the {w}x{h} tile; below it the tile is flat), got {cutoff:g}")
     beta = check_float("beta", beta, minimum=-2.0, maximum=8.0)
     if low is not None:
         low = check_float("low", low, minimum=0.0, maximum=0.5)

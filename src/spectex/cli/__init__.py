@@ -9,7 +9,9 @@ function; the modules import nothing heavy at the top, so that ``spectex
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import re
 import sys
 
 # Subcommand modules, in the order they appear in ``spectex --help``.
@@ -34,7 +36,17 @@ class UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose errors are one line and exit status 2."""
+    """ArgumentParser whose errors are one line and exit status 2.
+
+    A value that starts with a minus sign and a digit (``--size -5x10``,
+    ``--beta -1e3``) is taken as the option's value, so that its own check
+    says what is wrong with it (argparse would otherwise say "expected one
+    argument"); no spectex option name starts with a digit.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message):  # noqa: D401 - argparse API
         self.exit(2, f"{self.prog}: error: {message}\n")
@@ -61,22 +73,46 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Run the command line; return the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 2
+    """Run the command line; return the exit status.
+
+    The command runs in a :func:`spectex._output.session`: every file it
+    reads is recorded, so that no output can replace one, and SIGTERM or
+    SIGHUP get the clean-up of Ctrl-C (exit status 128 + the signal's number:
+    130 for Ctrl-C, 143 for SIGTERM).
+    """
+    from spectex._output import Terminated, check_interrupted, session
+
+    who = "spectex"
     try:
-        result = args.func(args)
+        with session():
+            parser = build_parser()
+            args = parser.parse_args(argv)
+            if not getattr(args, "func", None):
+                parser.print_help()
+                return 2
+            who = f"spectex {args.command}"
+            result = args.func(args)
+            check_interrupted()  # a Ctrl-C that a library swallowed still ends the run as one
     except (UsageError, ValueError, TypeError) as exc:
-        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (spectex text | head): stop quietly, as C tools do
+        import os
+
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
+        return 141
     except OSError as exc:
-        print(f"spectex {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except MemoryError:
+        print(f"{who}: error: out of memory (try smaller sizes)", file=sys.stderr)
+        return 2
+    except Terminated as exc:
+        print(f"{who}: terminated (signal {exc.signum})", file=sys.stderr)
+        return 128 + exc.signum
     except KeyboardInterrupt:
-        print(f"spectex {args.command}: interrupted", file=sys.stderr)
+        print(f"{who}: interrupted", file=sys.stderr)
         return 130
     return 0 if result is None else int(result)
 

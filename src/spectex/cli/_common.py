@@ -74,10 +74,28 @@ def floats(count: int):
 
 
 def existing_file(text: str) -> Path:
-    path = Path(text)
-    if not path.is_file():
-        raise argparse.ArgumentTypeError(f"file not found: '{text}'")
-    return path
+    """An existing regular file; the error says what the path is instead (missing, a folder, a pipe...)."""
+    from spectex._output import check_input_file
+
+    try:
+        return check_input_file("", text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).strip()) from None
+
+
+def output_name(text: str) -> str:
+    """An output file or folder name: not empty (an empty name would mean the current folder)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"expected a file or folder name, got '{text}'")
+    return text
+
+
+def require_stdout(what: str) -> None:
+    """Refuse to run when standard output is closed and ``what`` would be printed there (and lost)."""
+    import sys
+
+    if sys.stdout is None:
+        raise ValueError(f"standard output is closed: {what}")
 
 
 def report(message: str) -> None:

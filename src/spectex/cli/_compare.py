@@ -23,7 +23,8 @@ def register(subparsers) -> None:
                    help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="quilt overlap, for the seam energy")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
-    p.add_argument("-o", "--output", default=None, help="also write A and B side by side to this image")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None,
+                   help="also write A and B side by side to this image")
     p.set_defaults(func=run)
 
 
@@ -65,9 +66,13 @@ def run(args) -> int | None:
     from spectex import metrics
     from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
 
-    output = check_output_path("output", args.output, IMAGE_SUFFIXES) if args.output else None
-    a = read_image(args.a, name="A")
-    b = read_image(args.b, name="B")
+    _common.require_stdout("the measures would be lost")
+    output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[args.a, args.b])
+              if args.output else None)
+    from spectex._validate import check_image
+
+    a = check_image("A", read_image(args.a, name="A"))  # errors name A or B, not the metric's argument
+    b = check_image("B", read_image(args.b, name="B"))
     a, b = _as_common_channels(a, b)
     result = metrics.compare(a, b, block=args.block, overlap=args.overlap)
     if args.json:  # strict JSON: NaN and infinity (flat images) become null
@@ -93,16 +98,24 @@ def _finite(value):
 
 
 def _print_table(r, a, b) -> None:
+    import math
+
     def num(v, fmt="{:.4f}"):
-        return "n/a (image too small)" if v is None else fmt.format(v)
+        if v is None:
+            return "n/a (image too small)"
+        if math.isnan(v):
+            return "n/a (undefined for a flat image)"
+        if math.isinf(v):
+            return "infinite"
+        return fmt.format(v)
 
     print(f"A: {a.shape[1]}x{a.shape[0]}   B: {b.shape[1]}x{b.shape[0]}")
-    print("histogram W1 per channel   " + "  ".join(f"{v:.4f}" for v in r["histogram_w1"])
+    print("histogram W1 per channel   " + "  ".join(num(v) for v in r["histogram_w1"])
           + "   (<= 0.03 is close)")
     if r["bands"] is not None:
         print("band power (dB)     cycles/px      A         B")
         for (lo, hi), pa, pb in zip(r["bands"], r["band_power_reference_db"], r["band_power_image_db"]):
-            print(f"                    {lo:.4f}-{hi:.4f}  {pa:8.2f}  {pb:8.2f}")
+            print(f"                    {lo:.4f}-{hi:.4f}  {num(pa, '{:8.2f}'):>8s}  {num(pb, '{:8.2f}'):>8s}")
     print(f"band power distance        {num(r['band_power_distance_db'], '{:.2f} dB')}   (<= 1.5 dB is close)")
     print(f"tileability A / B          {num(r['tileability_reference'], '{:.2f}')} / "
           f"{num(r['tileability_image'], '{:.2f}')}   (about 1 tiles seamlessly)")

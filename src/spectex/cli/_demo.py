@@ -6,6 +6,8 @@ from . import _common
 
 DEFAULT_OUT = "spectex-demo"
 DEMO_SIZE = (540, 960)  # (height, width) of the three views
+_FILES = ("ground.png", "closeup.png", "aerial.png", "tile_colour.png", "tile_alpha.png", "texture.tile.png",
+          "texture.toml")
 
 
 def register(subparsers) -> None:
@@ -22,7 +24,7 @@ def register(subparsers) -> None:
             "size, the memory used against one image of the same texture, and render times."
         ),
     )
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR",
+    p.add_argument("--out", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="tile seed (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
@@ -42,23 +44,19 @@ def views():
 
 
 def run(args) -> int:
-    import contextlib
-    import os
     import sys
     import time
-    from pathlib import Path
 
+    from spectex._output import OutputSet
     from spectex.io import write_image
     from spectex.render import render as _render
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
     from spectex.tiles import make_tile
 
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out must be a folder, got the file '{out}'")
-    if not out.parent.is_dir() and str(out.parent) not in ("", "."):
-        raise ValueError(f"--out is in a folder that does not exist: '{out}'")
+    # Every file checked before the work; the set replaces the earlier demo only when complete.
+    outputs = OutputSet(args.out, _FILES, name="--out")
+    out = outputs.path
 
     t0 = time.perf_counter()
     tile = make_tile(512, seed=args.seed)
@@ -92,21 +90,13 @@ def run(args) -> int:
             renderer.release()
 
     # Write everything or nothing.
-    out.mkdir(exist_ok=True)
-    written = []
-    try:
+    with outputs as stage:
         for name, img in images.items():
-            written.append(write_image(out / f"{name}.png", img))
-        written.append(write_image(out / "tile_colour.png", texture.tiles[0][:, :, :3]))
-        written.append(write_image(out / "tile_alpha.png", texture.tiles[0][:, :, 3]))
-        tile_png = out / "texture.tile.png"
-        written.append(tile_png)
-        written.append(texture.save(out / "texture.toml"))
-    except BaseException:
-        for path in written:
-            with contextlib.suppress(OSError):
-                os.unlink(path)
-        raise
+            write_image(stage / f"{name}.png", img)
+        write_image(stage / "tile_colour.png", texture.tiles[0][:, :, :3])
+        write_image(stage / "tile_alpha.png", texture.tiles[0][:, :, 3])
+        texture.save(stage / "texture.toml")  # and texture.tile.png
+    written = [out / name for name in _FILES]
 
     sizes = ", ".join(f"{layer.size:.6g} m" for layer in texture.layers)
     ratio = texture.layers[1].size / texture.layers[0].size

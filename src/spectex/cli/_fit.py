@@ -23,10 +23,11 @@ def register(subparsers) -> None:
         ),
     )
     p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR",
-                   help="output folder (created; files in an existing folder are replaced)")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
+                   help="output folder (made if missing; in an existing folder the five files replace "
+                        "the earlier ones only when all are complete, and other files are left alone)")
     p.add_argument("--pixel-size", type=_common.positive_float, default=1.0,
-                   help="world size of one photograph pixel, metres (default: 1)")
+                   help="world size of one photograph pixel, metres, 1e-6 to 1e5 (default: 1)")
     p.add_argument("--layers", type=_common.positive_int, default=5, help="number of layers, 2 to 8 (default: 5)")
     p.add_argument("--ratio", type=_common.positive_float, default=4.0,
                    help="size ratio between neighbouring layers (default: 4)")
@@ -35,6 +36,9 @@ def register(subparsers) -> None:
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.set_defaults(func=run)
 
+
+#: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
+MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
 
 _FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
 
@@ -104,24 +108,21 @@ def _write_fast_png(path, image):
 
 
 def run(args) -> int | None:
-    import contextlib
     import math
-    import os
-    import shutil
-    import tempfile
     import time
-    from pathlib import Path
 
+    from spectex._output import OutputSet
     from spectex.analysis import fit, prepare_exemplar
     from spectex.io import read_image
 
     start = time.perf_counter()
-    out = Path(args.output)
-    parent = out.parent if str(out.parent) else Path(".")
-    if not parent.is_dir():
-        raise ValueError(f"output folder's parent does not exist: '{parent}'")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"output must be a folder, got the file '{out}'")
+    if not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
+        raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
+                         f"got {args.pixel_size:g}")
+    # Every file checked before the work (none may be the photo); all five replace the earlier
+    # ones only when complete.
+    outputs = OutputSet(args.output, _FILES, inputs=[args.photo])
+    out = outputs.path
     photo = read_image(args.photo, name="photo")
     exemplar, notes = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
@@ -144,21 +145,10 @@ def run(args) -> int | None:
                "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar)["fine"])["value"],
                "cross_scale_exemplar": result.params["target_cross_scale"]}
 
-    tmp = Path(tempfile.mkdtemp(prefix=".spectex-fit-", dir=parent))
-    try:
-        texture.save(tmp / "texture.toml")
-        _write_fast_png(tmp / "comparison.png", _comparison(exemplar, same, large))
-        _plots(tmp, exemplar, same, large)
-        if not out.exists():
-            os.replace(tmp, out)
-        else:
-            for name in _FILES:
-                os.replace(tmp / name, out / name)
-            shutil.rmtree(tmp)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            shutil.rmtree(tmp)
-        raise
+    with outputs as stage:
+        texture.save(stage / "texture.toml")
+        _write_fast_png(stage / "comparison.png", _comparison(exemplar, same, large))
+        _plots(stage, exemplar, same, large)
     for note in notes:
         _common.report(f"note: {note}")
     pr = result.params

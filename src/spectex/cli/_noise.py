@@ -37,7 +37,7 @@ def register(sub) -> None:
     p.add_argument("--speed", type=_common.finite_float, default=0.05,
                    help="lattice units moved per animation frame (default 0.05)")
     p.add_argument("--fps", type=_common.positive_float, default=24.0, help="animation frame rate")
-    p.add_argument("-o", "--output", required=True, metavar="PATH",
+    p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="PATH",
                    help=".png, .jpg, .tif, .npy (raw floats), or .gif/.mp4 with --frames")
     p.set_defaults(func=run)
 
@@ -62,6 +62,16 @@ def run(args) -> int:
     io.check_output_path("output", out, io.ANIMATION_SUFFIXES if animated
                          else io.IMAGE_SUFFIXES + io.ARRAY_SUFFIXES)
     h, w = args.size
+    if suffix == ".mp4":
+        io.check_mp4_size(h, w)
+    if args.kind in ("fbm", "turbulence") and 1 < args.octaves <= 32:  # more: the library says so
+        import math
+
+        top = (args.octaves - 1) * math.log10(args.lacunarity)
+        if abs(top) > 300:
+            raise _common_error(f"--lacunarity {args.lacunarity:g} with --octaves {args.octaves} gives a finest "
+                                f"octave of 1e{top:.0f} times the first, beyond floating point: choose a "
+                                "lacunarity nearer 2 or fewer octaves")
     limit = 1 << 26
     if h * w * (args.frames or 1) > limit:
         raise _common_error(f"--size {w}x{h} with {args.frames or 1} frame(s) is over the limit of "

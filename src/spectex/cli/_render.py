@@ -28,7 +28,8 @@ def register(subparsers) -> None:
                    help="camera position (m) and heading/pitch (degrees)")
     p.add_argument("--fov", type=_common.positive_float, default=60.0, help="vertical field of view, degrees (default: 60)")
     p.add_argument("--size", type=_common.size, default=(540, 960), metavar="WxH", help="picture size (default: 960x540)")
-    p.add_argument("-o", "--output", required=True, help="output picture (.png, ...) or, with --frames, .gif/.mp4")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True,
+                   help="output picture (.png, ...) or, with --frames, .gif/.mp4")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL, else the CPU)")
     p.add_argument("--supersample", type=_common.positive_int, default=1,
@@ -65,15 +66,17 @@ def run(args) -> int:
     import sys
     import time
 
-    from spectex.io import check_output_path, write_animation, write_image
+    from spectex.io import check_mp4_size, check_output_path, write_animation, write_image
     from spectex.render import Camera, check_size
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
 
     # Everything is checked before anything is drawn or written.
     animated = args.frames > 1
-    output = check_output_path("output", args.output, _ANIM if animated else _IMAGE)
+    output = check_output_path("output", args.output, _ANIM if animated else _IMAGE, inputs=[args.texture])
     h, w = check_size(args.size, args.supersample)
+    if animated and output.suffix.lower() == ".mp4":
+        check_mp4_size(h, w)
     start = Camera.from_tuple(args.camera, fov=args.fov)
     if args.to is not None:
         end = Camera.from_tuple(args.to, fov=args.fov)
@@ -83,10 +86,13 @@ def run(args) -> int:
         yaw = math.radians(start.yaw)
         end = start.moved(position=(x + d * math.sin(yaw), y + d * math.cos(yaw), z))
     if animated and args.frames * h * w * 3 > MAX_ANIMATION_BYTES:
-        raise ValueError(f"--frames {args.frames} at {w}x{h} would hold {args.frames * h * w * 3 / 2**30:.1f} GiB "
-                         f"of frames, over the budget of {MAX_ANIMATION_BYTES / 2**30:.0f} GiB")
+        most = MAX_ANIMATION_BYTES // (h * w * 3)
+        raise ValueError(f"--frames {args.frames} at {w}x{h} would hold {args.frames * h * w * 3} bytes of "
+                         f"frames, over the budget of {MAX_ANIMATION_BYTES} bytes (1 GiB): at most {most} "
+                         f"frames at this size")
     cameras = flight(start, end, args.frames) if animated else [start]
     texture = SpectralTexture.load(args.texture)
+    check_output_path("output", output, _ANIM if animated else _IMAGE)  # again: not one of its tile files
     kw = dict(filter=args.filter, anisotropy=args.anisotropy, supersample=args.supersample)
 
     renderer = None

@@ -22,7 +22,8 @@ def register(subparsers) -> None:
         ),
     )
     p.add_argument("image", help="image file (PNG, JPEG, ..., or .npy)")
-    p.add_argument("-o", "--output", default=None, help="plot file (.png, .pdf or .svg)")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None,
+                   help="plot file (.png, .pdf or .svg)")
     p.add_argument("--window", choices=_WINDOWS, default="periodic",
                    help="leakage control (default: periodic)")
     p.add_argument("--fmin", type=_common.positive_float, default=None,
@@ -40,7 +41,12 @@ def run(args) -> int | None:
     from spectex.spectral import radial_power_spectrum, spectral_slope
     from spectex.tiles import luma
 
-    output = None if args.output is None else check_output_path("output", args.output, _SUFFIXES)
+    if args.fmax > 0.5:
+        raise ValueError(f"--fmax must be at most 0.5 cycles per pixel (the Nyquist frequency), got {args.fmax:g}")
+    if args.fmin is not None and args.fmin >= args.fmax:
+        raise ValueError(f"--fmin must be below --fmax ({args.fmax:g}), got {args.fmin:g}")
+    output = None if args.output is None else check_output_path("output", args.output, _SUFFIXES,
+                                                                   inputs=[args.image])
     image = read_image(args.image, name="image")
     if min(image.shape[:2]) < 8:
         raise ValueError(f"image must be at least 8x8 pixels for a spectrum, got "
@@ -50,6 +56,9 @@ def run(args) -> int | None:
         raise ValueError(f"image is constant (every pixel {float(grey.flat[0]):g}): it has no spectrum")
     freqs, power = radial_power_spectrum(grey, window=args.window)
     fmin = 2.0 / min(grey.shape) if args.fmin is None else args.fmin
+    if fmin >= args.fmax:
+        raise ValueError(f"the fit range is empty: --fmin {fmin:.4g} (default: 2 cycles across the "
+                         f"{min(grey.shape)}-pixel side) is not below --fmax {args.fmax:g}")
     fit = spectral_slope(freqs, power, fmin=fmin, fmax=args.fmax)
     h, w = grey.shape
     _common.report(f"{args.image}: {w}x{h}, slope {fit.slope:.3f} (beta {-fit.slope:.3f}), fit over "

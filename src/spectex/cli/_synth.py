@@ -42,7 +42,8 @@ def register(subparsers) -> None:
                    help="make the output tile seamlessly (histogram output, white noise, always does)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
-    p.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, .tif, ..., or .npy)")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True,
+                   help="output image (.png, .jpg, .tif, ..., or .npy)")
     p.set_defaults(func=run)
 
 
@@ -50,7 +51,8 @@ def run(args) -> int | None:
     from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, read_image, write_image
     from spectex import synthesis
 
-    output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES)
+    output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES,
+                               inputs=[args.exemplar, args.match])
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
     exemplar = read_image(args.exemplar, name="exemplar")

@@ -5,6 +5,10 @@ from __future__ import annotations
 from . import _common
 
 
+#: Largest corpus file read (its n-gram tables are built in memory, in Python).
+MAX_CORPUS_BYTES = 64 << 20
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "text",
@@ -24,31 +28,41 @@ def register(subparsers) -> None:
     p.add_argument("--length", type=_common.nonneg_int, default=500,
                    help="number of letters or words to generate (default: 500)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
-    p.add_argument("-o", "--output", default=None, help="write the text to this file instead of standard output")
+    p.add_argument("-o", "--output", type=_common.output_name, default=None,
+                   help="write the text to this file instead of standard output")
     p.set_defaults(func=run)
 
 
 def run(args) -> int | None:
     from pathlib import Path
 
-    from spectex.io import atomic_path
+    from spectex._output import note_input, plan_output, write_text
     from spectex.synthesis import markov_text
+    from spectex.synthesis._markov import MAX_TEXT_LENGTH
 
+    if args.length > MAX_TEXT_LENGTH:
+        raise ValueError(f"--length must be at most {MAX_TEXT_LENGTH} symbols (the text is built in memory), "
+                         f"got {args.length}")
+    if args.output is not None:  # a file, or a device or pipe such as /dev/stdout (written in place)
+        plan_output(args.output, inputs=[args.corpus], stream=True)
+    else:
+        _common.require_stdout("the text would be lost; give -o FILE")
+    note_input(args.corpus)
+    size = Path(args.corpus).stat().st_size
+    if size > MAX_CORPUS_BYTES:
+        raise ValueError(f"corpus '{args.corpus}' is {size} bytes, over the limit of {MAX_CORPUS_BYTES} bytes "
+                         f"({MAX_CORPUS_BYTES >> 20} MiB: the model is built in memory)")
     data = Path(args.corpus).read_bytes()
     if b"\x00" in data:
         raise ValueError(f"corpus is not a text file (it holds NUL bytes): '{args.corpus}'")
     corpus = data.decode("utf-8", errors="replace")
-    if args.output is not None:
-        folder = Path(args.output).parent
-        if str(folder) and not folder.is_dir():
-            raise ValueError(f"output is in a folder that does not exist: '{args.output}'")
     with _common.Progress("markov text") as bar:
         text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, seed=args.seed,
                            progress=bar)
     if args.output is None:
         print(text)
     else:
-        with atomic_path(args.output) as tmp:
-            Path(tmp).write_text(text + "\n", encoding="utf-8")
-        _common.report(f"wrote {args.output} ({args.length} {args.unit}s, order {args.order})")
+        target = write_text(args.output, text + "\n", inputs=[args.corpus])
+        if not target.stream:
+            _common.report(f"wrote {args.output} ({args.length} {args.unit}s, order {args.order})")
     return 0

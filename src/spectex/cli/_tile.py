@@ -63,22 +63,24 @@ def register(subparsers) -> None:
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
                    help="PNG bits per channel (default: 8)")
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
-    p.add_argument("-o", "--output", required=True, help="output RGBA image (.png, .tif, .webp, or .npy)")
+    p.add_argument("-o", "--output", type=_common.output_name, required=True,
+                   help="output RGBA image (.png, .tif, .webp, or .npy)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int | None:
-    import contextlib
-    import os
-
+    from spectex._output import OutputSet
     from spectex.io import check_output_path, read_image, write_image
     from spectex.tiles import make_seamless, make_tile, preview as make_preview
 
-    output = check_output_path("output", args.output, _SUFFIXES)
+    inputs = [args.source] if args.source is not None else []
+    output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
     preview = output.with_name(f"{output.stem}_preview.png") if args.preview else None
-
+    # Both files or neither, planned (and checked against the inputs) before the work.
+    outputs = (OutputSet(output.parent, [output.name, preview.name], inputs=inputs, create=False)
+               if preview is not None else None)
     if args.source is not None:
         photo = read_image(args.source, name="--from image")
         tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
@@ -96,16 +98,12 @@ def run(args) -> int | None:
                          azimuth=args.azimuth, strength=args.strength,
                          alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
         what = f"{args.method} noise"
-    # Both files or neither: the preview first, removed again if the tile fails.
-    if preview is not None:
-        write_image(preview, make_preview(tile))
-    try:
+    if outputs is None:
         write_image(output, tile, bit_depth=args.bit_depth)
-    except BaseException:
-        if preview is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(preview)
-        raise
+    else:
+        with outputs as stage:
+            write_image(stage / preview.name, make_preview(tile))
+            write_image(stage / output.name, tile, bit_depth=args.bit_depth)
     h, w = tile.shape[:2]
     cutoff = args.cutoff if args.cutoff is not None else (None if args.source else 0.25)
     band = f", cut-off {cutoff:g} cycles/pixel" if cutoff else ""

@@ -26,12 +26,13 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from spectex.render import Camera
+    from spectex.render import Camera, check_size
     from spectex.render.viewer import check_display, run_viewer
     from spectex.texture import SpectralTexture
 
-    check_display()
+    check_size(args.size)  # the render budget; X and GL refuse larger windows with a traceback
     camera = Camera.from_tuple(args.camera, fov=args.fov)
-    texture = SpectralTexture.load(args.texture)
+    texture = SpectralTexture.load(args.texture)  # a bad file is named before a missing display
+    check_display()
     run_viewer(texture, camera=camera, size=args.size)
     return 0

@@ -13,6 +13,8 @@ import numpy as np
 from .._validate import check_choice, check_int, check_seed
 
 _UNITS = ("char", "word")
+#: Most symbols one call of :func:`generate_text` makes (the text is built in memory).
+MAX_TEXT_LENGTH = 10_000_000
 
 
 class _NgramTable:
@@ -160,7 +162,8 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, prog
     model : MarkovModel
         From :func:`train_markov`.
     length : int
-        Number of symbols (characters or words) to produce, >= 0.
+        Number of symbols (characters or words) to produce, 0 to
+        ``MAX_TEXT_LENGTH`` (10 million: about 10 s and a few hundred MB).
     seed : int or None
         Seed of the random generator; the same seed gives the same text.
     progress : callable, optional
@@ -173,7 +176,7 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, prog
     """
     if not isinstance(model, MarkovModel):
         raise TypeError(f"model must be a MarkovModel, got {type(model).__name__}")
-    length = check_int("length", length, minimum=0)
+    length = check_int("length", length, minimum=0, maximum=MAX_TEXT_LENGTH)
     seed = check_seed("seed", seed)
     rng = np.random.default_rng(seed)
     order = model.order

@@ -1,0 +1,551 @@
+"""Hostile inputs, table-driven across every command (issue 15).
+
+Each case runs ``python -m spectex ...`` as a subprocess in a fresh copy of
+a folder of small inputs (empty, truncated, huge on decode, NaN, links,
+special files, texture files that reach outside their folder...), and
+asserts:
+
+* the expected exit status (and the words of the one-line error);
+* at most one line on standard error, and no traceback;
+* every file that was there before is byte-identical afterwards, links
+  still links to the same place, except the outputs the case names;
+* no new file except those outputs, and no temporary file anywhere;
+* done within ``TIME_LIMIT`` seconds.
+
+Interrupt cases send SIGINT or SIGTERM after a delay, or as soon as a file
+appears (a staging folder or a temporary file: the moment of writing), and
+additionally assert that an interrupted run changed nothing at all (or, if
+the signal came during the final renames, which hold signals back, that the
+whole new set is in place). A signal in the first tenths of a second reaches
+Python before spectex runs (the interpreter is still importing ``site``):
+SIGTERM then ends the process silently (-15), and SIGINT gives Python's own
+traceback, which no program can prevent; so SIGINT delays here start at 1.5 s.
+
+The cases run in parallel, a few subprocesses at a time; most of them fail
+before any numba kernel is compiled.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import shutil
+import signal
+import stat
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+TIME_LIMIT = 120.0  # seconds per case, generous for a loaded machine
+WORKERS = 4
+CAMERA = ("--camera", "0,0,2,0,-10")
+DEMO_FILES = ("ground.png", "closeup.png", "aerial.png", "tile_colour.png", "tile_alpha.png", "texture.tile.png",
+              "texture.toml")
+FIT_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+TEMP = re.compile(r"\.part|^\.spectex|^\.tmp")
+
+
+# ---------------------------------------------------------------- the inputs
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+
+def _png(width, height, depth, colour_type, idat: bytes) -> bytes:
+    ihdr = struct.pack(">IIBBBBB", width, height, depth, colour_type, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", ihdr) + _chunk(b"IDAT", idat) + _chunk(b"IEND", b"")
+
+
+def _make_inputs(folder: Path) -> None:
+    from spectex import io
+    from spectex.texture import SpectralTexture
+
+    rng = np.random.default_rng(15)
+    io.write_image(folder / "img.png", rng.random((32, 32, 3)).astype(np.float32))
+    io.write_image(folder / "m.png", rng.random((32, 32, 3)).astype(np.float32))
+    io.write_image(folder / "flat.png", np.full((32, 32, 3), 0.5, np.float32))
+    np.save(folder / "nan.npy", np.full((16, 16, 3), np.nan, np.float32))
+    inf = rng.random((16, 16)).astype(np.float32)
+    inf[3, 4] = np.inf
+    np.save(folder / "inf.npy", inf)
+    (folder / "empty.png").write_bytes(b"")
+    (folder / "trunc.png").write_bytes((folder / "img.png").read_bytes()[:200])
+    (folder / "notimage.png").write_text("this is not an image\n")
+    # A decompression bomb, small on disk: 12000 x 12000 1-bit grey zeros (17 kB, 144 M pixels).
+    side = 12000
+    rows = b"\x00" * ((1 + (side + 7) // 8) * side)
+    (folder / "bomb.png").write_bytes(_png(side, side, 1, 0, zlib.compress(rows, 9)))
+    # Headers only: a 16-bit PNG and a .npy claiming 100000 x 100000.
+    (folder / "bomb16.png").write_bytes(_png(100000, 100000, 16, 2, zlib.compress(b"\x00" * 64)))
+    with open(folder / "bomb.npy", "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f4", "fortran_order": False,
+                                                  "shape": (100000, 100000)})
+    # Texture files: a good one, then hostile ones.
+    SpectralTexture.paper_preset(tile_size=16).save(folder / "tex.toml")
+    toml = (folder / "tex.toml").read_text()
+    strip = np.tile(np.linspace(0, 1, 9000, dtype=np.float32)[None, :, None], (3, 1, 4))
+    io.write_image(folder / "strip.tile.png", strip)  # a 3 x 9000 tile (a side over 8192)
+    (folder / "strip.toml").write_text(toml.replace('"tex.tile.png"', '"strip.tile.png"'))
+    (folder / "abs.toml").write_text(toml.replace('"tex.tile.png"', f'"{folder / "tex.tile.png"}"'))
+    (folder / "up.toml").write_text(toml.replace('"tex.tile.png"', f'"../{folder.name}/tex.tile.png"'))
+    (folder / "notile.toml").write_text(toml.replace('"tex.tile.png"', '"missing.png"'))
+    (folder / "nan.toml").write_text(re.sub(r"size = [0-9.e+]+", "size = nan", toml, count=1))
+    (folder / "garbage.toml").write_text("[[[ not toml\n")
+    (folder / "empty.toml").write_text("")
+    # Text.
+    (folder / "c.txt").write_text("the cat sat on the mat and the dog sat on the log. " * 40)
+    (folder / "empty.txt").write_text("")
+    (folder / "nul.txt").write_bytes(b"abc\x00def")
+    np.save(folder / "pickle.npy", np.array([[object()]], dtype=object), allow_pickle=True)
+    data16 = folder / "img16.png"
+    io.write_image(data16, rng.random((32, 32, 3)).astype(np.float32), bit_depth=16)
+    (folder / "trunc16.png").write_bytes(data16.read_bytes()[:300])
+    data16.unlink()
+    # Links and folders.
+    os.symlink("img.png", folder / "link.png")
+    os.symlink("nowhere.png", folder / "dangling.png")
+    os.symlink("c.txt", folder / "clink.txt")
+    os.symlink(".", folder / "here")
+    (folder / "sub").mkdir()
+    (folder / "adir.png").mkdir()
+    # Earlier outputs, which an interrupted or failed run must leave as they are.
+    (folder / "prev.png").write_bytes((folder / "m.png").read_bytes())
+    (folder / "prev.txt").write_text("an earlier output\n")
+    for name, files in (("demo_prev", DEMO_FILES), ("fit_prev", FIT_FILES)):
+        (folder / name).mkdir()
+        for f in files:
+            (folder / name / f).write_text(f"earlier {f}\n")
+
+
+# ------------------------------------------------------------------- helpers
+
+def _readonly_folder(folder: Path) -> str | None:
+    """A folder this process cannot write into (None if there is none: root without a read-only mount)."""
+    if os.geteuid() != 0:
+        ro = folder / "ro"
+        ro.mkdir()
+        ro.chmod(0o555)
+        return str(ro)
+    for candidate in ("/sys", "/proc"):
+        try:
+            fd, probe = tempfile.mkstemp(dir=candidate)
+        except OSError:
+            return candidate
+        os.close(fd)
+        os.unlink(probe)
+    return None
+
+
+def _snapshot(folder: Path) -> dict:
+    """relative path -> what it is: ('file', sha1, mode) | ('link', target) | ('dir', mode) | ('other', mode)."""
+    out = {}
+    for root, dirs, files in os.walk(folder):
+        for name in dirs + files:
+            p = Path(root) / name
+            rel = str(p.relative_to(folder))
+            st = os.lstat(p)
+            if stat.S_ISLNK(st.st_mode):
+                out[rel] = ("link", os.readlink(p))
+            elif stat.S_ISREG(st.st_mode):
+                out[rel] = ("file", hashlib.sha1(p.read_bytes()).hexdigest(), stat.S_IMODE(st.st_mode))
+            elif stat.S_ISDIR(st.st_mode):
+                out[rel] = ("dir", stat.S_IMODE(st.st_mode))
+            else:
+                out[rel] = ("other", stat.S_IFMT(st.st_mode))
+    return out
+
+
+@dataclass(frozen=True)
+class Case:
+    """One hostile run: ``argv`` after ``spectex`` ('{ro}' is a read-only folder)."""
+
+    id: str
+    argv: tuple
+    rc: int | tuple
+    err: str = ""                 # regular expression stderr must contain (an error's words)
+    changes: tuple = ()           # relative paths this run may (rc 0) create or change
+    setup: object = None          # f(folder) -> None, extra preparation
+    signum: int | None = None     # send this signal ...
+    when: object = None           # ... after this many seconds, or when this glob matches
+    check: object = None          # f(folder, stdout) -> None, extra assertions
+    unset: tuple = ()             # environment variables removed for this run
+    stdout: str = "pipe"          # 'closed': no standard output at all; 'broken': its reader has gone
+
+
+def _fifo(name):
+    def setup(folder):
+        os.mkfifo(folder / name)
+    return setup
+
+
+def _hardlink(src, dst):
+    def setup(folder):
+        os.link(folder / src, folder / dst)
+    return setup
+
+
+def _sparse_huge_text(folder):
+    with open(folder / "huge.txt", "wb") as fh:  # 100 MB that take no disk (made here: copies are not sparse)
+        fh.truncate(100 << 20)
+
+
+def _mkdir_with_photo(folder):
+    (folder / "out").mkdir()
+    shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile.png")
+
+
+def _link_in_demo(folder):
+    os.symlink("../prev.txt", folder / "demo_prev" / "texture.toml.lnk")
+    os.unlink(folder / "demo_prev" / "texture.toml")
+    os.symlink("../prev.txt", folder / "demo_prev" / "texture.toml")
+
+
+def _no_nan(folder, stdout):
+    assert not re.search(r"\bnan\b", stdout), stdout
+
+
+def _stdout_has_text(folder, stdout):
+    assert "the" in stdout, stdout
+
+
+def _link_kept(name, target):
+    def check(folder, stdout):
+        assert os.readlink(folder / name) == target
+        assert (folder / target).stat().st_size > 0
+    return check
+
+
+SIGINT, SIGTERM = signal.SIGINT, signal.SIGTERM
+SAME = "is the input"
+CASES = [
+    # --- outputs that name an input: refused before any work, by inode (links, ../, hard links)
+    Case("tile-from-X-o-X", ("tile", "--from", "img.png", "-o", "img.png"), 2, SAME),
+    Case("tile-o-dotdot-spelling", ("tile", "--from", "img.png", "-o", "sub/../img.png"), 2, SAME),
+    Case("tile-o-hard-link", ("tile", "--from", "img.png", "-o", "hard.png"), 2, SAME,
+         setup=_hardlink("img.png", "hard.png")),
+    Case("tile-o-through-linked-folder", ("tile", "--from", "img.png", "-o", "here/img.png"), 2, SAME),
+    Case("tile-from-link-o-target", ("tile", "--from", "link.png", "-o", "img.png"), 2, SAME),
+    Case("tile-preview-is-input", ("tile", "--from", "x_preview.png", "--preview", "-o", "x.png"), 2, SAME,
+         setup=_hardlink("img.png", "x_preview.png")),
+    Case("synth-X-o-X", ("synth", "img.png", "--method", "histogram", "-o", "img.png"), 2, SAME),
+    Case("synth-X-o-link-to-X", ("synth", "img.png", "--method", "histogram", "-o", "link.png"), 2, SAME),
+    Case("synth-match-o-match", ("synth", "img.png", "--method", "histogram", "--match", "m.png", "-o", "m.png"),
+         2, SAME),
+    Case("spectrum-X-o-X", ("spectrum", "img.png", "-o", "img.png"), 2, SAME),
+    Case("compare-o-A", ("compare", "img.png", "m.png", "-o", "img.png"), 2, SAME),
+    Case("compare-o-B", ("compare", "img.png", "m.png", "-o", "./m.png"), 2, SAME),
+    Case("text-C-o-C", ("text", "c.txt", "-o", "c.txt"), 2, SAME),
+    Case("text-C-o-link-to-C", ("text", "c.txt", "-o", "clink.txt"), 2, SAME),
+    Case("render-o-own-tile", ("render", "tex.toml", *CAMERA, "-o", "tex.tile.png"), 2, SAME),
+    Case("fit-folder-holds-photo", ("fit", "out/texture.tile.png", "-o", "out"), 2, SAME,
+         setup=_mkdir_with_photo),
+    # --- links, folders and special files as outputs
+    Case("noise-o-link-writes-target", ("noise", "perlin", "--size", "16", "-o", "plink.png"), 0,
+         changes=("prev.png",), setup=lambda f: os.symlink("prev.png", f / "plink.png"),
+         check=_link_kept("plink.png", "prev.png")),
+    Case("noise-o-dangling-link", ("noise", "perlin", "--size", "16", "-o", "dangling.png"), 0,
+         changes=("nowhere.png",), check=_link_kept("dangling.png", "nowhere.png")),
+    Case("noise-o-folder", ("noise", "perlin", "--size", "16", "-o", "adir.png"), 2, "is a folder"),
+    Case("noise-o-fifo", ("noise", "perlin", "--size", "16", "-o", "fifo.png"), 2, "is a pipe",
+         setup=_fifo("fifo.png")),
+    Case("noise-o-missing-folder", ("noise", "perlin", "-o", "nofolder/x.png"), 2, "does not exist"),
+    Case("noise-o-readonly-before-work", ("noise", "fbm", "--size", "8192x8192", "-o", "{ro}/x.png"), 2,
+         "not writable"),
+    Case("tile-o-readonly-before-work", ("tile", "--size", "8192", "-o", "{ro}/x.png"), 2, "not writable"),
+    Case("demo-out-readonly", ("demo", "--out", "{ro}/demo"), 2, "not writable"),
+    Case("demo-out-is-file", ("demo", "--out", "prev.txt"), 2, "must be a folder"),
+    Case("demo-member-is-link", ("demo", "--out", "demo_prev"), 2, "symbolic link", setup=_link_in_demo),
+    Case("fit-o-is-file", ("fit", "img.png", "-o", "prev.txt"), 2, "must be a folder"),
+    Case("noise-o-name-too-long", ("noise", "perlin", "-o", "a" * 300 + ".png"), 2, "File name too long"),
+    Case("noise-o-newline-in-name", ("noise", "perlin", "-o", "new\nline/x.png"), 2, "does not exist"),
+    Case("fit-member-is-folder", ("fit", "img.png", "-o", "fo"), 2, "is a folder; it cannot be replaced",
+         setup=lambda f: (f / "fo" / "comparison.png").mkdir(parents=True)),
+    Case("demo-parent-missing", ("demo", "--out", "nope/demo"), 2, "parent folder 'nope' does not exist"),
+    Case("text-o-disk-full", ("text", "c.txt", "-o", "/dev/full"), 2, "No space left on device"),
+    Case("text-stdout-closed", ("text", "c.txt"), 2, "standard output is closed", stdout="closed"),
+    Case("compare-stdout-closed", ("compare", "img.png", "m.png"), 2, "standard output is closed",
+         stdout="closed"),
+    Case("text-stdout-reader-gone", ("text", "c.txt", "--length", "300000"), 141, stdout="broken"),
+    Case("text-o-stdout-streams", ("text", "c.txt", "--length", "50", "-o", "/dev/stdout"), 0,
+         check=_stdout_has_text),
+    Case("text-o-devnull-streams", ("text", "c.txt", "--length", "50", "-o", "/dev/null"), 0),
+    # --- inputs that are not files
+    Case("text-corpus-dev-stdin", ("text", "/dev/stdin"), 2, "character device"),
+    Case("spectrum-dev-stdin", ("spectrum", "/dev/stdin"), 2, "character device"),
+    Case("synth-exemplar-folder", ("synth", "adir.png", "-o", "x.png"), 2, "is a folder"),
+    Case("tile-from-dangling-link", ("tile", "--from", "dangling.png", "-o", "x.png"), 2, "missing file"),
+    Case("compare-missing", ("compare", "img.png", "nothere.png"), 2, "not found"),
+    # --- empty, truncated, not an image, NaN and infinity
+    Case("synth-empty", ("synth", "empty.png", "-o", "x.png"), 2, "not a readable image"),
+    Case("spectrum-truncated", ("spectrum", "trunc.png"), 2, "truncated"),
+    Case("synth-truncated-16-bit", ("synth", "trunc16.png", "-o", "x.png"), 2, "not a readable PNG"),
+    Case("tile-from-pickle-npy", ("tile", "--from", "pickle.npy", "-o", "x.png"), 2, "numeric array"),
+    Case("noise-o-empty-name", ("noise", "perlin", "-o", ""), 2, "expected a file or folder name"),
+    Case("tile-from-not-image", ("tile", "--from", "notimage.png", "-o", "x.png"), 2, "not a readable image"),
+    Case("compare-nan", ("compare", "img.png", "nan.npy"), 2, "B must hold finite values"),
+    Case("synth-inf", ("synth", "inf.npy", "--method", "histogram", "-o", "x.png"), 2, "finite"),
+    Case("fit-nan", ("fit", "nan.npy", "-o", "out"), 2, "finite"),
+    Case("compare-flat-says-undefined", ("compare", "flat.png", "flat.png"), 0, check=_no_nan),
+    Case("text-empty-corpus", ("text", "empty.txt"), 2, "corpus"),
+    Case("text-binary-corpus", ("text", "nul.txt"), 2, "NUL"),
+    # --- huge: decompression bombs (small on disk) and sizes whose cost grows without bound
+    Case("spectrum-bomb", ("spectrum", "bomb.png"), 2, "144000000 pixels, over the limit of 134217728"),
+    Case("synth-bomb16", ("synth", "bomb16.png", "-o", "x.png"), 2, "over the limit of 134217728"),
+    Case("tile-from-bomb-npy", ("tile", "--from", "bomb.npy", "-o", "x.png"), 2, "over the limit"),
+    Case("fit-bomb", ("fit", "bomb.png", "-o", "out"), 2, "over the limit"),
+    Case("compare-bomb", ("compare", "bomb.png", "img.png"), 2, "over the limit"),
+    Case("render-strip-tile", ("render", "strip.toml", *CAMERA, "-o", "x.png"), 2, "at most 8192"),
+    Case("view-strip-tile", ("view", "strip.toml"), 2, "at most 8192"),
+    Case("view-huge-window", ("view", "tex.toml", "--size", "100000x100000"), 2, "over the limit"),
+    Case("tile-cutoff-tiny", ("tile", "--cutoff", "1e-12", "-o", "x.png"), 2, "cutoff must be at least"),
+    Case("tile-size-huge", ("tile", "--size", "100000", "-o", "x.png"), 2, "over the limit"),
+    Case("text-corpus-huge", ("text", "huge.txt"), 2, "104857600 bytes, over the limit", setup=_sparse_huge_text),
+    Case("text-length-huge", ("text", "c.txt", "--length", "1000000000000"), 2, "--length must be at most"),
+    Case("synth-size-huge", ("synth", "img.png", "--size", "100000x100000", "-o", "x.png"), 2, "over the limit"),
+    Case("noise-size-huge", ("noise", "perlin", "--size", "100000x100000", "-o", "x.png"), 2, "over the limit"),
+    Case("render-frames-budget", ("render", "tex.toml", *CAMERA, "--frames", "1000", "-o", "x.gif"), 2,
+         r"1555200000 bytes .* at most 690 frames"),
+    # --- values: the message says what is wrong with the value given
+    Case("noise-negative-size", ("noise", "perlin", "--size", "-5x10", "-o", "x.png"), 2, ">= 1, got '-5x10'"),
+    Case("noise-lacunarity-overflow", ("noise", "fbm", "--lacunarity", "1e300", "-o", "x.png"), 2,
+         "--lacunarity 1e\\+300"),
+    Case("noise-mp4-odd", ("noise", "perlin", "--size", "1x1", "--frames", "2", "-o", "x.mp4"), 2, "even"),
+    Case("render-mp4-odd", ("render", "tex.toml", *CAMERA, "--size", "33x17", "--frames", "2", "-o", "x.mp4"), 2,
+         "even"),
+    Case("spectrum-fmax-over-nyquist", ("spectrum", "img.png", "--fmax", "10"), 2, "--fmax must be at most 0.5"),
+    Case("fit-pixel-size-huge", ("fit", "img.png", "--pixel-size", "1e300", "-o", "out"), 2, "--pixel-size"),
+    Case("fit-pixel-size-tiny", ("fit", "img.png", "--pixel-size", "1e-300", "-o", "out"), 2, "--pixel-size"),
+    Case("render-absolute-tile", ("render", "abs.toml", *CAMERA, "-o", "x.png"), 2, "absolute path"),
+    Case("render-dotdot-tile", ("render", "up.toml", *CAMERA, "-o", "x.png"), 2, "'\\.\\.'"),
+    Case("render-missing-tile", ("render", "notile.toml", *CAMERA, "-o", "x.png"), 2, "not found"),
+    Case("render-nan-layer", ("render", "nan.toml", *CAMERA, "-o", "x.png"), 2, "finite"),
+    Case("render-garbage-toml", ("render", "garbage.toml", *CAMERA, "-o", "x.png"), 2, "not valid TOML"),
+    Case("view-empty-toml", ("view", "empty.toml"), 2, "missing field"),
+    Case("view-no-display", ("view", "tex.toml"), 2, "no display", unset=("DISPLAY", "WAYLAND_DISPLAY")),
+    Case("render-empty-tile", ("render", "tex.toml", *CAMERA, "-o", "x.png"), 2, "not a readable image",
+         setup=lambda f: (f / "tex.tile.png").write_bytes(b"")),
+    # --- interrupts, at several moments
+    Case("text-sigterm-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 143,
+         signum=SIGTERM, when=1.5, changes=("prev.txt",)),
+    Case("text-sigint-while-working", ("text", "c.txt", "--length", "8000000", "-o", "new.txt"), 130,
+         signum=SIGINT, when=1.5, changes=("new.txt",)),
+    # so early that Python may not have started spectex yet: then the default action ends it (-15)
+    Case("text-sigterm-at-start", ("text", "c.txt", "-o", "new.txt"), (143, -15), signum=SIGTERM, when=0.05,
+         changes=("new.txt",)),
+    Case("demo-sigterm-new-folder", ("demo", "--out", "newdemo"), 143, signum=SIGTERM, when=1.5,
+         changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
+    Case("demo-sigint-new-folder-writing", ("demo", "--out", "newdemo"), 130, signum=SIGINT,
+         when=".newdemo.*", changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
+    Case("demo-sigterm-existing-writing", ("demo", "--out", "demo_prev"), 143, signum=SIGTERM,
+         when="demo_prev/.spectex-stage.*", changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
+    Case("demo-sigint-existing-early", ("demo", "--out", "demo_prev"), 130, signum=SIGINT, when=2.0,
+         changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
+    Case("text-sighup-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 129,
+         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",)),
+    Case("fit-sigterm-existing", ("fit", "img.png", "-o", "fit_prev"), 143, signum=SIGTERM, when=2.0,
+         changes=tuple(f"fit_prev/{f}" for f in FIT_FILES)),
+    Case("noise-gif-sigint-writing", ("noise", "perlin", "--size", "256", "--frames", "60", "-o", "anim.gif"),
+         130, signum=SIGINT, when=".anim.*", changes=("anim.gif",)),
+    # --- the newer commands follow the same rules (export, bake)
+    Case("export-o-file-input", ("export", "tex.toml", "-o", "tex.toml"), 2, "output"),
+    Case("export-o-folder-holding-inputs", ("export", "tex.toml", "-o", "."), 2, ""),
+    Case("export-absolute-tile", ("export", "abs.toml", "-o", "exp"), 2, "absolute path"),
+    Case("export-strip-tile", ("export", "strip.toml", "-o", "exp"), 2, "at most 8192"),
+    Case("export-bad-format", ("export", "tex.toml", "-o", "exp", "--format", "web,unreal5"), 2, "unreal5"),
+    Case("export-missing-texture", ("export", "nope.toml", "-o", "exp"), 2, "nope.toml"),
+    Case("bake-o-texture", ("bake", "tex.toml", "-o", "tex.toml", "--size", "8x8", "--pixel-size", "1"), 2, ""),
+    Case("bake-o-tile", ("bake", "tex.toml", "-o", "tex.tile.png", "--size", "8x8", "--pixel-size", "1"), 2, ""),
+    Case("bake-absolute-tile", ("bake", "abs.toml", "-o", "b.zarr", "--size", "8x8", "--pixel-size", "1"), 2,
+         "absolute path"),
+    Case("bake-negative-size", ("bake", "tex.toml", "-o", "b.zarr", "--size", "-8x8", "--pixel-size", "1"), 2,
+         "size"),
+    Case("bake-nan-pixel-size", ("bake", "tex.toml", "-o", "b.zarr", "--size", "8x8", "--pixel-size", "nan"), 2,
+         "pixel"),
+    Case("bake-read-only-folder", ("bake", "tex.toml", "-o", "{ro}/b.zarr", "--size", "8x8", "--pixel-size", "1"),
+         2, ""),
+]
+
+
+def _run(case: Case, base: Path, work: Path) -> dict:
+    folder = work / case.id
+    shutil.copytree(base, folder, symlinks=True)
+    if case.setup is not None:
+        case.setup(folder)
+    ro = None
+    if any("{ro}" in a for a in case.argv):
+        ro = _readonly_folder(folder)
+        if ro is None:
+            return {"skip": "no read-only folder available to this user"}
+    argv = [a.replace("{ro}", ro or "") for a in case.argv]
+    before = _snapshot(folder)
+    ro_before = sorted(os.listdir(ro)) if ro else None
+    env = dict(os.environ, PYTHONPATH=str(SRC), PYTHONWARNINGS="")
+    for name in case.unset:
+        env.pop(name, None)
+    start = time.perf_counter()
+    command = [sys.executable, "-m", "spectex", *argv]
+    if case.stdout == "closed":
+        command = ["sh", "-c", 'exec "$0" "$@" >&-', *command]
+    proc = subprocess.Popen(command, cwd=folder, env=env,
+                            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if case.stdout == "broken":
+        proc.stdout.close()
+        proc.stdout = None
+    sent = None
+    if case.signum is not None:
+        deadline = start + TIME_LIMIT
+        while proc.poll() is None and time.perf_counter() < deadline:
+            if isinstance(case.when, (int, float)):
+                if time.perf_counter() - start >= case.when:
+                    break
+            elif list(folder.glob(case.when)):
+                break
+            time.sleep(0.005)
+        if proc.poll() is None:
+            proc.send_signal(case.signum)
+            sent = time.perf_counter() - start
+    try:
+        out, err = proc.communicate(timeout=TIME_LIMIT)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+        return {"timeout": True, "elapsed": time.perf_counter() - start, "err": err}
+    elapsed = time.perf_counter() - start
+    after = _snapshot(folder)
+    ro_after = sorted(os.listdir(ro)) if ro else None
+    return {"rc": proc.returncode, "out": out or "", "err": err, "elapsed": elapsed, "before": before, "after": after,
+            "ro": (ro_before, ro_after), "sent": sent, "folder": folder}
+
+
+@pytest.fixture(scope="module")
+def results(request, tmp_path_factory):
+    """Run the selected cases, a few at a time; case id -> what happened."""
+    wanted = {item.callspec.params["case"].id for item in request.session.items
+              if item.module is request.module and hasattr(item, "callspec") and "case" in item.callspec.params}
+    base = tmp_path_factory.mktemp("hostile-inputs")
+    _make_inputs(base)
+    work = tmp_path_factory.mktemp("hostile-runs")
+    cases = [c for c in CASES if c.id in wanted]
+    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
+        done = dict(zip((c.id for c in cases), pool.map(lambda c: _run(c, base, work), cases)))
+    yield done
+    for root, dirs, _ in os.walk(work):  # let pytest clean up read-only folders
+        for d in dirs:
+            with_write = os.stat(os.path.join(root, d)).st_mode | stat.S_IWUSR
+            os.chmod(os.path.join(root, d), with_write)
+
+
+def test_cases_are_distinct_and_cover_every_command():
+    from spectex.cli import build_parser
+
+    ids = [c.id for c in CASES]
+    assert len(ids) == len(set(ids))
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    commands = set(sub.choices)
+    covered = {c.argv[0] for c in CASES}
+    assert commands <= covered, f"commands without a hostile case: {sorted(commands - covered)}"
+    signalled = {c.argv[0] for c in CASES if c.signum is not None}
+    assert {"demo", "fit", "text"} <= signalled
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
+def test_hostile(case, results):
+    r = results[case.id]
+    if "skip" in r:
+        pytest.skip(r["skip"])
+    assert not r.get("timeout"), f"still running after {TIME_LIMIT} s: {r['err'][-500:]}"
+    assert r["elapsed"] < TIME_LIMIT
+    err = r["err"]
+    lines = [ln for ln in err.splitlines() if ln.strip() and "rendering on the CPU instead" not in ln]
+    assert "Traceback" not in err, err
+    assert len(lines) <= 1, err
+    interrupted = case.signum is not None and r["sent"] is not None and r["rc"] != 0
+    # An interrupt case whose run ended before the signal could be sent must be a complete run.
+    expected = case.rc if isinstance(case.rc, tuple) else (case.rc,)
+    if case.signum == signal.SIGINT and err.strip():
+        # After its one line and its clean-up, CPython sometimes ends a process that caught a
+        # KeyboardInterrupt by SIGINT itself (the shell convention for Ctrl-C): status -2.
+        expected += (-signal.SIGINT,)
+    expected += (0,) if case.signum is not None and r["sent"] is None else ()
+    assert r["rc"] in expected, f"exit status {r['rc']}, stderr: {err}"
+    if case.err and r["rc"] != 0:
+        assert re.search(case.err, err), err
+    before, after = r["before"], r["after"]
+    changed = {p for p in before if after.get(p) != before[p]}
+    created = set(after) - set(before)
+    strays = [p for p in after if TEMP.search(Path(p).name)]
+    assert not strays, f"temporary files left: {strays}"
+    ro_before, ro_after = r["ro"]
+    assert ro_before == ro_after
+    touched = changed | created
+    if interrupted and touched:
+        # Signals are held back during the final renames: a signal that arrived then is acted on
+        # after them, so the whole new set is in place, never a part of it.
+        assert touched == set(case.changes), f"a part of the set changed: {sorted(touched)}"
+    allowed = set(case.changes) if (r["rc"] == 0 or interrupted) else set()
+    assert changed <= allowed, f"inputs or earlier outputs changed: {sorted(changed - allowed)}"
+    assert created <= allowed, f"unexpected new files: {sorted(created - allowed)}"
+    if os.environ.get("SPECTEX_HOSTILE_LOG"):
+        with open(os.environ["SPECTEX_HOSTILE_LOG"], "a") as fh:
+            fh.write(f"{case.id}\trc {r['rc']}\tsignal at {r['sent']}\t{r['elapsed']:.2f} s\t{err.strip()}\n")
+    if case.check is not None and r["rc"] == 0:
+        case.check(r["folder"], r["out"])
+
+
+# ------------------------------------------------- the same bounds, from the library
+
+def test_texture_file_tiles_stay_in_its_folder(tmp_path):
+    from spectex.texture import SpectralTexture
+    from spectex.texture_file import from_dict, to_dict
+
+    tex = SpectralTexture.paper_preset(tile_size=16)
+    tex.save(tmp_path / "t.toml")
+    doc = to_dict(tex, ["t.tile.png"])
+    assert from_dict(doc, base=tmp_path) == tex  # the control
+    (tmp_path / "sub").mkdir()
+    shutil.copyfile(tmp_path / "t.tile.png", tmp_path / "sub" / "t.png")
+    assert from_dict(dict(doc, tiles=["sub/t.png"]), base=tmp_path) == tex
+    for name, words in ((str(tmp_path / "t.tile.png"), "absolute path"), ("../t.tile.png", "'..'"),
+                        ("sub/../t.tile.png", "'..'"), ("C:\\t.tile.png", "absolute path"), ("", "file name")):
+        with pytest.raises(ValueError, match=words):
+            from_dict(dict(doc, tiles=[name]), base=tmp_path / "sub")
+
+
+def test_tile_sides_are_bounded_before_any_work():
+    from spectex.texture import SpectralTexture
+
+    strip = np.zeros((3, 8193, 4), np.float32)
+    with pytest.raises(ValueError, match=r"tiles\[0\] is 8193x3 texels; a tile side must be at most 8192"):
+        SpectralTexture.plain(strip, 10.0)
+
+
+def test_cutoff_cost_is_bounded_by_the_tile():
+    from spectex.tiles import _working_factor, make_tile
+
+    start = time.perf_counter()
+    assert _working_factor(512, 512, 1e-12) == 128  # the grid keeps 4 cells a side
+    assert _working_factor(512, 384, 0.25) == 2
+    assert time.perf_counter() - start < 1.0
+    with pytest.raises(ValueError, match=r"cutoff must be at least 1/64 .* got 0.01"):
+        make_tile(64, cutoff=0.01)
+
+
+def test_text_length_is_bounded():
+    from spectex.synthesis import generate_text, train_markov
+    from spectex.synthesis._markov import MAX_TEXT_LENGTH
+
+    model = train_markov("abcabd", order=1)
+    with pytest.raises(ValueError, match=f"length must be <= {MAX_TEXT_LENGTH}"):
+        generate_text(model, MAX_TEXT_LENGTH + 1)
+    assert len(generate_text(model, 5)) == 5
