@@ -42,7 +42,7 @@ def no_gl(monkeypatch):
 @pytest.mark.gl
 def test_cli_render_demo_writes_pictures_and_report(tmp_path, capsys, gl):
     out = tmp_path / "demo"
-    assert main(["demo", "--out", str(out)]) == 0
+    assert main(["demo", "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "327680 x 327680" in text and "3.05 cm" in text
     assert "1.00 MiB" in text and "300.0 GiB" in text
@@ -60,7 +60,7 @@ def test_cli_render_demo_without_gl_uses_cpu(tmp_path, capsys, no_gl, monkeypatc
 
     monkeypatch.setattr(demo, "DEMO_SIZE", (36, 64))
     out = tmp_path / "demo"
-    assert main(["demo", "--out", str(out)]) == 0
+    assert main(["demo", "-o", str(out)]) == 0
     captured = capsys.readouterr()
     err = captured.err.strip().splitlines()
     assert len(err) == 1 and "no OpenGL" in err[0] and "CPU" in err[0]

@@ -35,18 +35,43 @@ class UsageError(Exception):
     """A command-line mistake: reported in one line, exit status 2."""
 
 
+def _noting(base):
+    """An argparse action class like ``base`` that also notes which options were given.
+
+    The names go to the namespace's ``given`` attribute, a dict from ``dest``
+    to the option string as typed (``--gain``), so that a command can refuse
+    an option that does not apply to what was asked (see
+    :func:`spectex.cli._common.refuse`) while keeping its default otherwise.
+    """
+
+    class Noting(base):
+        def __call__(self, parser, namespace, values, option_string=None):
+            if option_string is not None:
+                given = vars(namespace).setdefault("given", {})
+                given[self.dest] = option_string
+            super().__call__(parser, namespace, values, option_string)
+
+    Noting.__name__ = f"Noting{base.__name__}"
+    return Noting
+
+
 class _Parser(argparse.ArgumentParser):
     """ArgumentParser whose errors are one line and exit status 2.
 
     A value that starts with a minus sign and a digit (``--size -5x10``,
     ``--beta -1e3``) is taken as the option's value, so that its own check
     says what is wrong with it (argparse would otherwise say "expected one
-    argument"); no spectex option name starts with a digit.
+    argument"); no spectex option name starts with a digit. The options given
+    on the command line are noted in ``args.given`` (``dest`` to the option
+    string typed).
     """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = re.compile(r"^-\.?\d")
+        self.register("action", None, _noting(argparse._StoreAction))
+        self.register("action", "store", _noting(argparse._StoreAction))
+        self.register("action", "store_true", _noting(argparse._StoreTrueAction))
 
     def error(self, message):  # noqa: D401 - argparse API
         self.exit(2, f"{self.prog}: error: {message}\n")

@@ -98,6 +98,33 @@ def require_stdout(what: str) -> None:
         raise ValueError(f"standard output is closed: {what}")
 
 
+def given(args, dest: str) -> bool:
+    """Whether the option stored in ``dest`` was typed on the command line (not left at its default)."""
+    return dest in getattr(args, "given", {})
+
+
+def refuse(args, dests, why: str) -> None:
+    """Refuse, in one line, the first of the options ``dests`` that was given: it does not apply ``why``.
+
+    ``why`` completes the sentence "--gain does not apply ...", e.g. ``"to
+    marble (only to fbm and turbulence)"``.
+    """
+    from . import UsageError
+
+    typed = getattr(args, "given", {})
+    for dest in dests:
+        if dest in typed:
+            raise UsageError(f"{typed[dest]} does not apply {why}")
+
+
+def deprecated_alias(args, dest: str, old: str, new: str) -> None:
+    """Print one line on standard error when the option ``old`` (stored in ``dest``) was typed instead of ``new``."""
+    import sys
+
+    if getattr(args, "given", {}).get(dest) == old:
+        print(f"spectex {args.command}: {old} is deprecated and will be removed; use {new}", file=sys.stderr)
+
+
 def report(message: str) -> None:
     """Print a progress or result line (standard output)."""
     print(message, flush=True)

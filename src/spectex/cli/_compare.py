@@ -21,7 +21,7 @@ def register(subparsers) -> None:
     p.add_argument("b", type=_common.existing_file, metavar="B", help="texture to judge")
     p.add_argument("--block", type=_common.positive_int, default=None,
                    help="quilt block size, for the seam energy")
-    p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="quilt overlap, for the seam energy")
+    p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="with --block: quilt overlap, for the seam energy (default: 0)")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
                    help="also write A and B side by side to this image")
@@ -66,6 +66,8 @@ def run(args) -> int | None:
     from spectex import metrics
     from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
 
+    if args.block is None:
+        _common.refuse(args, ["overlap"], "without --block (only to the seam energy of a quilt)")
     _common.require_stdout("the measures would be lost")
     output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[args.a, args.b])
               if args.output else None)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 from . import _common
 
 DEFAULT_OUT = "spectex-demo"
@@ -18,15 +20,17 @@ def register(subparsers) -> None:
             "Berger's spectral texturing, end to end: one seamless 512x512 RGBA noise tile "
             "(emboss alpha) drawn as five layers from 15.625 m to 10 km, finest first, each "
             "coarser one alpha-blended over it. Renders a ground-plane view to the horizon "
-            "(the paper's Figure 1, top), a close-up and an aerial view with OpenGL (headless "
+            "(Figure 1 of Berger's sketch, top), a close-up and an aerial view with OpenGL (headless "
             "EGL; the CPU reference renderer where there is no OpenGL), writes the tile's colour "
-            "and alpha (Figure 1, bottom) and the texture file, and reports the virtual texture "
+            "and alpha (its Figure 1, bottom) and the texture file, and reports the virtual texture "
             "size, the memory used against one image of the same texture, and render times."
         ),
     )
-    p.add_argument("--out", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
+    p.add_argument("-o", "--output", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="tile seed (default: 0)")
+    p.add_argument("--out", dest="output", type=_common.output_name, default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)  # the old name, deprecated: one line on stderr says so
+    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed of the tile (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL if a context can be made, else the CPU)")
     p.set_defaults(func=run)
@@ -55,7 +59,8 @@ def run(args) -> int:
     from spectex.tiles import make_tile
 
     # Every file checked before the work; the set replaces the earlier demo only when complete.
-    outputs = OutputSet(args.out, _FILES, name="--out")
+    _common.deprecated_alias(args, "output", "--out", "-o/--output")
+    outputs = OutputSet(args.output, _FILES, name="--output")
     out = outputs.path
 
     t0 = time.perf_counter()

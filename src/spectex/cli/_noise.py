@@ -11,32 +11,35 @@ def register(sub) -> None:
     p = sub.add_parser(
         "noise",
         help="write an image (or animation) of procedural noise",
-        description="Procedural noise and textures (seed 002): Perlin and value noise, fractal sums, "
-                    "turbulence, marble, wood, stripes and clouds, coloured through a ramp.",
+        description="Procedural noise and textures: Perlin and value noise, their fractal sums (fbm), "
+                    "turbulence, marble, wood, stripes and clouds, coloured through a ramp. Options that "
+                    "do not apply to the chosen kind (--octaves for perlin and value; --lacunarity, "
+                    "--gain and --basis for all but fbm and turbulence) are refused.",
     )
     p.add_argument("kind", choices=KINDS, help="what to draw")
     p.add_argument("--size", type=_common.size, default=(512, 512), metavar="WxH",
                    help="image size in pixels (default 512x512)")
     p.add_argument("--scale", type=_common.positive_float, default=4.0,
                    help="noise lattice cells across the image width (default 4)")
-    p.add_argument("--octaves", type=_common.positive_int, default=6, help="fractal octaves (default 6)")
+    p.add_argument("--octaves", type=_common.positive_int, default=6, help="fractal octaves: all kinds but perlin and value (default 6)")
     p.add_argument("--lacunarity", type=_common.positive_float, default=2.0,
-                   help="frequency ratio between octaves (default 2)")
+                   help="fbm and turbulence: frequency ratio between octaves (default 2)")
     p.add_argument("--gain", type=_common.positive_float, default=0.5,
-                   help="amplitude ratio between octaves (default 0.5)")
+                   help="fbm and turbulence: amplitude ratio between octaves (default 0.5)")
     p.add_argument("--basis", choices=("perlin", "value"), default="perlin",
-                   help="noise summed by fbm and turbulence (default perlin)")
+                   help="fbm and turbulence: the noise summed (default perlin)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default 0)")
     p.add_argument("--tileable", action="store_true", help="make the image tile seamlessly")
     p.add_argument("--colormap", default=None, metavar="NAME",
                    help="colour ramp: grey, earth, stone, sand, moss, marble, wood, clouds, fire, lava, "
                         "ocean, rust, blue, or any Matplotlib colormap (default: grey, or the kind's own)")
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel")
+    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default 8)")
     p.add_argument("--frames", type=_common.positive_int, default=None,
                    help="write an animation of N frames (slices of 3-D noise) to .gif or .mp4")
     p.add_argument("--speed", type=_common.finite_float, default=0.05,
-                   help="lattice units moved per animation frame (default 0.05)")
-    p.add_argument("--fps", type=_common.positive_float, default=24.0, help="animation frame rate")
+                   help="with --frames: lattice units moved per frame (default 0.05)")
+    p.add_argument("--fps", type=_common.positive_float, default=24.0,
+                   help="with --frames: frames per second (default 24)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="PATH",
                    help=".png, .jpg, .tif, .npy (raw floats), or .gif/.mp4 with --frames")
     p.set_defaults(func=run)
@@ -61,6 +64,7 @@ def run(args) -> int:
         raise _common_error(f"--frames needs a .gif or .mp4 output, got '{out}'")
     io.check_output_path("output", out, io.ANIMATION_SUFFIXES if animated
                          else io.IMAGE_SUFFIXES + io.ARRAY_SUFFIXES)
+    _refuse_unused(args, suffix)
     h, w = args.size
     if suffix == ".mp4":
         io.check_mp4_size(h, w)
@@ -103,6 +107,21 @@ def run(args) -> int:
         io.write_image(out, image, bit_depth=args.bit_depth)
     _common.report(f"wrote {out} ({w}x{h})")
     return 0
+
+
+def _refuse_unused(args, suffix: str) -> None:
+    """Refuse, in one line, options that would do nothing for this kind and output."""
+    kind = args.kind
+    if kind in ("perlin", "value"):
+        _common.refuse(args, ["octaves"], f"to {kind} (one octave; fbm sums several)")
+    if kind not in ("fbm", "turbulence"):
+        _common.refuse(args, ["lacunarity", "gain", "basis"], f"to {kind} (only to fbm and turbulence)")
+    if args.frames is None:
+        _common.refuse(args, ["speed", "fps"], "without --frames (only to animations)")
+    if suffix != ".png":
+        _common.refuse(args, ["bit_depth"], f"to {suffix or 'this'} output (only to .png)")
+    if suffix == ".npy":
+        _common.refuse(args, ["colormap"], "to .npy output (the raw noise values, not colours)")
 
 
 def _params(args) -> dict:

@@ -42,8 +42,8 @@ def register(subparsers) -> None:
                    help="maximum anisotropy, 1 (off) to 16 (default: 1)")
     p.add_argument("--frames", type=_common.positive_int, default=1, help="frames of a fly-over (default: 1)")
     p.add_argument("--to", type=_common.floats(5), default=None, metavar="X,Y,Z,YAW,PITCH",
-                   help="fly-over end camera (default: 40 altitudes ahead, same height and angles)")
-    p.add_argument("--fps", type=_common.positive_float, default=24.0, help="fly-over frames per second (default: 24)")
+                   help="with --frames: fly-over end camera (default: 40 altitudes ahead, same height and angles)")
+    p.add_argument("--fps", type=_common.positive_float, default=24.0, help="with --frames: frames per second (default: 24)")
     p.set_defaults(func=run)
 
 
@@ -73,6 +73,8 @@ def run(args) -> int:
 
     # Everything is checked before anything is drawn or written.
     animated = args.frames > 1
+    if not animated:
+        _common.refuse(args, ["to", "fps"], "to a single picture (only with --frames 2 or more)")
     output = check_output_path("output", args.output, _ANIM if animated else _IMAGE, inputs=[args.texture])
     h, w = check_size(args.size, args.supersample)
     if animated and output.suffix.lower() == ".mp4":

@@ -17,7 +17,8 @@ def register(subparsers) -> None:
             "efros-leung (pixel by pixel, Efros and Leung 1999), quilting (blocks with "
             "minimum-error cuts, Efros and Freeman 2001). Palette images become RGB (RGBA "
             "with transparency), 16-bit images keep their precision (write them back with "
-            "--bit-depth 16), an alpha channel is synthesised like a colour."
+            "--bit-depth 16), an alpha channel is synthesised like a colour. Options of another "
+            "method than the chosen one are refused."
         ),
     )
     p.add_argument("exemplar", type=_common.existing_file, help="example image (PNG, JPEG, ..., or .npy)")
@@ -37,9 +38,10 @@ def register(subparsers) -> None:
                    help="histogram: keep the joint colour distribution (default) or only each channel's")
     p.add_argument("--match", type=_common.existing_file, default=None, metavar="IMAGE",
                    help="histogram: instead of sampling, give IMAGE the exemplar's histogram exactly "
-                        "(its structure is kept; --size is ignored)")
+                        "(its structure and size are kept)")
     p.add_argument("--tileable", action="store_true",
-                   help="make the output tile seamlessly (histogram output, white noise, always does)")
+                   help="efros-leung and quilting: make the output tile seamlessly (histogram output, "
+                        "white noise, always does)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
@@ -55,9 +57,12 @@ def run(args) -> int | None:
                                inputs=[args.exemplar, args.match])
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
-    exemplar = read_image(args.exemplar, name="exemplar")
+    if output.suffix.lower() != ".png":
+        _common.refuse(args, ["bit_depth"], f"to {output.suffix or 'this'} output (only to .png)")
     if args.match is not None and args.method != "histogram":
         raise ValueError(f"--match works with --method histogram, got --method {args.method}")
+    _refuse_unused(args)
+    exemplar = read_image(args.exemplar, name="exemplar")
     joint = args.colours == "joint"
     if args.match is not None:
         image = read_image(args.match, name="match image")
@@ -78,3 +83,16 @@ def run(args) -> int | None:
     h, w = result.shape[:2]
     _common.report(f"wrote {output} ({w}x{h}, {args.method})")
     return 0
+
+
+def _refuse_unused(args) -> None:
+    """Refuse, in one line, options of another method than the chosen one."""
+    method = args.method
+    if method != "efros-leung":
+        _common.refuse(args, ["window", "exhaustive"], f"to --method {method} (only to efros-leung)")
+    if method != "quilting":
+        _common.refuse(args, ["block", "overlap", "tolerance"], f"to --method {method} (only to quilting)")
+    if method != "histogram":
+        _common.refuse(args, ["colours"], f"to --method {method} (only to histogram)")
+    if args.match is not None:
+        _common.refuse(args, ["size", "tileable"], "with --match (the matched image keeps its size and structure)")

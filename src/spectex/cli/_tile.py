@@ -17,14 +17,15 @@ def register(subparsers) -> None:
         description=(
             "Make the seamless, low-pass RGBA tile of a spectral texture: random noise "
             "(--method), coloured through a ramp (--colormap), band-limited to --cutoff cycles "
-            "per pixel, with an alpha channel from an emboss filter (the paper's choice), the "
+            "per pixel, with an alpha channel from an emboss filter (Berger's choice), the "
             "luminance, independent noise, or a constant (none). With --from, a photograph is "
             "made tileable instead (Moisan's periodic-plus-smooth decomposition, with the "
             "seams' detail matched to their neighbourhood), cropped about "
             "its centre to --size if given; grey is repeated into RGB, a palette is expanded, "
             "16-bit keeps its precision, and the photograph's own alpha is dropped unless "
             "--alpha keep. --preview also writes NAME_preview.png: the colour repeated 3 x 3 "
-            "beside the alpha repeated 3 x 3, to show that the tile is seamless."
+            "beside the alpha repeated 3 x 3, to show that the tile is seamless. Options that do not "
+            "apply to the chosen method, alpha or source are refused."
         ),
     )
     p.add_argument("--method", choices=_METHODS, default="spectral",
@@ -48,10 +49,10 @@ def register(subparsers) -> None:
                    help="low-pass cut-off, cycles per pixel, at most 0.5 (default: 0.25; with "
                         "--from: none)")
     p.add_argument("--beta", type=_common.finite_float, default=2.0,
-                   help="spectral exponent of the noise, power ~ 1/f^beta (default: 2)")
+                   help="spectral and octaves: exponent of the noise, power ~ 1/f^beta (default: 2)")
     p.add_argument("--low", type=_common.positive_float, default=None,
-                   help="spectral: low cut-off of the noise, cycles per pixel")
-    p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves: how many")
+                   help="spectral: low cut-off of the noise, cycles per pixel (default: none)")
+    p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves and noise: how many octaves (default: octaves, as many as the tile holds; noise, 6)")
     p.add_argument("--filter", choices=_FILTERS, default="bspline",
                    help="octaves: magnification filter (default: bspline)")
     p.add_argument("--azimuth", type=_common.finite_float, default=135.0,
@@ -59,7 +60,7 @@ def register(subparsers) -> None:
     p.add_argument("--strength", type=_common.finite_float, default=1.0,
                    help="emboss: contrast; 1 reaches 0 or 1 at the steepest slope (default: 1)")
     p.add_argument("--alpha-value", type=_common.finite_float, default=None,
-                   help="alpha for --alpha none (default: 0.5; with --from: 1)")
+                   help="--alpha none: the constant alpha (default: 0.5; with --from: 1)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
                    help="PNG bits per channel (default: 8)")
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
@@ -73,10 +74,13 @@ def run(args) -> int | None:
     from spectex.io import check_output_path, read_image, write_image
     from spectex.tiles import make_seamless, make_tile, preview as make_preview
 
+    _refuse_unused(args)
     inputs = [args.source] if args.source is not None else []
     output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
         raise ValueError(f"--bit-depth 16 needs a .png output, got '{output}'")
+    if output.suffix.lower() != ".png":
+        _common.refuse(args, ["bit_depth"], f"to {output.suffix or 'this'} output (only to .png)")
     preview = output.with_name(f"{output.stem}_preview.png") if args.preview else None
     # Both files or neither, planned (and checked against the inputs) before the work.
     outputs = (OutputSet(output.parent, [output.name, preview.name], inputs=inputs, create=False)
@@ -112,3 +116,27 @@ def run(args) -> int | None:
     if preview is not None:
         _common.report(f"wrote {preview} (3x3 colour | 3x3 alpha)")
     return 0
+
+
+def _refuse_unused(args) -> None:
+    """Refuse, in one line, options that would do nothing for this source, method and alpha."""
+    if args.source is not None:
+        _common.refuse(args, ["method", "colormap", "beta", "low", "octaves", "filter"],
+                       "with --from (a photograph has its own colours and spectrum)")
+        alpha = args.alpha or "none"
+    else:
+        _common.refuse(args, ["seam"], "without --from (noise tiles have no seams to join)")
+        alpha = args.alpha or "emboss"
+        method = args.method
+        if method == "noise":
+            _common.refuse(args, ["beta"], "to --method noise (only to spectral and octaves)")
+        if method != "spectral":
+            _common.refuse(args, ["low"], f"to --method {method} (only to spectral)")
+        if method == "spectral":
+            _common.refuse(args, ["octaves"], "to --method spectral (only to octaves and noise)")
+        if method != "octaves":
+            _common.refuse(args, ["filter"], f"to --method {method} (only to octaves)")
+    if alpha != "emboss":
+        _common.refuse(args, ["azimuth", "strength"], f"to --alpha {alpha} (only to emboss)")
+    if alpha != "none":
+        _common.refuse(args, ["alpha_value"], f"to --alpha {alpha} (only to none)")
