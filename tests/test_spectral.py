@@ -293,7 +293,8 @@ def test_windows_remove_edge_leakage_from_a_non_periodic_crop():
         crop = spectral_noise(512, beta=4.0, seed=seed).astype(np.float64)[:200, 100:300]
         for window in slopes:
             freqs, power = radial_power_spectrum(crop, window=window)
-            slopes[window].append(spectral_slope(freqs, power, fmax=0.25).slope)
+            # from 2 cycles across, as the spectrum command fits: the lowest ring is the window's own
+            slopes[window].append(spectral_slope(freqs, power, fmin=2 / 200, fmax=0.25).slope)
     assert np.mean(slopes[None]) > -3.4
     assert abs(np.mean(slopes["hann"]) + 4.0) < 0.3
     assert abs(np.mean(slopes["periodic"]) + 4.0) < 0.3
@@ -323,3 +324,60 @@ def test_spectral_slope_checks():
         spectral_slope(f, f, fmin=0.3, fmax=0.2)
     with pytest.raises(ValueError, match="fewer than two"):
         spectral_slope(f, np.array([1.0, 0.0, 0.0]))
+
+
+# --------------------------------------------------------------------------
+# The slope fit counts every octave alike (issue 18)
+# --------------------------------------------------------------------------
+
+def _octave_means(freqs, power, lo, hi):
+    """Mean log10 f and log10 P of each octave of [lo, hi]: one point per octave (the second route)."""
+    edges = lo * 2.0 ** np.arange(0, np.log2(hi / lo) + 1e-9)
+    xs, ys = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        sel = (freqs >= a) & (freqs < b)
+        if sel.any():
+            xs.append(np.log10(np.sqrt(a * b)))
+            ys.append(np.mean(np.log10(power[sel])))
+    return np.array(xs), np.array(ys)
+
+
+def test_slope_fit_of_a_bent_spectrum_follows_the_octaves():
+    # Rings evenly spaced in f as radial_power_spectrum gives them (512 pixels): power ~ f^-1 for three
+    # octaves, then ~ f^-3 for three more. Each octave counts alike: the slope is near the mean, -2,
+    # and a line through one mean point per octave agrees. The old unweighted fit (control) follows
+    # the top octaves, and misses the lowest ring by about 10x.
+    freqs = np.arange(1, 257) / 512.0
+    lo, hi, bend = 2 / 512, 0.25, 2 / 512 * 8
+    power = np.where(freqs < bend, (freqs / bend) ** -1.0, (freqs / bend) ** -3.0)
+    fit = spectral_slope(freqs, power, fmin=lo, fmax=hi)
+    old = spectral_slope(freqs, power, fmin=lo, fmax=hi, weighting="none")
+    assert abs(fit.slope + 2.0) < 0.1
+    xs, ys = _octave_means(freqs, power, lo, hi)
+    a, _ = np.polyfit(xs, ys, 1)
+    assert abs(fit.slope - a) < 0.1
+    assert old.slope < -2.3  # the control follows the top octaves
+    k = np.argmin(np.abs(freqs - lo))
+    miss_new = abs(np.log10(power[k]) - (fit.slope * np.log10(freqs[k]) + fit.intercept))
+    miss_old = abs(np.log10(power[k]) - (old.slope * np.log10(freqs[k]) + old.intercept))
+    assert miss_old > 0.95 and miss_new < 0.5  # 10^0.99, about 10x; 10^0.45 (the bend's own, at both ends)
+
+
+@pytest.mark.parametrize("beta", [1.5, 2.5])
+def test_slope_fit_of_noise_with_a_known_slope(beta):
+    slopes = []
+    for seed in range(4):
+        x = spectral_noise(256, beta=beta, seed=seed)
+        freqs, power = radial_power_spectrum(x)
+        slopes.append(spectral_slope(freqs, power, fmin=2 / 256, fmax=0.25).slope)
+    assert abs(np.mean(slopes) + beta) < 0.1
+
+
+def test_slope_weighting_is_uniform_on_log_spaced_points_and_checked():
+    # On points evenly spaced in log f, every point stands for the same stretch (bar the trapezoid's
+    # half-weight ends): the weighted fit of an exact power law is exact.
+    f = np.geomspace(0.01, 0.5, 12)
+    fit = spectral_slope(f, 2.0 * f ** -1.7)
+    assert abs(fit.slope + 1.7) < 1e-12 and abs(fit.intercept - np.log10(2.0)) < 1e-12
+    with pytest.raises(ValueError, match="weighting"):
+        spectral_slope(f, f, weighting="linear")

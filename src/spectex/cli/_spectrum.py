@@ -6,6 +6,7 @@ from . import _common
 
 _WINDOWS = ("periodic", "hann", "none")
 _SUFFIXES = (".png", ".pdf", ".svg")
+_WEIGHTED = {"octave": "each octave alike", "none": "each ring alike"}
 
 
 def register(subparsers) -> None:
@@ -15,8 +16,10 @@ def register(subparsers) -> None:
         description=(
             "Compute the radially averaged power spectrum of an image (its Rec. 709 luma for "
             "colour; alpha is ignored), fit a line in log-log coordinates and print its slope "
-            "(-beta for 1/f^beta noise; natural images are near -2). With -o, plot it "
-            "(matplotlib) with the fit. The default window, periodic, analyses the image's "
+            "(-beta for 1/f^beta noise; natural images are near -2). The fit counts every octave "
+            "of the range alike (the frequency rings are evenly spaced, so an unweighted fit would "
+            "follow the highest octave alone). With -o, plot it (matplotlib) with the fit and the "
+            "mean power of each octave. The default window, periodic, analyses the image's "
             "periodic component (Moisan), which suits photographs and tiles alike; hann is the "
             "classical window, none takes the image as one period."
         ),
@@ -31,6 +34,9 @@ def register(subparsers) -> None:
     p.add_argument("--fmax", type=_common.positive_float, default=0.25,
                    help="fit up to this frequency (default: 0.25, half the Nyquist frequency, "
                         "clear of sensor noise, JPEG blocks and 8-bit quantisation)")
+    p.add_argument("--weighting", choices=("octave", "none"), default="octave",
+                   help="octave: every octave counts alike; none: every ring counts alike, which "
+                        "favours the high frequencies (default: octave)")
     p.set_defaults(func=run)
 
 
@@ -59,10 +65,11 @@ def run(args) -> int | None:
     if fmin >= args.fmax:
         raise ValueError(f"the fit range is empty: --fmin {fmin:.4g} (default: 2 cycles across the "
                          f"{min(grey.shape)}-pixel side) is not below --fmax {args.fmax:g}")
-    fit = spectral_slope(freqs, power, fmin=fmin, fmax=args.fmax)
+    fit = spectral_slope(freqs, power, fmin=fmin, fmax=args.fmax, weighting=args.weighting)
     h, w = grey.shape
     _common.report(f"{args.image}: {w}x{h}, slope {fit.slope:.3f} (beta {-fit.slope:.3f}), fit over "
-                   f"{fit.fmin:.4g} to {fit.fmax:.4g} cycles/pixel, window {args.window}")
+                   f"{fit.fmin:.4g} to {fit.fmax:.4g} cycles/pixel ({_WEIGHTED[args.weighting]}), "
+                   f"window {args.window}")
     if output is None:
         return 0
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -73,6 +80,16 @@ def run(args) -> int | None:
     ax = fig.add_subplot(1, 1, 1)
     good = power > 0
     ax.loglog(freqs[good], power[good], ".", ms=3, color="0.3", label="radially averaged power")
+    # One point per octave of the fit range: what a fit weighted per octave follows.
+    edges = fit.fmin * 2.0 ** np.arange(0.0, np.log2(fit.fmax / fit.fmin) + 1.0)
+    edges = np.minimum(edges, fit.fmax)
+    cx, cy = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        sel = (freqs >= a) & (freqs <= b) & good
+        if b > a and sel.any():
+            cx.append(np.sqrt(a * b))
+            cy.append(10.0 ** np.mean(np.log10(power[sel])))
+    ax.loglog(cx, cy, "o", ms=6, mfc="none", color="C0", label="mean of each octave")
     fx = np.array([fit.fmin, fit.fmax])
     ax.loglog(fx, 10.0 ** (fit.slope * np.log10(fx) + fit.intercept), "-", color="C3", lw=2,
               label=f"fit: slope {fit.slope:.2f}")

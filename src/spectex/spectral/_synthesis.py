@@ -552,7 +552,22 @@ class SlopeFit(NamedTuple):
     fmax: float
 
 
-def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | None = None) -> SlopeFit:
+_WEIGHTINGS = ("octave", "none")
+
+
+def _log_widths(x: np.ndarray) -> np.ndarray:
+    """Trapezoid weights of sorted points ``x``: the stretch of ``x`` each one stands for."""
+    if x.size < 2:
+        return np.ones_like(x)
+    gaps = np.diff(x)
+    w = np.empty_like(x)
+    w[0], w[-1] = gaps[0] / 2.0, gaps[-1] / 2.0
+    w[1:-1] = (gaps[:-1] + gaps[1:]) / 2.0
+    return w
+
+
+def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | None = None,
+                   weighting: str = "octave") -> SlopeFit:
     """Log-log slope of a power spectrum (``-beta`` for ``1/f^beta`` noise).
 
     Parameters
@@ -564,6 +579,14 @@ def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | Non
         The range fitted (inclusive); default: all of it. Rings whose power
         is zero, or below ``1e-12`` of the channel's largest (what an exact
         band limit leaves), are left out of the fit.
+    weighting : {'octave', 'none'}
+        ``'octave'`` (the default): each point counts for the stretch of
+        ``log f`` it stands for (trapezoid weights in ``log f``), so every
+        octave of the range counts alike, the least-squares line through the
+        log-log curve as a whole. Rings of :func:`radial_power_spectrum`
+        are evenly spaced in ``f``: the octave from 0.25 to 0.5 holds as many
+        rings as all the octaves below it, and an unweighted fit (``'none'``)
+        follows the highest octave and misses the low frequencies.
 
     Returns
     -------
@@ -577,8 +600,9 @@ def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | Non
     if freqs.ndim != 1 or power.shape[:1] != freqs.shape or power.ndim not in (1, 2):
         raise ValueError(f"freqs must have shape (K,) and power (K,) or (K, C), got {freqs.shape} "
                          f"and {power.shape}")
-    lo = float(freqs.min()) if fmin is None else check_float("fmin", fmin, minimum=0.0)
-    hi = float(freqs.max()) if fmax is None else check_float("fmax", fmax, minimum=0.0)
+    weighting = check_choice("weighting", weighting, _WEIGHTINGS)
+    lo = float(np.nanmin(freqs)) if fmin is None else check_float("fmin", fmin, minimum=0.0)
+    hi = float(np.nanmax(freqs)) if fmax is None else check_float("fmax", fmax, minimum=0.0)
     if not hi > lo:
         raise ValueError(f"fmax must be greater than fmin, got fmin={lo}, fmax={hi}")
     p2 = power[:, None] if power.ndim == 1 else power
@@ -586,10 +610,19 @@ def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | Non
     for c in range(p2.shape[1]):
         pc = p2[:, c]
         top = np.max(pc[np.isfinite(pc)], initial=0.0)
-        use = (freqs >= lo) & (freqs <= hi) & (freqs > 0) & np.isfinite(pc) & (pc > 1e-12 * top)
+        use = (freqs >= lo) & (freqs <= hi) & (freqs > 0) & np.isfinite(freqs) & np.isfinite(pc) \
+            & (pc > 1e-12 * top)
         if use.sum() < 2:
             raise ValueError(f"fewer than two frequencies with power in the fit range {lo:.4g} to {hi:.4g}")
-        a, b = np.polyfit(np.log10(freqs[use]), np.log10(pc[use]), 1)
+        x, y = np.log10(freqs[use]), np.log10(pc[use])
+        order = np.argsort(x, kind="stable")
+        x, y = x[order], y[order]
+        if weighting == "octave" and x[-1] > x[0]:
+            w = _log_widths(x)
+        else:
+            w = np.ones_like(x)
+        # Weighted least squares (np.polyfit weighs the residuals: sqrt of the weights).
+        a, b = np.polyfit(x, y, 1, w=np.sqrt(w))
         slopes.append(float(a))
         intercepts.append(float(b))
     if power.ndim == 1:
