@@ -73,3 +73,42 @@ def test_help_texts_have_no_internal_references():
     for name, parser in sub.choices.items():
         text = parser.format_help()
         assert "(seed 0" not in text and "issue " not in text, name
+
+
+class _FakeTerminal:
+    def __init__(self, tty):
+        import io
+
+        self._buf, self._tty = io.StringIO(), tty
+
+    def isatty(self):
+        return self._tty
+
+    def write(self, text):
+        return self._buf.write(text)
+
+    def flush(self):
+        pass
+
+    def getvalue(self):
+        return self._buf.getvalue()
+
+
+@pytest.mark.parametrize("tty", [True, False])
+def test_steps_show_on_a_terminal_only(monkeypatch, tty):
+    import time
+
+    from spectex.cli._common import Steps
+
+    fake = _FakeTerminal(tty)
+    monkeypatch.setattr(sys, "stderr", fake)
+    with Steps(2, delay=0.0) as steps:
+        steps.step("computing fbm 16x16")
+        time.sleep(0.4)
+        steps.step("writing PNG")
+        time.sleep(0.4)
+    shown = fake.getvalue()
+    if tty:
+        assert "computing fbm 16x16" in shown and "writing PNG" in shown and "1/2" in shown
+    else:
+        assert shown == ""

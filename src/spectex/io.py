@@ -69,18 +69,43 @@ def _as_image(name: str, image) -> np.ndarray:
     return image
 
 
-def _write_png16(path: Path, data: np.ndarray) -> None:
-    import png  # pypng
+#: zlib level of PNG files. Against zlib's default 6, level 3 encoded a 4096 x 4096 RGBA tile
+#: 1.8x faster (2.3 s against 4.1 s) for a file 4 % larger, a 4000 x 4000 grey fBm 2.7x faster
+#: (+23 %), and a coloured one 1.8x faster (+27 %); level 1 is faster still (2.2x, 4.1x, 3.4x)
+#: but smooth images grow by 40 to 50 %. The pixels are the same at every level (PNG is lossless).
+PNG_COMPRESS_LEVEL = 3
+
+
+def _png_chunk(kind: bytes, data: bytes) -> bytes:
+    import struct
+    import zlib
+
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+
+def _write_png16(path: Path, data: np.ndarray, *, level: int = PNG_COMPRESS_LEVEL) -> None:
+    """A 16-bit PNG (grey, grey + alpha, RGB or RGBA) from uint16 ``data``, rows unfiltered.
+
+    Written with NumPy and zlib (PNG 1.2, ISO/IEC 15948): the rows are big-endian
+    samples each behind a filter-type byte 0, compressed in one zlib stream.
+    """
+    import struct
+    import zlib
 
     h, w = data.shape[:2]
     planes = 1 if data.ndim == 2 else data.shape[2]
-    greyscale = planes in (1, 2)
-    alpha = planes in (2, 4)
-    writer = png.Writer(width=w, height=h, greyscale=greyscale, alpha=alpha, bitdepth=16,
-                        compression=6)
-    rows = data.reshape(h, w * planes)
+    colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[planes]
+    rows = np.zeros((h, 1 + 2 * w * planes), dtype=np.uint8)  # filter byte 0, then the samples
+    rows[:, 1:] = np.ascontiguousarray(data, dtype=">u2").reshape(h, -1).view(np.uint8)
+    compressor = zlib.compressobj(level)
+    idat = compressor.compress(rows) + compressor.flush()
+    del rows
+    ihdr = struct.pack(">IIBBBBB", w, h, 16, colour_type, 0, 0, 0)
     with open(path, "wb") as fh:
-        writer.write(fh, rows)
+        fh.write(b"\x89PNG\r\n\x1a\n")
+        fh.write(_png_chunk(b"IHDR", ihdr))
+        fh.write(_png_chunk(b"IDAT", idat))
+        fh.write(_png_chunk(b"IEND", b""))
 
 
 def write_image(path, image, *, bit_depth: int = 8) -> Path:
@@ -127,7 +152,8 @@ def write_image(path, image, *, bit_depth: int = 8) -> Path:
             pil_mode = "L" if data.ndim == 2 else ("LA" if data.shape[2] == 2 else mode[data.shape[2]])
             fmt = {".jpg": "JPEG", ".jpeg": "JPEG", ".png": "PNG", ".bmp": "BMP",
                    ".tif": "TIFF", ".tiff": "TIFF", ".webp": "WEBP"}[suffix]
-            Image.fromarray(data, mode=pil_mode).save(tmp, format=fmt, **({"quality": 95} if fmt == "JPEG" else {}))
+            options = {"JPEG": {"quality": 95}, "PNG": {"compress_level": PNG_COMPRESS_LEVEL}}.get(fmt, {})
+            Image.fromarray(data, mode=pil_mode).save(tmp, format=fmt, **options)
     return path
 
 

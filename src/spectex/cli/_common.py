@@ -161,9 +161,11 @@ class Progress:
                 return
             from rich.progress import BarColumn, Progress as _RichProgress, TextColumn, TimeRemainingColumn
 
+            from rich.console import Console
+
             self._bar = _RichProgress(TextColumn("{task.description}"), BarColumn(),
                                       TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn(),
-                                      transient=True)
+                                      transient=True, console=Console(stderr=True))
             self._bar.start()
             self._task = self._bar.add_task(self.description, total=total)
         self._bar.update(self._task, completed=done, total=total)
@@ -171,4 +173,69 @@ class Progress:
     def __exit__(self, *exc):
         if self._bar is not None:
             self._bar.stop()
+        return False
+
+
+class Steps:
+    """The named steps of a long command, shown on standard error while they run.
+
+    Use as a context manager and call :meth:`step` before each step (``"computing
+    fbm"``, ``"writing PNG"``). On a terminal, once the command has taken more than
+    ``delay`` seconds, one transient line shows a spinner, the step's name, the
+    step count and the time taken, refreshed while a step runs (so that a long PNG
+    encoding is seen to be working); it is gone when the command ends. Not on a
+    terminal (a pipe, a file, a test), nothing is shown.
+    """
+
+    def __init__(self, total: int, *, delay: float = 0.5):
+        self.total = total
+        self.delay = delay
+        self._done = 0
+        self._description = ""
+        self._bar = None
+        self._task = None
+        self._timer = None
+        self._lock = None
+
+    def __enter__(self):
+        import sys
+        import threading
+
+        self._lock = threading.Lock()
+        if sys.stderr is not None and sys.stderr.isatty():
+            self._timer = threading.Timer(self.delay, self._start)
+            self._timer.daemon = True
+            self._timer.start()
+        return self
+
+    def _start(self) -> None:
+        from rich.console import Console
+        from rich.progress import BarColumn, Progress as _RichProgress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+        with self._lock:
+            if self._timer is None:  # finished meanwhile
+                return
+            self._bar = _RichProgress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                                      TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                                      transient=True, console=Console(stderr=True))
+            self._task = self._bar.add_task(self._description, total=self.total, completed=self._done)
+            self._bar.start()
+
+    def step(self, description: str) -> None:
+        """Begin the next step, called ``description``."""
+        with self._lock:
+            if self._description:
+                self._done += 1
+            self._description = description
+            if self._bar is not None:
+                self._bar.update(self._task, description=description, completed=self._done)
+
+    def __exit__(self, *exc):
+        with self._lock:
+            timer, self._timer = self._timer, None
+            if timer is not None:
+                timer.cancel()
+            if self._bar is not None:
+                self._bar.stop()
+                self._bar = None
         return False

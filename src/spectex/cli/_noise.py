@@ -88,23 +88,34 @@ def run(args) -> int:
         from ..color import get_ramp
 
         get_ramp(args.colormap)  # fail early on an unknown name
+    fmt = suffix.lstrip(".").upper() or "image"
     if animated:
-        frames = procedural.animate(args.kind, (h, w), args.frames, speed=args.speed, **params)
-        vrange = procedural.contrast_range(frames[0], kind=args.kind)
-        images = [procedural.colorize(f, cmap, kind=args.kind, vrange=vrange) for f in frames]
-        io.write_animation(out, images, fps=args.fps)
+        with _common.Steps(3) as steps:
+            steps.step(f"computing {args.frames} frames of {args.kind}")
+            frames = procedural.animate(args.kind, (h, w), args.frames, speed=args.speed, **params)
+            steps.step("colouring")
+            vrange = procedural.contrast_range(frames[0], kind=args.kind)
+            images = [procedural.colorize(f, cmap, kind=args.kind, vrange=vrange) for f in frames]
+            steps.step(f"writing {fmt}")
+            io.write_animation(out, images, fps=args.fps)
         _common.report(f"wrote {out} ({args.frames} frames, {w}x{h})")
         return 0
-    field = procedural.texture(args.kind, (h, w), **params)
-    if suffix == ".npy":
-        io.write_image(out, field)
-    else:
-        if args.colormap is None and cmap == "grey":
-            lo, hi = procedural.contrast_range(field, kind=args.kind)
-            image = np.clip((field - lo) / (hi - lo), 0.0, 1.0)
+    with _common.Steps(2 if suffix == ".npy" else 3) as steps:
+        steps.step(f"computing {args.kind} {w}x{h}")
+        field = procedural.texture(args.kind, (h, w), **params)
+        if suffix == ".npy":
+            steps.step("writing NPY")
+            io.write_image(out, field)
         else:
-            image = procedural.colorize(field, cmap, kind=args.kind)
-        io.write_image(out, image, bit_depth=args.bit_depth)
+            steps.step("colouring")
+            if args.colormap is None and cmap == "grey":
+                lo, hi = procedural.contrast_range(field, kind=args.kind)
+                image = np.clip((field - lo) / (hi - lo), 0.0, 1.0)
+            else:
+                image = procedural.colorize(field, cmap, kind=args.kind)
+            del field
+            steps.step(f"writing {fmt}")
+            io.write_image(out, image, bit_depth=args.bit_depth)
     _common.report(f"wrote {out} ({w}x{h})")
     return 0
 

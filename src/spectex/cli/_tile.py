@@ -85,29 +85,38 @@ def run(args) -> int | None:
     # Both files or neither, planned (and checked against the inputs) before the work.
     outputs = (OutputSet(output.parent, [output.name, preview.name], inputs=inputs, create=False)
                if preview is not None else None)
-    if args.source is not None:
-        photo = read_image(args.source, name="--from image")
-        tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
-                             seed=args.seed, seam=args.seam, azimuth=args.azimuth,
-                             strength=args.strength,
-                             alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
-        what = f"from {args.source}"
-    else:
-        if args.alpha == "keep":
-            raise ValueError("--alpha keep needs --from IMAGE (a photograph with an alpha channel)")
-        tile = make_tile(512 if args.size is None else args.size, seed=args.seed, method=args.method,
-                         alpha=args.alpha or "emboss", colormap=args.colormap,
-                         cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
-                         low=args.low, octaves=args.octaves, filter=args.filter,
-                         azimuth=args.azimuth, strength=args.strength,
-                         alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
-        what = f"{args.method} noise"
-    if outputs is None:
-        write_image(output, tile, bit_depth=args.bit_depth)
-    else:
-        with outputs as stage:
-            write_image(stage / preview.name, make_preview(tile))
-            write_image(stage / output.name, tile, bit_depth=args.bit_depth)
+    steps = _common.Steps((3 if args.source is not None else 2) + (preview is not None))
+    with steps:
+        if args.source is not None:
+            steps.step(f"reading {args.source}")
+            photo = read_image(args.source, name="--from image")
+            steps.step("making it tileable")
+            tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
+                                 seed=args.seed, seam=args.seam, azimuth=args.azimuth,
+                                 strength=args.strength,
+                                 alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
+            what = f"from {args.source}"
+        else:
+            if args.alpha == "keep":
+                raise ValueError("--alpha keep needs --from IMAGE (a photograph with an alpha channel)")
+            steps.step(f"making {args.method} noise")
+            tile = make_tile(512 if args.size is None else args.size, seed=args.seed, method=args.method,
+                             alpha=args.alpha or "emboss", colormap=args.colormap,
+                             cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
+                             low=args.low, octaves=args.octaves, filter=args.filter,
+                             azimuth=args.azimuth, strength=args.strength,
+                             alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
+            what = f"{args.method} noise"
+        fmt = output.suffix.lstrip(".").upper()
+        if outputs is None:
+            steps.step(f"writing {fmt}")
+            write_image(output, tile, bit_depth=args.bit_depth)
+        else:
+            with outputs as stage:
+                steps.step("writing the preview")
+                write_image(stage / preview.name, make_preview(tile))
+                steps.step(f"writing {fmt}")
+                write_image(stage / output.name, tile, bit_depth=args.bit_depth)
     h, w = tile.shape[:2]
     cutoff = args.cutoff if args.cutoff is not None else (None if args.source else 0.25)
     band = f", cut-off {cutoff:g} cycles/pixel" if cutoff else ""
