@@ -338,3 +338,13 @@ def test_preview_layout():
     assert preview(t[:, :, :3], repeat=2).shape == (64, 64, 3)
     big = preview(np.zeros((40, 20, 4), dtype=np.float32), max_side=16)
     assert big.shape == (30, 15 + 4 + 15, 3)  # the 10 x 5 mip level
+
+
+def test_colour_helpers_have_one_home():
+    # tiles re-exports the colour helpers of spectex.color (their home): the same objects.
+    from spectex import color, tiles
+    from spectex.spectral import _synthesis
+
+    assert tiles.luma is color.luma
+    assert tiles.srgb_to_linear is color.srgb_to_linear and tiles.linear_to_srgb is color.linear_to_srgb
+    np.testing.assert_array_equal(_synthesis.LUMA, color.LUMA_REC709)

@@ -1,8 +1,12 @@
-"""Colour ramps and colormaps: turning scalar fields into colour.
+"""Colour: ramps and colormaps, Rec. 709 luma and the sRGB transfer functions.
 
-Seed 002 ("Map intensities to color", "Blue channel always 255, others taken
-from noise"): a procedural texture is a scalar field pushed through a colour
-mapping. A *ramp* here is a piecewise-linear list of colour stops; named
+The one home of the colour conventions: :data:`LUMA_REC709` and :func:`luma`
+(how a colour image becomes one channel, for spectra, emboss alpha and
+measures), :func:`srgb_to_linear` and :func:`linear_to_srgb` (IEC 61966-2-1,
+for mip-maps averaged in linear light).
+
+Ramps: a procedural texture is a scalar field pushed through a colour
+mapping (Perlin's "map intensities to colour"). A *ramp* here is a piecewise-linear list of colour stops; named
 ramps tuned for natural textures are built in, and any Matplotlib colormap
 name works too.
 """
@@ -11,7 +15,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import check_float
+from ._validate import check_float, check_image
+
+__all__ = ["LUMA_REC709", "RAMPS", "apply_colormap", "get_ramp", "linear_to_srgb", "luma", "ramp_names",
+           "srgb_to_linear"]
+
+#: Rec. 709 (ITU-R BT.709) luma weights of R, G and B, applied to the stored values.
+LUMA_REC709 = (0.2126, 0.7152, 0.0722)
 
 # Named ramps: (position in [0, 1], (r, g, b) in [0, 1]).
 RAMPS: dict[str, tuple[tuple[float, tuple[float, float, float]], ...]] = {
@@ -36,7 +46,7 @@ RAMPS: dict[str, tuple[tuple[float, tuple[float, float, float]], ...]] = {
               (1.0, (0.85, 0.95, 1.0))),
     "rust": ((0.0, (0.22, 0.09, 0.04)), (0.45, (0.55, 0.24, 0.09)), (0.8, (0.75, 0.42, 0.18)),
              (1.0, (0.85, 0.65, 0.45))),
-    "blue": ((0.0, (0.0, 0.0, 1.0)), (1.0, (1.0, 1.0, 1.0))),  # seed 002's "blue always 255"
+    "blue": ((0.0, (0.0, 0.0, 1.0)), (1.0, (1.0, 1.0, 1.0))),  # blue at full, the others from the field
 }
 
 
@@ -115,3 +125,60 @@ def apply_colormap(values, cmap="grey", *, vmin: float = -1.0, vmax: float = 1.0
     if nan.any():
         out[nan] = np.nan
     return out[..., :3] if col.shape[1] == 4 else out
+
+
+# --------------------------------------------------------------------------
+# Luma and the sRGB transfer functions
+# --------------------------------------------------------------------------
+
+def luma(image) -> np.ndarray:
+    """Rec. 709 luma of the stored values: ``(H, W)`` float32.
+
+    Grey images are returned as they are; grey with alpha gives its grey;
+    RGB and RGBA give ``0.2126 R + 0.7152 G + 0.0722 B`` (alpha ignored). The
+    weights (:data:`LUMA_REC709`) apply to the values as stored (gamma-encoded
+    for sRGB pictures): luma, not relative luminance.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C), C in 1..4
+        Finite values.
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32
+
+    References
+    ----------
+    ITU-R Recommendation BT.709-6, "Parameter values for the HDTV standards for
+    production and international programme exchange", 2015, item 3.2.
+    """
+    image = check_image("image", image)
+    if image.ndim == 2:
+        return image
+    if image.shape[2] in (1, 2):
+        return np.ascontiguousarray(image[:, :, 0])
+    r, g, b = (np.float32(k) for k in LUMA_REC709)
+    return (r * image[:, :, 0] + g * image[:, :, 1] + b * image[:, :, 2]).astype(np.float32, copy=False)
+
+
+def srgb_to_linear(values) -> np.ndarray:
+    """sRGB transfer function, decoding (IEC 61966-2-1): float32.
+
+    ``v / 12.92`` up to 0.04045, ``((v + 0.055) / 1.055) ** 2.4`` above.
+    Values are expected in [0, 1]; any shape.
+    """
+    v = np.asarray(values, dtype=np.float32)
+    return np.where(v <= 0.04045, v / np.float32(12.92),
+                    ((v + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4)).astype(np.float32)
+
+
+def linear_to_srgb(values) -> np.ndarray:
+    """sRGB transfer function, encoding (IEC 61966-2-1): float32 in [0, 1].
+
+    Values are clipped to [0, 1] first; ``12.92 v`` up to 0.0031308,
+    ``1.055 v ** (1 / 2.4) - 0.055`` above. Any shape.
+    """
+    v = np.clip(np.asarray(values, dtype=np.float32), 0.0, 1.0)
+    return np.where(v <= 0.0031308, v * np.float32(12.92),
+                    np.float32(1.055) * v ** np.float32(1.0 / 2.4) - np.float32(0.055)).astype(np.float32)

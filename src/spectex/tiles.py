@@ -68,6 +68,7 @@ import numba
 import numpy as np
 
 from ._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
+from .color import LUMA_REC709, linear_to_srgb, luma, srgb_to_linear  # re-exported: their home is color
 
 __all__ = [
     "METHODS",
@@ -90,7 +91,8 @@ ALPHAS = ("emboss", "luminance", "noise", "none")
 #: 1 GiB for the tile, about 3 GiB at the peak with the FFT work space).
 MAX_SIZE = 8192
 
-_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+# Rec. 709 luma weights as numba sees them (module globals are constants to it).
+_LUMA_R, _LUMA_G, _LUMA_B = LUMA_REC709
 
 
 # --------------------------------------------------------------------------
@@ -148,7 +150,7 @@ def _interleave_kernel(planes, lo, scale, out, lum):  # pragma: no cover - compi
             for c in range(nc):
                 v = (planes[c, i, j] - lo[c]) * scale[c]
                 out[i, j, c] = min(max(v, 0.0), 1.0)
-            lum[i, j] = 0.2126 * out[i, j, 0] + 0.7152 * out[i, j, 1] + 0.0722 * out[i, j, 2]
+            lum[i, j] = _LUMA_R * out[i, j, 0] + _LUMA_G * out[i, j, 1] + _LUMA_B * out[i, j, 2]
 
 
 @numba.njit(cache=True, parallel=True)
@@ -167,21 +169,6 @@ def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
 # --------------------------------------------------------------------------
 # Channel helpers
 # --------------------------------------------------------------------------
-
-def luma(image) -> np.ndarray:
-    """Rec. 709 luma of the stored values: ``(H, W)`` float32.
-
-    Grey images are returned as they are; grey with alpha gives its grey;
-    RGB and RGBA give ``0.2126 R + 0.7152 G + 0.0722 B`` (alpha ignored).
-    """
-    image = check_image("image", image)
-    if image.ndim == 2:
-        return image
-    if image.shape[2] in (1, 2):
-        return np.ascontiguousarray(image[:, :, 0])
-    return (_LUMA[0] * image[:, :, 0] + _LUMA[1] * image[:, :, 1]
-            + _LUMA[2] * image[:, :, 2]).astype(np.float32, copy=False)
-
 
 def fit_range(values) -> np.ndarray:
     """Map values into [0, 1] by an affine map, only if they leave it.
@@ -651,20 +638,6 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
 # --------------------------------------------------------------------------
 # Mip-map chains
 # --------------------------------------------------------------------------
-
-def srgb_to_linear(values) -> np.ndarray:
-    """sRGB transfer function, decoding (IEC 61966-2-1): float32 in [0, 1]."""
-    v = np.asarray(values, dtype=np.float32)
-    return np.where(v <= 0.04045, v / np.float32(12.92),
-                    ((v + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4)).astype(np.float32)
-
-
-def linear_to_srgb(values) -> np.ndarray:
-    """sRGB transfer function, encoding (IEC 61966-2-1): float32 in [0, 1]."""
-    v = np.clip(np.asarray(values, dtype=np.float32), 0.0, 1.0)
-    return np.where(v <= 0.0031308, v * np.float32(12.92),
-                    np.float32(1.055) * v ** np.float32(1.0 / 2.4) - np.float32(0.055)).astype(np.float32)
-
 
 def _reduce_matrix(n: int) -> np.ndarray:
     """(floor(n/2) or 1) x n area weights: output texel i averages [i r, (i+1) r)."""

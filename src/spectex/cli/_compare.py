@@ -32,6 +32,8 @@ def _as_common_channels(a, b):
     """Bring a and b to the same channel count (grey vs colour: luma; alpha dropped)."""
     import numpy as np
 
+    from spectex.color import luma
+
     def colour(img):
         if img.ndim == 2:
             return img
@@ -39,9 +41,7 @@ def _as_common_channels(a, b):
 
     a, b = colour(a), colour(b)
     if a.ndim != b.ndim:
-        luma = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
-        a = a @ luma if a.ndim == 3 else a
-        b = b @ luma if b.ndim == 3 else b
+        a, b = luma(a), luma(b)
     return a.astype(np.float32), b.astype(np.float32)
 
 

@@ -45,7 +45,7 @@ def run(args) -> int | None:
 
     from spectex.io import atomic_path, check_output_path, read_image
     from spectex.spectral import radial_power_spectrum, spectral_slope
-    from spectex.tiles import luma
+    from spectex.color import luma
 
     if args.fmax > 0.5:
         raise ValueError(f"--fmax must be at most 0.5 cycles per pixel (the Nyquist frequency), got {args.fmax:g}")

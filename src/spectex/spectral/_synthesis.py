@@ -31,11 +31,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..color import LUMA_REC709
 from .._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
 from ._octaves import octave
 
-#: Rec. 709 luma weights (on stored values), for colour images.
-LUMA = np.array([0.2126, 0.7152, 0.0722])
+#: Rec. 709 luma weights (on stored values), for colour images; their home is :mod:`spectex.color`.
+LUMA = np.array(LUMA_REC709)
 
 #: Arrays of at least this many elements are transformed with every core;
 #: smaller ones with one thread, which is faster for them, and much faster
