@@ -43,7 +43,7 @@ def _texture():
     from spectex.texture import SpectralTexture
     from spectex.tiles import make_tile
 
-    return SpectralTexture.paper_preset(make_tile(512, seed=0))
+    return SpectralTexture.paper_preset(make_tile(512, rng=0))
 
 
 def _du(path: Path) -> int:

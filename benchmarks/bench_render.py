@@ -42,7 +42,7 @@ def main(argv=None):
     from spectex.tiles import make_tile
 
     size = (args.height, args.width)
-    tile = make_tile(512, seed=0)
+    tile = make_tile(512, rng=0)
     five = SpectralTexture.paper_preset(tile)
     one = SpectralTexture(tile, [Layer(size=15.625)])
     camera = Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0)  # the demo's ground view

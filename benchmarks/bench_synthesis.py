@@ -227,7 +227,7 @@ def main(argv=None) -> int:
     rows = []
 
     ex128 = colour_exemplar(128)
-    t_fast, q_fast = best_time(lambda: quilt(ex128, (512, 512), block=32, overlap=6, seed=0), args.repeat)
+    t_fast, q_fast = best_time(lambda: quilt(ex128, (512, 512), block=32, overlap=6, rng=0), args.repeat)
     t_np, q_np = best_time(lambda: numpy_quilt(ex128, 512, 32, 6, seed=0), max(1, args.repeat - 2))
     rows.append(("quilting 512x512 RGB from 128x128, block 32, overlap 6", [
         ("spectex quilt", t_fast, quality(ex128, q_fast), "target <= 0.5 s"),
@@ -236,8 +236,8 @@ def main(argv=None) -> int:
     ]))
 
     ex64 = colour_exemplar(64)
-    t_el, el = best_time(lambda: efros_leung(ex64, (128, 128), window=11, seed=0), max(1, args.repeat - 2))
-    t_ex, exh = best_time(lambda: efros_leung(ex64, (128, 128), window=11, seed=0, method="exhaustive"), 1)
+    t_el, el = best_time(lambda: efros_leung(ex64, (128, 128), window=11, rng=0), max(1, args.repeat - 2))
+    t_ex, exh = best_time(lambda: efros_leung(ex64, (128, 128), window=11, rng=0, method="exhaustive"), 1)
     total = 128 * 128
     limit = args.naive_pixels if args.naive_pixels > 0 else None
     t0, c0 = time.perf_counter(), time.process_time()

@@ -79,13 +79,13 @@ def main(argv=None):
         rows.append((name, seconds, target))
 
     for size, target, repeat in ((512, 0.050, 3 * args.repeat), (4096, 2.0, args.repeat)):
-        add(f"make_tile {size} spectral, emboss", best_of(lambda: make_tile(size, seed=0), repeat), target)
+        add(f"make_tile {size} spectral, emboss", best_of(lambda: make_tile(size, rng=0), repeat), target)
         add(f"make_tile {size} octaves, emboss",
-            best_of(lambda: make_tile(size, seed=0, method="octaves"), repeat))
+            best_of(lambda: make_tile(size, rng=0, method="octaves"), repeat))
         if size == 512:
             for alpha in ("luminance", "noise", "none"):
                 add(f"make_tile {size} spectral, {alpha}",
-                    best_of(lambda: make_tile(size, seed=0, alpha=alpha), repeat))
+                    best_of(lambda: make_tile(size, rng=0, alpha=alpha), repeat))
         half = size // 2
         add(f"  part: field {half}x{half} (spectral_noise)",
             best_of(lambda: spectral_noise(half, seed=0), repeat))

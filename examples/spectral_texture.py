@@ -29,7 +29,7 @@ TEST_ARGS = ["--tile", "32", "--width", "96"]
 
 def picture(tile_size: int = 512, width: int = 960, seed: int = 0) -> np.ndarray:
     """Tile colour and alpha stacked, beside the ground view: ``(H, H / 2 + width, 3)`` float32."""
-    tile = make_tile(tile_size, seed=seed)
+    tile = make_tile(tile_size, rng=seed)
     texture = SpectralTexture.paper_preset(tile)
     h = width * 9 // 16
     view, _ = render(texture, Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0), (h, width))

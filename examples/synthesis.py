@@ -36,7 +36,7 @@ def exemplar(crop: int) -> np.ndarray:
 def picture(crop: int = 128, block: int = 32, seed: int = 1) -> np.ndarray:
     """Exemplar (padded to the height) beside the quilted texture tiled 2 x 2."""
     ex = exemplar(crop)
-    out = synthesis.quilt(ex, (4 * crop, 4 * crop), block=block, tileable=True, seed=seed)
+    out = synthesis.quilt(ex, (4 * crop, 4 * crop), block=block, tileable=True, rng=seed)
     tiled = np.tile(out, (2, 2, 1))
     left = np.ones((tiled.shape[0], crop, 3), np.float32)
     left[:crop] = ex

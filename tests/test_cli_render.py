@@ -13,7 +13,7 @@ from spectex.tiles import make_tile
 @pytest.fixture(scope="module")
 def texture_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("tex")
-    return SpectralTexture.paper_preset(make_tile(64, seed=1)).save(folder / "ground.toml")
+    return SpectralTexture.paper_preset(make_tile(64, rng=1)).save(folder / "ground.toml")
 
 
 def run_fails(argv, capsys, *outputs):

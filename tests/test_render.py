@@ -27,7 +27,7 @@ def psnr(a, b):
 @pytest.fixture(scope="module")
 def full_contrast():
     """The paper's texture on a tile whose colour channels span [0, 1]."""
-    tile = make_tile(256, seed=2)
+    tile = make_tile(256, rng=2)
     lo = tile[..., :3].min(axis=(0, 1))
     hi = tile[..., :3].max(axis=(0, 1))
     tile[..., :3] = (tile[..., :3] - lo) / (hi - lo)
@@ -50,7 +50,7 @@ def test_render_gl_matches_cpu(gl, full_contrast, name):
 @pytest.mark.gl
 @pytest.mark.parametrize("blend", ["detail", "variance"])
 def test_render_gl_matches_cpu_blends_anisotropy_toggles(gl, blend):
-    tex = SpectralTexture.paper_preset(make_tile(128, seed=4), blend=blend)
+    tex = SpectralTexture.paper_preset(make_tile(128, rng=4), blend=blend)
     from spectex.render.gl import GLRenderer
 
     cam = VIEWS["grazing"]
@@ -165,7 +165,7 @@ def test_render_cpu_fast_path_matches_general(blend):
     from spectex.shading.view import render_kernel, render_kernel_fast, row_order
 
     rng = np.random.default_rng(7)
-    tex = SpectralTexture.paper_preset(make_tile(64, seed=3), blend=blend)
+    tex = SpectralTexture.paper_preset(make_tile(64, rng=3), blend=blend)
     assert pack(tex).fast
     for k in range(6):
         cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
@@ -210,16 +210,16 @@ def test_render_cpu_fast_log2_exp_match_numpy():
 def test_render_cpu_fast_path_only_where_it_applies():
     from spectex.shading import pack
 
-    tex = SpectralTexture.paper_preset(make_tile(64, seed=3))
+    tex = SpectralTexture.paper_preset(make_tile(64, rng=3))
     assert pack(tex).fast
     assert not pack(tex, filter="linear").fast
     assert not pack(tex, anisotropy=4.0).fast
-    odd = SpectralTexture.plain(make_tile(64, seed=3)[:, :48], 5.0)
+    odd = SpectralTexture.plain(make_tile(64, rng=3)[:, :48], 5.0)
     assert not pack(odd).fast
 
 
 def test_render_cpu_haze_and_sky():
-    tex = SpectralTexture.plain(make_tile(32, seed=1), 5.0)
+    tex = SpectralTexture.plain(make_tile(32, rng=1), 5.0)
     atm = Atmosphere(horizon=(0.5, 0.5, 0.5), zenith=(0.0, 0.0, 1.0), haze_distance=1.0)
     up = render_cpu(tex, Camera((0.0, 0.0, 1.0), pitch=89.0, fov=10.0), (8, 8), atmosphere=atm)
     assert np.all(up[..., 2] > 0.9) and np.all(up[..., 0] < 0.1)
@@ -268,7 +268,7 @@ def test_render_no_gl_falls_back_to_cpu(monkeypatch):
         raise glmod.GLUnavailable("no OpenGL 3.3 context (EGL): test")
 
     monkeypatch.setattr(glmod, "create_context", unavailable)
-    tex = SpectralTexture.plain(make_tile(32, seed=1), 5.0)
+    tex = SpectralTexture.plain(make_tile(32, rng=1), 5.0)
     img, used = render(tex, VIEWS["ground"], (18, 32))
     assert used == "cpu" and img.shape == (18, 32, 3)
     with pytest.raises(OSError, match="no OpenGL"):
@@ -296,7 +296,7 @@ def test_gl_renderer_draws_with_its_own_context_after_another_was_made(full_cont
     cam = VIEWS["ground"]
     with GLRenderer(full_contrast) as first:
         before = first.render(cam, (36, 64))
-        with GLRenderer(SpectralTexture.plain(make_tile(32, seed=5), 3.0)) as second:
+        with GLRenderer(SpectralTexture.plain(make_tile(32, rng=5), 3.0)) as second:
             other = second.render(cam, (36, 64))
             after = first.render(cam, (36, 64))
     np.testing.assert_array_equal(after, before)

@@ -76,7 +76,7 @@ def test_the_shader_sources_hold_no_literal_codes_or_constants():
 
 
 def test_fragment_source_unrolls_the_drawn_layers_with_their_codes():
-    tex = SpectralTexture.paper_preset(make_tile(16, seed=1), blend="variance")
+    tex = SpectralTexture.paper_preset(make_tile(16, rng=1), blend="variance")
     tables = pack(tex, enabled=[False, True, True, False, True])
     src = glsl.fragment_source(tables, 1)
     calls = re.findall(r"shade_layer\((\d), (\w+), u_tile\[0\]", src)
@@ -100,7 +100,7 @@ def _validator():
 @pytest.mark.parametrize("anisotropic", [False, True])
 def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
     exe = _validator()
-    tex = SpectralTexture(make_tile(16, seed=1), [dict(size=3.0), dict(size=17.0, blend="detail")])
+    tex = SpectralTexture(make_tile(16, rng=1), [dict(size=3.0), dict(size=17.0, blend="detail")])
     tables = pack(tex, anisotropy=4.0 if anisotropic else 1.0)
     for name, text in (("ground.frag", glsl.fragment_source(tables, 1, target=target, anisotropic=anisotropic,
                                                             iso_lod=not anisotropic)),
@@ -116,7 +116,7 @@ def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
 
 
 def test_block_bakes_have_the_bits_of_the_whole_bake():
-    tex = SpectralTexture.paper_preset(make_tile(32, seed=2))
+    tex = SpectralTexture.paper_preset(make_tile(32, rng=2))
     kw = dict(origin=(1234.5, -987.25), pixel_size=0.37)
     whole = tex.bake((40, 56), **kw)
     for r0, c0, h, w in ((0, 0, 16, 16), (16, 24, 24, 32), (33, 7, 7, 49)):
@@ -137,7 +137,7 @@ def test_view_params_and_tables_are_what_both_renderers_read():
     np.testing.assert_array_equal(view.ddx, ddx)
     np.testing.assert_array_equal(view.ddy, ddy)
     assert view.height == 3.0 and view.supersample == 2 and view.far == 50.0 * view.haze_distance
-    tex = SpectralTexture.paper_preset(make_tile(16, seed=1))
+    tex = SpectralTexture.paper_preset(make_tile(16, rng=1))
     tables = pack(tex)
     np.testing.assert_allclose(tables.lod_off, [np.log2(16 / layer.size) for layer in tex.layers], rtol=1e-15)
     with pytest.raises(TypeError, match="camera"):

@@ -23,13 +23,13 @@ def _ngrams(seq, n):
 
 @pytest.mark.parametrize("order", [1, 2, 3, 5])
 def test_char_ngrams_all_come_from_the_corpus(order):
-    text = markov_text(CORPUS + " " + CORPUS, unit="char", order=order, length=400, seed=order)
+    text = markov_text(CORPUS + " " + CORPUS, unit="char", order=order, length=400, rng=order)
     assert len(text) == 400
     assert _ngrams(text, order + 1) <= _ngrams(CORPUS + " " + CORPUS, order + 1)
 
 
 def test_order_zero_follows_the_letter_frequencies():
-    text = markov_text(CORPUS, unit="char", order=0, length=20000, seed=0)
+    text = markov_text(CORPUS, unit="char", order=0, length=20000, rng=0)
     want = collections.Counter(CORPUS)
     got = collections.Counter(text)
     for ch in "e ta":
@@ -41,31 +41,31 @@ def test_order_zero_follows_the_letter_frequencies():
 def test_words_and_higher_orders_look_more_like_english():
     words = set(CORPUS.split())
     for order in (0, 2):
-        out = markov_text(CORPUS, unit="word", order=order, length=60, seed=1).split()
+        out = markov_text(CORPUS, unit="word", order=order, length=60, rng=1).split()
         assert len(out) == 60 and set(out) <= words
     bigrams = _ngrams(CORPUS.split() * 2, 2)
-    text = markov_text(CORPUS + " " + CORPUS, unit="word", order=1, length=80, seed=2)
+    text = markov_text(CORPUS + " " + CORPUS, unit="word", order=1, length=80, rng=2)
     assert _ngrams(text.split(), 2) <= bigrams
     # letters: order 3 gives mostly real words, order 0 hardly any
     def real(t):
         return sum(w in words for w in t.split()) / max(1, len(t.split()))
 
-    order3 = markov_text(CORPUS, order=3, length=2000, seed=3)
-    order0 = markov_text(CORPUS, order=0, length=2000, seed=3)
+    order3 = markov_text(CORPUS, order=3, length=2000, rng=3)
+    order0 = markov_text(CORPUS, order=0, length=2000, rng=3)
     assert real(order3) > 3 * real(order0)
 
 
 def test_back_off_at_the_end_of_the_corpus():
     model = train_markov("abcd", unit="char", order=2)
-    text = generate_text(model, 30, seed=0)
+    text = generate_text(model, 30, rng=0)
     assert len(text) == 30 and set(text) <= set("abcd")
 
 
 def test_same_seed_same_text():
     model = train_markov(CORPUS, unit="word", order=1)
-    assert generate_text(model, 50, seed=9) == generate_text(model, 50, seed=9)
-    assert generate_text(model, 50, seed=9) != generate_text(model, 50, seed=10)
-    assert generate_text(model, 0, seed=9) == ""
+    assert generate_text(model, 50, rng=9) == generate_text(model, 50, rng=9)
+    assert generate_text(model, 50, rng=9) != generate_text(model, 50, rng=10)
+    assert generate_text(model, 0, rng=9) == ""
 
 
 @pytest.mark.parametrize("corpus, kwargs, message", [

@@ -22,7 +22,7 @@ def _exemplar(name, size=128):
 @pytest.fixture(scope="module", params=["brick", "grass", "gravel"])
 def case(request):
     ex = _exemplar(request.param)
-    out = quilt(ex, (256, 256), block=32, seed=0)
+    out = quilt(ex, (256, 256), block=32, rng=0)
     return request.param, ex, out
 
 
@@ -45,7 +45,7 @@ def test_no_repetition_at_the_exemplar_period_and_tiling_fails(case):
 @pytest.mark.parametrize("name", ["brick", "grass", "gravel"])
 def test_seams_like_the_interior_and_random_blocks_fail(name):
     ex = _exemplar(name)
-    out = quilt(ex, (256, 256), block=32, overlap=5, seed=1)
+    out = quilt(ex, (256, 256), block=32, overlap=5, rng=1)
     assert metrics.seam_energy(out, 32, 5) <= 1.2
     # the control: blocks chosen at random and pasted without overlap or cut
     rng = np.random.default_rng(1)
@@ -59,8 +59,8 @@ def test_seams_like_the_interior_and_random_blocks_fail(name):
 @pytest.mark.parametrize("name", ["brick", "grass", "gravel"])
 def test_tileable_when_asked(name):
     ex = _exemplar(name)
-    plain = quilt(ex, (160, 192), block=32, seed=2)
-    tiled = quilt(ex, (160, 192), block=32, seed=2, tileable=True)
+    plain = quilt(ex, (160, 192), block=32, rng=2)
+    tiled = quilt(ex, (160, 192), block=32, rng=2, tileable=True)
     assert tiled.shape == (160, 192)
     assert metrics.tileability(tiled) <= 2.0  # interior row steps spread over 0.4 to 2.1
     assert metrics.tileability(plain) > 2.5
@@ -72,9 +72,9 @@ def test_tileable_when_asked(name):
 
 def test_same_seed_same_output_colour():
     ex = np.stack([_exemplar("gravel", 64), _exemplar("grass", 64), _exemplar("brick", 64)], axis=2)
-    a = quilt(ex, (80, 100), block=16, seed=7)
-    b = quilt(ex, (80, 100), block=16, seed=7)
-    c = quilt(ex, (80, 100), block=16, seed=8)
+    a = quilt(ex, (80, 100), block=16, rng=7)
+    b = quilt(ex, (80, 100), block=16, rng=7)
+    c = quilt(ex, (80, 100), block=16, rng=8)
     assert a.shape == (80, 100, 3)
     np.testing.assert_array_equal(a, b)
     assert not np.array_equal(a, c)
@@ -85,14 +85,14 @@ def test_batched_blocks_give_the_block_by_block_quilt(monkeypatch):
     import spectex.synthesis._quilting as module
 
     ex = np.stack([_exemplar("gravel", 64), _exemplar("grass", 64), _exemplar("brick", 64)], axis=2)
-    batched = quilt(ex, (90, 110), block=16, overlap=3, seed=4)
+    batched = quilt(ex, (90, 110), block=16, overlap=3, rng=4)
     monkeypatch.setattr(module, "_BATCH", False)
-    np.testing.assert_array_equal(batched, quilt(ex, (90, 110), block=16, overlap=3, seed=4))
+    np.testing.assert_array_equal(batched, quilt(ex, (90, 110), block=16, overlap=3, rng=4))
 
 
 def test_every_pixel_comes_from_the_exemplar():
     ex = _exemplar("gravel", 48)
-    out = quilt(ex, (70, 70), block=12, overlap=3, seed=3)
+    out = quilt(ex, (70, 70), block=12, overlap=3, rng=3)
     assert np.isin(out, ex).all()
 
 
@@ -145,7 +145,7 @@ def test_min_cut_is_the_cheapest_path():
     ({"block": 32, "overlap": 0}, "overlap must be >= 1, got 0"),
     ({"block": 32, "overlap": 16, "tileable": True}, "overlap must be smaller than block/2=16"),
     ({"tolerance": -1.0}, "tolerance must be >= 0.0, got -1.0"),
-    ({"seed": -3}, "seed must be >= 0, got -3"),
+    ({"rng": -3}, "rng must be >= 0, got -3"),
 ])
 def test_bad_arguments_name_parameter_and_value(kwargs, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):

@@ -14,7 +14,7 @@ from spectex.tiles import make_tile
 
 @pytest.fixture(scope="module")
 def paper_tile():
-    return make_tile(256, seed=3)
+    return make_tile(256, rng=3)
 
 
 def _lum(img):
@@ -53,7 +53,7 @@ def repetition_peak(img, period_px, *, exclude_deg=15.0):
 
 
 def test_texture_paper_preset_numbers(paper_tile):
-    tex = SpectralTexture.paper_preset(make_tile(512, seed=0))
+    tex = SpectralTexture.paper_preset(make_tile(512, rng=0))
     sizes = [layer.size for layer in tex.layers]
     assert len(sizes) == 5
     assert sizes[0] == pytest.approx(15.625) and sizes[-1] == pytest.approx(10000.0)
@@ -117,7 +117,7 @@ def test_texture_blends_detail_and_variance(paper_tile):
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_texture_is_not_repetitive(seed):
-    tile = make_tile(512, seed=seed)
+    tile = make_tile(512, rng=seed)
     p = 15.625 / 32  # the finest period is 32 pixels; 16 periods across
     kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=p)
     coupled = repetition_peak(SpectralTexture.paper_preset(tile).bake(**kw), 32)
@@ -139,7 +139,7 @@ def _coupling(tex, p=0.0625, n=384):
 
 
 def test_texture_alpha_couples_fine_band_to_coarse_layer():
-    tile = make_tile(256, seed=11)
+    tile = make_tile(256, rng=11)
     layers = [Layer(size=16.0), Layer(size=128.0, rotation=40.0, offset=(5.0, 9.0))]
     coupled = _coupling(SpectralTexture(tile, layers))
     detail = _coupling(SpectralTexture(tile, [layers[0], Layer(size=128.0, rotation=40.0, offset=(5.0, 9.0),
@@ -167,7 +167,7 @@ def test_texture_float_tiles_round_trip_as_16_bit(tmp_path, paper_tile):
 
 
 def _write(tmp_path, text):
-    tex = SpectralTexture.plain(make_tile(16, seed=1), 4.0)
+    tex = SpectralTexture.plain(make_tile(16, rng=1), 4.0)
     tex.save(tmp_path / "t.toml")
     p = tmp_path / "t.toml"
     p.write_text(text)
@@ -250,7 +250,7 @@ def test_texture_bad_construction(tiles, layers, match):
 
 
 def test_texel_store_is_made_once_and_matches_the_mip_levels():
-    tex = SpectralTexture.paper_preset(make_tile(16, seed=2))
+    tex = SpectralTexture.paper_preset(make_tile(16, rng=2))
     data, stride, offsets, widths, heights = tex.texel_store()
     assert tex.texel_store()[0] is data  # kept: a render does not rebuild it
     levels = tex.mip_levels()[0]
@@ -269,7 +269,7 @@ def test_pack_names_a_bad_filter_or_anisotropy():
     from spectex.shading import constants as C
     from spectex.shading import pack
 
-    tex = SpectralTexture.paper_preset(make_tile(16, seed=2))
+    tex = SpectralTexture.paper_preset(make_tile(16, rng=2))
     with pytest.raises(ValueError, match="filter.*bogus"):
         pack(tex, filter="bogus")
     with pytest.raises(ValueError, match="anisotropy"):

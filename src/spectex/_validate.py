@@ -65,6 +65,44 @@ def check_seed(name: str, value, *, allow_none=True):
     return check_int(name, value, minimum=0, maximum=2**63 - 1)
 
 
+class _Deprecated:
+    """The default of a deprecated keyword: tells "not given" from any value."""
+
+    def __repr__(self) -> str:
+        return "<deprecated>"
+
+
+#: Default of the old ``seed=`` keyword where ``rng=`` replaced it.
+DEPRECATED = _Deprecated()
+
+
+def check_rng(rng, *, seed=DEPRECATED, where: str, stacklevel: int = 3) -> np.random.Generator:
+    """Return a :class:`numpy.random.Generator` from ``rng`` (scikit-image's SPEC 7).
+
+    ``rng`` is an int (``numpy.random.default_rng(rng)``: the same int gives
+    the same result), a Generator (used as it is, and advanced), or None (fresh
+    randomness from the operating system). ``seed``, the old name of the
+    keyword, is still taken for one release with a ``DeprecationWarning``
+    attributed to the caller of the public function ``where``; given, it
+    replaces ``rng``.
+    """
+    name = "rng"
+    if seed is not DEPRECATED:
+        import warnings
+
+        warnings.warn(f"{where}(seed=...) is deprecated and will be removed in the next release; "
+                      f"use {where}(rng=...), which takes the same ints and also a numpy Generator",
+                      DeprecationWarning, stacklevel=stacklevel)
+        rng, name = seed, "seed"
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if rng is None:
+        return np.random.default_rng()
+    if isinstance(rng, (bool, np.bool_)) or not isinstance(rng, numbers.Integral):
+        raise TypeError(f"{name} must be an int, a numpy.random.Generator or None, got {_show(rng)}")
+    return np.random.default_rng(check_int(name, rng, minimum=0, maximum=2**63 - 1))
+
+
 def check_shape(name: str, value, *, maximum_pixels: int = 1 << 28) -> tuple[int, int]:
     """Return ``(height, width)`` from an int or a pair of ints."""
     if isinstance(value, numbers.Integral) and not isinstance(value, bool):

@@ -67,7 +67,7 @@ import math
 import numba
 import numpy as np
 
-from ._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
+from ._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
 from .color import LUMA_REC709, linear_to_srgb, luma, srgb_to_linear  # re-exported: their home is color
 
 __all__ = [
@@ -312,10 +312,11 @@ def _check_octave_size(h, w, small, octaves):
                          f"method='spectral' takes any size")
 
 
-def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "emboss",
+def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss",
               colormap="earth", cutoff: float = 0.25, beta: float = 2.0, low: float | None = None,
               octaves: int | None = None, filter: str = "bspline", noise_scale: float = 4.0,
-              azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5) -> np.ndarray:
+              azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5,
+              seed=DEPRECATED) -> np.ndarray:
     """A seamless, low-pass RGBA tile of coloured random noise (Berger 2006).
 
     See the module docstring for the steps and the cut-off.
@@ -326,10 +327,14 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
         Tile side, or ``(height, width)``; 8 to ``MAX_SIZE`` (8192).
         ``method='octaves'`` needs sides that are multiples of its finest
         octave's cells on the working grid (powers of two always work).
-    seed : None or int
-        Randomness (``numpy.random.default_rng(seed)``); the same seed gives
-        the same tile. The colour field and the alpha noise use independent
-        streams spawned from it.
+    rng : int, numpy.random.Generator or None
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
+        The colour field and the alpha noise use independent streams
+        spawned from it.
     method : {'spectral', 'octaves', 'noise'}
         Where the scalar field comes from (step 1).
     alpha : {'emboss', 'luminance', 'noise', 'none'}
@@ -370,7 +375,7 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
     h, w = check_shape("size", size)
     if min(h, w) < 8 or max(h, w) > MAX_SIZE:
         raise ValueError(f"size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="make_tile")
     method = check_choice("method", method, METHODS)
     alpha = check_choice("alpha", alpha, ALPHAS)
     from .spectral import FILTERS
@@ -395,7 +400,7 @@ def make_tile(size=512, *, seed=0, method: str = "spectral", alpha: str = "embos
 
     m = _working_factor(h, w, cutoff)
     small = (h // m, w // m)
-    rng_colour, rng_alpha = np.random.default_rng(seed).spawn(2)
+    rng_colour, rng_alpha = rng.spawn(2)
     kw = dict(beta=beta, low=low, octaves=octaves, filter=filter, noise_scale=noise_scale)
     if method == "octaves":
         _check_octave_size(h, w, small, octaves)
@@ -505,9 +510,9 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
     return p
 
 
-def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None = None, seed=0,
+def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None = None, rng=0,
                   seam: str = "matched", azimuth: float = 135.0, strength: float = 1.0,
-                  alpha_value: float = 1.0) -> np.ndarray:
+                  alpha_value: float = 1.0, seed=DEPRECATED) -> np.ndarray:
     """Make a photograph into a seamless RGBA tile.
 
     The photograph (cropped about its centre to ``size`` if given) is
@@ -554,8 +559,13 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
         ``alpha_value`` (default 1, opaque).
     cutoff : float or None
         Optional low-pass, cycles per pixel (see :func:`make_tile`).
-    seed : None or int
+    rng : int, numpy.random.Generator or None
         For ``alpha='noise'``.
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     seam : {'matched', 'moisan'}
         How the wrap edges are joined (see above).
     azimuth, strength, alpha_value
@@ -570,7 +580,7 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8)
     alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
     seam = check_choice("seam", seam, ("matched", "moisan"))
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="make_seamless")
     if cutoff is not None:
         cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
     azimuth = check_float("azimuth", azimuth)
@@ -627,7 +637,7 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     elif alpha == "luminance":
         out[:, :, 3] = luma(out[:, :, :3])
     elif alpha == "noise":
-        field = spectral_noise((H, W), beta=2.0, seed=seed, high=cutoff)
+        field = spectral_noise((H, W), beta=2.0, seed=rng, high=cutoff)
         a = _to_unit(field)
         out[:, :, 3] = a if cutoff is None else fit_range(band_limit(a, high=cutoff))
     else:

@@ -64,7 +64,7 @@ def run(args) -> int:
     out = outputs.path
 
     t0 = time.perf_counter()
-    tile = make_tile(512, seed=args.seed)
+    tile = make_tile(512, rng=args.seed)
     texture = SpectralTexture.paper_preset(tile)
     t_build = time.perf_counter() - t0
 

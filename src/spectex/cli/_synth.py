@@ -66,18 +66,18 @@ def run(args) -> int | None:
     joint = args.colours == "joint"
     if args.match is not None:
         image = read_image(args.match, name="match image")
-        result = synthesis.match_histogram(image, exemplar, joint=joint, seed=args.seed)
+        result = synthesis.match_histogram(image, exemplar, joint=joint, rng=args.seed)
     elif args.method == "histogram":
-        result = synthesis.sample_histogram(exemplar, args.size, joint=joint, seed=args.seed)
+        result = synthesis.sample_histogram(exemplar, args.size, joint=joint, rng=args.seed)
     elif args.method == "efros-leung":
         with _common.Progress("efros-leung") as bar:
-            result = synthesis.efros_leung(exemplar, args.size, window=args.window, seed=args.seed,
+            result = synthesis.efros_leung(exemplar, args.size, window=args.window, rng=args.seed,
                                            method="exhaustive" if args.exhaustive else "fast",
                                            tileable=args.tileable, progress=bar)
     else:
         with _common.Progress("quilting") as bar:
             result = synthesis.quilt(exemplar, args.size, block=args.block, overlap=args.overlap,
-                                     tolerance=args.tolerance, seed=args.seed, tileable=args.tileable,
+                                     tolerance=args.tolerance, rng=args.seed, tileable=args.tileable,
                                      progress=bar)
     write_image(output, result, bit_depth=args.bit_depth)
     h, w = result.shape[:2]

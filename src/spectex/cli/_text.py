@@ -57,7 +57,7 @@ def run(args) -> int | None:
         raise ValueError(f"corpus is not a text file (it holds NUL bytes): '{args.corpus}'")
     corpus = data.decode("utf-8", errors="replace")
     with _common.Progress("markov text") as bar:
-        text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, seed=args.seed,
+        text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, rng=args.seed,
                            progress=bar)
     if args.output is None:
         print(text)

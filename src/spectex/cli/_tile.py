@@ -92,7 +92,7 @@ def run(args) -> int | None:
             photo = read_image(args.source, name="--from image")
             steps.step("making it tileable")
             tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
-                                 seed=args.seed, seam=args.seam, azimuth=args.azimuth,
+                                 rng=args.seed, seam=args.seam, azimuth=args.azimuth,
                                  strength=args.strength,
                                  alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
             what = f"from {args.source}"
@@ -100,7 +100,7 @@ def run(args) -> int | None:
             if args.alpha == "keep":
                 raise ValueError("--alpha keep needs --from IMAGE (a photograph with an alpha channel)")
             steps.step(f"making {args.method} noise")
-            tile = make_tile(512 if args.size is None else args.size, seed=args.seed, method=args.method,
+            tile = make_tile(512 if args.size is None else args.size, rng=args.seed, method=args.method,
                              alpha=args.alpha or "emboss", colormap=args.colormap,
                              cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
                              low=args.low, octaves=args.octaves, filter=args.filter,

@@ -7,7 +7,7 @@ import math
 import numba
 import numpy as np
 
-from .._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
+from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
 
 _METHODS = ("fast", "exhaustive")
 
@@ -315,9 +315,9 @@ def _coherence_sets(ex: np.ndarray, window: int, k: int) -> np.ndarray:
     return _nearest(feats, min(k, n - 1), radius, vw, stride)
 
 
-def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, method: str = "fast",
+def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast",
                 epsilon: float = 0.1, max_error: float = 0.3, tileable: bool = False, k: int = 4,
-                progress=None) -> np.ndarray:
+                progress=None, seed=DEPRECATED) -> np.ndarray:
     """Grow a texture pixel by pixel by non-parametric sampling (Efros and Leung 1999).
 
     A 3 x 3 patch from a random place in the exemplar seeds the output
@@ -355,8 +355,12 @@ def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, meth
         Output ``(height, width)``.
     window : int
         Odd neighbourhood size, >= 3 (the paper's results use 5 to 21).
-    seed : int or None
-        Seed of the random generator; the same seed gives the same output.
+    rng : int, numpy.random.Generator or None
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     method : {'fast', 'exhaustive'}
         Candidate search, see above.
     epsilon : float
@@ -398,7 +402,7 @@ def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, meth
     window = check_int("window", window, minimum=3)
     if window % 2 == 0:
         raise ValueError(f"window must be odd, got {window}")
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="efros_leung")
     method = check_choice("method", method, _METHODS)
     epsilon = check_float("epsilon", epsilon, minimum=0.0)
     max_error = check_float("max_error", max_error, minimum=0.0, exclusive_minimum=True)
@@ -412,7 +416,6 @@ def efros_leung(exemplar, shape, *, window: int = 11, seed: int | None = 0, meth
     nch = e3.shape[2]
     half = window // 2
     vh, vw = eh - 2 * half, ew - 2 * half
-    rng = np.random.default_rng(seed)
 
     exhaustive = method == "exhaustive"
     knn = (np.zeros((vh * vw, 0), dtype=np.int64) if exhaustive

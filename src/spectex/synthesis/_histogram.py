@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import check_image, check_int, check_seed, check_shape
+from .._validate import DEPRECATED, check_image, check_int, check_rng, check_shape
 
 
-def sample_histogram(exemplar, shape, *, joint: bool = True, seed: int | None = 0) -> np.ndarray:
+def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0, seed=DEPRECATED) -> np.ndarray:
     """A texture whose pixels are drawn independently from the exemplar's.
 
     Seed 002's first model ("assume every pixel is independent: if the sample
@@ -27,8 +27,12 @@ def sample_histogram(exemplar, shape, *, joint: bool = True, seed: int | None = 
         True: draw whole pixels, so the joint colour distribution is kept.
         False: draw each channel independently, keeping only the per-channel
         histograms (the colours decorrelate).
-    seed : int or None
-        Seed of the random generator.
+    rng : int, numpy.random.Generator or None
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
 
     Returns
     -------
@@ -42,8 +46,7 @@ def sample_histogram(exemplar, shape, *, joint: bool = True, seed: int | None = 
     """
     ex = check_image("exemplar", exemplar)
     h, w = check_shape("shape", shape)
-    seed = check_seed("seed", seed)
-    rng = np.random.default_rng(seed)
+    rng = check_rng(rng, seed=seed, where="sample_histogram")
     flat = ex.reshape(ex.shape[0] * ex.shape[1], -1)
     if joint or flat.shape[1] == 1:
         out = flat[rng.integers(flat.shape[0], size=h * w)]
@@ -72,7 +75,7 @@ def _match_1d(values: np.ndarray, target_sorted: np.ndarray, rng) -> np.ndarray:
 
 
 def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 30,
-                    seed: int | None = 0) -> np.ndarray:
+                    rng=0, seed=DEPRECATED) -> np.ndarray:
     """Give ``image`` the exemplar's histogram exactly, keeping its order.
 
     Per channel (``joint=False``), each channel's values are ranked and the
@@ -101,8 +104,13 @@ def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 3
         per-channel ones. Ignored for one channel.
     iterations : int
         Random bases for the joint matching, >= 1.
-    seed : int or None
-        Seed for tie breaking and the random bases.
+    rng : int, numpy.random.Generator or None
+        For tie breaking and the random bases.
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
 
     Returns
     -------
@@ -121,13 +129,12 @@ def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 3
     img = check_image("image", image)
     ex = check_image("exemplar", exemplar)
     iterations = check_int("iterations", iterations, minimum=1)
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="match_histogram")
     ci = 1 if img.ndim == 2 else img.shape[2]
     ce = 1 if ex.ndim == 2 else ex.shape[2]
     if ci != ce:
         raise ValueError(f"image and exemplar must have the same number of channels, got shapes "
                          f"{img.shape} and {ex.shape}")
-    rng = np.random.default_rng(seed)
     src = img.reshape(-1, ci).astype(np.float64)
     tgt = ex.reshape(-1, ce).astype(np.float64)
     if joint and ci > 1:

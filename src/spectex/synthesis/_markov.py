@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import check_choice, check_int, check_seed
+from .._validate import DEPRECATED, check_choice, check_int, check_rng
 
 _UNITS = ("char", "word")
 #: Most symbols one call of :func:`generate_text` makes (the text is built in memory).
@@ -148,7 +148,7 @@ def train_markov(corpus: str, *, unit: str = "char", order: int = 3, progress=No
     return MarkovModel(unit=unit, order=order, tables=tuple(tables), symbols=tuple(symbols))
 
 
-def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, progress=None) -> str:
+def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None, seed=DEPRECATED) -> str:
     """Sample text from a Markov model.
 
     The first ``order`` symbols are a context drawn at random from the
@@ -164,8 +164,12 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, prog
     length : int
         Number of symbols (characters or words) to produce, 0 to
         ``MAX_TEXT_LENGTH`` (10 million: about 10 s and a few hundred MB).
-    seed : int or None
-        Seed of the random generator; the same seed gives the same text.
+    rng : int, numpy.random.Generator or None
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     progress : callable, optional
         Called as ``progress(done, total)`` every 10000 symbols.
 
@@ -177,8 +181,7 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, prog
     if not isinstance(model, MarkovModel):
         raise TypeError(f"model must be a MarkovModel, got {type(model).__name__}")
     length = check_int("length", length, minimum=0, maximum=MAX_TEXT_LENGTH)
-    seed = check_seed("seed", seed)
-    rng = np.random.default_rng(seed)
+    rng = check_rng(rng, seed=seed, where="generate_text")
     order = model.order
     out: list[str] = []
     if order > 0:
@@ -200,11 +203,12 @@ def generate_text(model: MarkovModel, length: int, *, seed: int | None = 0, prog
 
 
 def markov_text(corpus: str, *, unit: str = "char", order: int = 3, length: int = 500,
-                seed: int | None = 0, progress=None) -> str:
+                rng=0, progress=None, seed=DEPRECATED) -> str:
     """Train on ``corpus`` and generate ``length`` symbols in one call.
 
     See :func:`train_markov` and :func:`generate_text` for the parameters;
     ``progress`` counts the training tables, then the generated symbols.
     """
+    rng = check_rng(rng, seed=seed, where="markov_text")  # before the training, which takes time
     model = train_markov(corpus, unit=unit, order=order, progress=progress)
-    return generate_text(model, length, seed=seed, progress=progress)
+    return generate_text(model, length, rng=rng, progress=progress)

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .._validate import check_float, check_image, check_int, check_seed, check_shape
+from .._validate import DEPRECATED, check_float, check_image, check_int, check_rng, check_shape
 
 
 # Batch independent blocks (see quilt); False forces block-by-block work, which
@@ -122,7 +122,7 @@ def _overlap_errors(f_ex, mask_terms, masked, fft_shape, valid, workers=1):
 
 
 def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, tolerance: float = 0.1,
-          seed: int | None = 0, tileable: bool = False, progress=None) -> np.ndarray:
+          rng=0, tileable: bool = False, progress=None, seed=DEPRECATED) -> np.ndarray:
     """Synthesise a texture by image quilting (Efros and Freeman 2001).
 
     Square blocks of the exemplar are laid in raster order, each overlapping
@@ -167,8 +167,12 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
         need ``overlap < block / 2``.
     tolerance : float
         Relative error tolerance of the block choice (the paper uses 0.1).
-    seed : int or None
-        Seed of the random generator; the same seed gives the same output.
+    rng : int, numpy.random.Generator or None
+        Randomness (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, the same int the same result; a
+        Generator is used (and advanced); None draws fresh randomness.
+        ``seed=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     tileable : bool
         Quilt on a torus: the last column and row of blocks also overlap the
         first ones across the wrap edge (with their own boundary cuts), so
@@ -208,7 +212,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     if overlap >= block:
         raise ValueError(f"overlap must be smaller than block={block}, got {overlap}")
     tolerance = check_float("tolerance", tolerance, minimum=0.0)
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="quilt")
     tileable = bool(tileable)
     if tileable and 2 * overlap >= block:
         raise ValueError(f"overlap must be smaller than block/2={block / 2:g} for a tileable quilt, got {overlap}")
@@ -221,7 +225,6 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
 
     ys, canvas_h = _layout(out_h, block, overlap, tileable, "height")
     xs, canvas_w = _layout(out_w, block, overlap, tileable, "width")
-    rng = np.random.default_rng(seed)
 
     # Exemplar spectra, once: FFT size padded to a fast length.
     fh = sfft.next_fast_len(eh, real=True)
