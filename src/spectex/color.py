@@ -166,11 +166,13 @@ def srgb_to_linear(values) -> np.ndarray:
     """sRGB transfer function, decoding (IEC 61966-2-1): float32.
 
     ``v / 12.92`` up to 0.04045, ``((v + 0.055) / 1.055) ** 2.4`` above.
-    Values are expected in [0, 1]; any shape.
+    Values are expected in [0, 1] (below 0 the linear piece goes on; NaN stays
+    NaN); any shape.
     """
     v = np.asarray(values, dtype=np.float32)
+    upper = np.maximum(v, np.float32(0.04045))  # the power only where it is used: no power of a negative
     return np.where(v <= 0.04045, v / np.float32(12.92),
-                    ((v + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4)).astype(np.float32)
+                    ((upper + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4)).astype(np.float32)
 
 
 def linear_to_srgb(values) -> np.ndarray:

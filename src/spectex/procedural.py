@@ -16,6 +16,8 @@ the image tiles seamlessly (the cells are then very slightly non-square where
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import noise
@@ -154,10 +156,18 @@ def ring_profile(t, width):
     """The wood ring profile ``2 frac(t)^3 - 1``, box-filtered over ``[t - width/2, t + width/2]``.
 
     ``width = 0`` gives the profile itself; the result is exact for any
-    width (the integral of the profile is known in closed form).
+    width (the integral of the profile is known in closed form). A
+    non-finite ``t`` gives NaN; ``width`` must be finite.
     """
     t = np.asarray(t, dtype=np.float64)
     width = np.asarray(width, dtype=np.float64)
+    if not np.all(np.isfinite(width)):
+        raise ValueError(f"width must be finite, got {width.ravel()[~np.isfinite(width.ravel())][0]}")
+    with np.errstate(invalid="ignore"):  # inf - floor(inf): NaN, the defined result
+        return _ring_profile(t, width)
+
+
+def _ring_profile(t: np.ndarray, width: np.ndarray) -> np.ndarray:
 
     def integral(x):  # of 2 frac^3 - 1 from 0 to x: -1/2 per whole ring, then P(frac)
         f = x - np.floor(x)
@@ -248,7 +258,15 @@ def colorize(field, colormap="grey", *, kind="fbm", vrange=None):
     """
     from .color import apply_colormap
 
-    lo, hi = contrast_range(field, kind=kind) if vrange is None else vrange
+    if vrange is None:
+        lo, hi = contrast_range(field, kind=kind)
+    else:
+        try:
+            lo, hi = (float(v) for v in vrange)
+        except (TypeError, ValueError):
+            raise ValueError(f"vrange must be a pair of numbers (lo, hi), got {vrange!r}") from None
+        if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+            raise ValueError(f"vrange must be two finite numbers with lo < hi, got {vrange!r}")
     return apply_colormap(field, colormap, vmin=lo, vmax=hi)
 
 

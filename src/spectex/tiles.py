@@ -180,7 +180,11 @@ def fit_range(values) -> np.ndarray:
     channel stays band-limited, which clipping would not.
     """
     v = np.asarray(values, dtype=np.float32)
+    if v.size == 0:
+        return v
     lo, hi = float(v.min()), float(v.max())
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ValueError(f"values must be finite to be fitted into [0, 1], got a range of {lo} to {hi}")
     if lo >= 0.0 and hi <= 1.0:
         return v
     lo, hi = min(lo, 0.0), max(hi, 1.0)

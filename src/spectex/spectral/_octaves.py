@@ -298,8 +298,13 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, seed=No
     from .._validate import check_shape
 
     h, w = check_shape("shape", shape)
-    c0, c1 = _factors(cells) if not isinstance(cells, numbers.Integral) else (
-        check_int("cells", cells, minimum=1),) * 2
+    if isinstance(cells, numbers.Integral):
+        c0 = c1 = check_int("cells", cells, minimum=1)
+    else:
+        try:
+            c0, c1 = _factors(cells)
+        except ValueError:
+            raise ValueError(f"cells must be an int or a (rows, columns) pair of ints >= 1, got {cells!r}") from None
     if h % c0 or w % c1:
         raise ValueError(f"shape {h}x{w} (rows x columns) must be a multiple of cells {c0}x{c1}")
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(

@@ -261,7 +261,7 @@ def octave_amplitudes(cells, amplitudes="1/f") -> np.ndarray:
         The octaves' cell counts (input image sizes), coarsest first.
     amplitudes : '1/f', float or sequence of float
         ``'1/f'``: amplitude ``cells[0] / cells[k]`` (halving per octave, as
-        in seed 002's ``fractalsum``, ``noise(x f) / f``). A float ``beta``:
+        in Perlin's ``fractalsum``, ``noise(x f) / f``). A float ``beta``:
         the amplitudes that give a power spectrum ``f^-beta``. An octave of
         ``c x c`` cells spreads its variance ``a^2`` over the ``~c^2``
         frequencies below ``c / 2`` cycles per period, so its 2-D power
@@ -276,7 +276,12 @@ def octave_amplitudes(cells, amplitudes="1/f") -> np.ndarray:
         Normalised so that the first (coarsest) is 1, except for an explicit
         list, which is returned as given.
     """
-    cells = np.asarray(cells, dtype=np.float64)
+    try:
+        cells = np.asarray(cells, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"cells must be a sequence of cell counts, got {cells!r}"[:200]) from None
+    if cells.ndim != 1 or cells.size == 0 or not np.all(np.isfinite(cells) & (cells >= 1)):
+        raise ValueError(f"cells must be a non-empty sequence of cell counts >= 1, got {cells.tolist()!r}"[:200])
     if isinstance(amplitudes, str):
         check_choice("amplitudes", amplitudes, ("1/f",))
         return cells[0] / cells
