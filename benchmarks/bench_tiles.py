@@ -88,7 +88,7 @@ def main(argv=None):
                     best_of(lambda: make_tile(size, rng=0, alpha=alpha), repeat))
         half = size // 2
         add(f"  part: field {half}x{half} (spectral_noise)",
-            best_of(lambda: spectral_noise(half, seed=0), repeat))
+            best_of(lambda: spectral_noise(half, rng=0), repeat))
         planes = np.random.default_rng(0).random((3, half, half), dtype=np.float32)
         add(f"  part: band limit 3 x {half} -> {size}",
             best_of(lambda: _band_limit_planes(planes, None, 0.25, (size, size)), repeat))

@@ -61,7 +61,7 @@ def test_analysis_octave_power_slope_of_white_noise():
 def test_analysis_octave_power_slope_of_brown_noise():
     from spectex.spectral import spectral_noise
 
-    slopes = [octave_power(spectral_noise((256, 256), beta=2.0, seed=s))["slope_db"] for s in range(3)]
+    slopes = [octave_power(spectral_noise((256, 256), beta=2.0, rng=s))["slope_db"] for s in range(3)]
     assert np.mean(slopes) == pytest.approx(0.0, abs=1.0)
 
 

@@ -126,7 +126,7 @@ def test_spectrum_prints_slope_and_plots(tmp_path, capsys):
     from spectex.spectral import spectral_noise
 
     noise = tmp_path / "noise.npy"
-    np.save(noise, spectral_noise(256, beta=2.0, seed=0))
+    np.save(noise, spectral_noise(256, beta=2.0, rng=0))
     text = run_ok(["spectrum", str(noise), "--window", "none"], capsys)
     slope = float(text.split("slope ")[1].split()[0])
     assert abs(slope + 2.0) < 0.15

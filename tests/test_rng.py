@@ -1,4 +1,4 @@
-"""The ``rng`` keyword (issue 18; scikit-image's SPEC 7) of tiles and synthesis.
+"""The ``rng`` keyword (issue 18; scikit-image's SPEC 7) of tiles, synthesis and spectral.
 
 Every function takes ``rng`` as an int (the same int gives the same result, the
 same as the old ``seed=``), a ``numpy.random.Generator`` (used and advanced) or
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from spectex import synthesis
+from spectex import spectral, synthesis
 from spectex.tiles import make_seamless, make_tile
 
 _EXEMPLAR = np.random.default_rng(5).random((24, 24, 3)).astype(np.float32)
@@ -26,6 +26,9 @@ CALLS = {
     "quilt": lambda **kw: synthesis.quilt(_EXEMPLAR, (30, 30), block=12, **kw),
     "generate_text": lambda **kw: synthesis.generate_text(_MODEL, 60, **kw),
     "markov_text": lambda **kw: synthesis.markov_text("abcabdabcabe" * 5, order=1, length=40, **kw),
+    "spectral_noise": lambda **kw: spectral.spectral_noise(16, **kw),
+    "octave_sum": lambda **kw: spectral.octave_sum(16, **kw),
+    "octave": lambda **kw: spectral.octave(16, 4, **kw),
 }
 
 

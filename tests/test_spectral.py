@@ -136,9 +136,9 @@ def test_magnify_channels_and_rectangular_factors():
 
 
 def test_octave_shape_checks_and_determinism():
-    a = octave(64, 8, seed=5)
+    a = octave(64, 8, rng=5)
     assert a.shape == (64, 64) and a.dtype == np.float32
-    np.testing.assert_array_equal(a, octave(64, 8, seed=5))
+    np.testing.assert_array_equal(a, octave(64, 8, rng=5))
     with pytest.raises(ValueError, match="multiple of cells"):
         octave(60, 8)
     with pytest.raises(ValueError, match="filter"):
@@ -157,23 +157,23 @@ def test_octave_shape_checks_and_determinism():
 def test_fft_noise_slope_is_minus_beta(beta):
     slopes = []
     for seed in range(4):
-        x = spectral_noise(512, beta=beta, seed=seed)
+        x = spectral_noise(512, beta=beta, rng=seed)
         freqs, power = radial_power_spectrum(x)
         slopes.append(spectral_slope(freqs, power).slope)
     assert abs(np.mean(slopes) + beta) < 0.05
 
 
 def test_fft_noise_is_real_periodic_normalised_and_deterministic():
-    x = spectral_noise((64, 96), beta=2.0, seed=1)
+    x = spectral_noise((64, 96), beta=2.0, rng=1)
     assert x.shape == (64, 96) and x.dtype == np.float32
     assert abs(float(x.mean())) < 1e-5 and abs(float(x.std()) - 1) < 1e-4
-    np.testing.assert_array_equal(x, spectral_noise((64, 96), beta=2.0, seed=1))
-    assert not np.array_equal(x, spectral_noise((64, 96), beta=2.0, seed=2))
-    assert spectral_noise(32, dtype=np.float64, seed=0).dtype == np.float64
+    np.testing.assert_array_equal(x, spectral_noise((64, 96), beta=2.0, rng=1))
+    assert not np.array_equal(x, spectral_noise((64, 96), beta=2.0, rng=2))
+    assert spectral_noise(32, dtype=np.float64, rng=0).dtype == np.float64
 
 
 def test_fft_noise_band_edges_hold_no_power_outside():
-    x = spectral_noise(256, beta=1.0, low=0.05, high=0.2, seed=0).astype(np.float64)
+    x = spectral_noise(256, beta=1.0, low=0.05, high=0.2, rng=0).astype(np.float64)
     f = np.sqrt(np.fft.fftfreq(256)[:, None] ** 2 + np.fft.fftfreq(256)[None, :] ** 2)
     p = np.abs(np.fft.fft2(x)) ** 2
     inside = (f >= 0.05) & (f <= 0.2)
@@ -191,12 +191,12 @@ def test_octave_sum_amplitudes_give_the_slope():
     # equal amplitudes per octave give beta = 2 in 2-D (see octave_amplitudes)
     slopes = []
     for seed in range(3):
-        x = octave_sum(256, amplitudes=2.0, seed=seed)
+        x = octave_sum(256, amplitudes=2.0, rng=seed)
         freqs, power = radial_power_spectrum(x)
         slopes.append(spectral_slope(freqs, power, fmax=0.12).slope)
     assert abs(np.mean(slopes) + 2.0) < 0.25
     # seed 002's fractalsum, noise(x f) / f: power ~ f^-4 in 2-D
-    x = octave_sum(256, seed=0)
+    x = octave_sum(256, rng=0)
     freqs, power = radial_power_spectrum(x)
     assert abs(spectral_slope(freqs, power, fmax=0.12).slope + 4.0) < 0.4
 
@@ -215,9 +215,9 @@ def test_octave_amplitudes_forms():
 def test_octave_sum_sizes_it_cannot_do():
     with pytest.raises(ValueError, match="multiple of"):
         octave_sum(100, octaves=5)
-    assert octave_sum(96, octaves=3, seed=0).shape == (96, 96)
-    x = octave_sum(64, amplitudes=[1.0, 0.0, 0.0], seed=0)
-    y = octave_sum(64, amplitudes=[1.0, 0.5, 0.0], seed=0)
+    assert octave_sum(96, octaves=3, rng=0).shape == (96, 96)
+    x = octave_sum(64, amplitudes=[1.0, 0.0, 0.0], rng=0)
+    y = octave_sum(64, amplitudes=[1.0, 0.5, 0.0], rng=0)
     assert not np.allclose(x, y)
 
 
@@ -290,7 +290,7 @@ def test_windows_remove_edge_leakage_from_a_non_periodic_crop():
     # that flattens the measured slope; Hann or the periodic component fix it.
     slopes = {None: [], "hann": [], "periodic": []}
     for seed in range(3):
-        crop = spectral_noise(512, beta=4.0, seed=seed).astype(np.float64)[:200, 100:300]
+        crop = spectral_noise(512, beta=4.0, rng=seed).astype(np.float64)[:200, 100:300]
         for window in slopes:
             freqs, power = radial_power_spectrum(crop, window=window)
             # from 2 cycles across, as the spectrum command fits: the lowest ring is the window's own
@@ -367,7 +367,7 @@ def test_slope_fit_of_a_bent_spectrum_follows_the_octaves():
 def test_slope_fit_of_noise_with_a_known_slope(beta):
     slopes = []
     for seed in range(4):
-        x = spectral_noise(256, beta=beta, seed=seed)
+        x = spectral_noise(256, beta=beta, rng=seed)
         freqs, power = radial_power_spectrum(x)
         slopes.append(spectral_slope(freqs, power, fmin=2 / 256, fmax=0.25).slope)
     assert abs(np.mean(slopes) + beta) < 0.1

@@ -286,9 +286,9 @@ def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
     from .spectral import octave_sum, spectral_noise
 
     if method == "spectral":
-        return spectral_noise(shape, beta=beta, low=None if low is None else low * m, seed=rng)
+        return spectral_noise(shape, beta=beta, low=None if low is None else low * m, rng=rng)
     if method == "octaves":
-        return octave_sum(shape, amplitudes=beta, octaves=octaves, filter=filter, seed=rng)
+        return octave_sum(shape, amplitudes=beta, octaves=octaves, filter=filter, rng=rng)
     try:
         from .procedural import noise_image
     except ImportError as exc:
@@ -641,7 +641,7 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     elif alpha == "luminance":
         out[:, :, 3] = luma(out[:, :, :3])
     elif alpha == "noise":
-        field = spectral_noise((H, W), beta=2.0, seed=rng, high=cutoff)
+        field = spectral_noise((H, W), beta=2.0, rng=rng, high=cutoff)
         a = _to_unit(field)
         out[:, :, 3] = a if cutoff is None else fit_range(band_limit(a, high=cutoff))
     else:

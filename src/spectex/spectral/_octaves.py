@@ -55,7 +55,7 @@ import numbers
 
 import numpy as np
 
-from .._validate import check_choice, check_float, check_int, check_seed
+from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng
 
 FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
 
@@ -273,8 +273,8 @@ def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     return y[0] if x.ndim == 2 else np.ascontiguousarray(np.moveaxis(y, 0, 2))
 
 
-def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, seed=None,
-           dtype=np.float32) -> np.ndarray:
+def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, rng=None,
+           dtype=np.float32, seed=DEPRECATED) -> np.ndarray:
     """One octave: a random ``cells`` image magnified to ``shape``, tiling.
 
     Parameters
@@ -287,8 +287,11 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, seed=No
         period along each axis.
     filter, sigma
         See :func:`magnify`.
-    seed : None, int or numpy.random.Generator
-        Randomness, through ``numpy.random.default_rng(seed)``.
+    rng : int, numpy.random.Generator or None
+        Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
+        a Generator is used and advanced; None (the default) draws fresh
+        randomness. ``seed=``, the old name, still works for one release
+        with a ``DeprecationWarning``.
     dtype : float32 or float64
 
     Returns
@@ -307,8 +310,7 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, seed=No
             raise ValueError(f"cells must be an int or a (rows, columns) pair of ints >= 1, got {cells!r}") from None
     if h % c0 or w % c1:
         raise ValueError(f"shape {h}x{w} (rows x columns) must be a multiple of cells {c0}x{c1}")
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(
-        check_seed("seed", seed))
+    rng = check_rng(rng, seed=seed, where="octave")
     dtype = np.dtype(dtype)
     if dtype not in (np.float32, np.float64):
         raise ValueError(f"dtype must be float32 or float64, got {dtype}")

@@ -4,7 +4,7 @@ Two ways to make noise with a prescribed spectrum, and the tools to check it:
 
 * :func:`octave_sum`: a sum of octaves made by filtering under
   magnification (:func:`spectex.spectral.octave`), each with its own
-  amplitude: ``1/f`` (seed 002's ``fractalsum``), a spectral exponent, or a
+  amplitude: ``1/f`` (Perlin's ``fractalsum``), a spectral exponent, or a
   list.
 * :func:`spectral_noise`: the FFT route, a periodic Gaussian field whose
   power spectrum goes as ``1 / f^beta`` between optional low and high
@@ -32,7 +32,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..color import LUMA_REC709
-from .._validate import check_choice, check_float, check_image, check_int, check_seed, check_shape
+from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
 from ._octaves import octave
 
 #: Rec. 709 luma weights (on stored values), for colour images; their home is :mod:`spectex.color`.
@@ -49,10 +49,6 @@ def _workers(n: int) -> int:
     return -1 if n >= PARALLEL_MIN else 1
 
 
-def _rng(seed):
-    if isinstance(seed, np.random.Generator):
-        return seed
-    return np.random.default_rng(check_seed("seed", seed))
 
 
 def _radial_frequency(h: int, w: int, *, half: bool = True) -> np.ndarray:
@@ -84,7 +80,7 @@ def _dtype(dtype):
 # --------------------------------------------------------------------------
 
 def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: float | None = None,
-                   seed=None, dtype=np.float32) -> np.ndarray:
+                   rng=None, dtype=np.float32, seed=DEPRECATED) -> np.ndarray:
     """Periodic Gaussian noise whose power spectrum goes as ``1 / f^beta``.
 
     Every Fourier coefficient is an independent complex normal value scaled
@@ -105,7 +101,11 @@ def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: 
         Band edges in cycles per pixel (``None``: no edge). Frequencies with
         ``f < low`` or ``f > high`` get no power. The band must hold at least
         one frequency of the grid.
-    seed : None, int or numpy.random.Generator
+    rng : int, numpy.random.Generator or None
+        Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
+        a Generator is used and advanced; None (the default) draws fresh
+        randomness. ``seed=``, the old name, still works for one release
+        with a ``DeprecationWarning``.
     dtype : float32 or float64
 
     Returns
@@ -127,7 +127,7 @@ def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: 
     beta = check_float("beta", beta, minimum=-2.0, maximum=8.0)
     low, high = _check_band(low, high)
     dtype = _dtype(dtype)
-    rng = _rng(seed)
+    rng = check_rng(rng, seed=seed, where="spectral_noise")
     fy = np.fft.fftfreq(h).astype(np.float32)[:, None]
     fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
     f2 = fy * fy + fx * fx
@@ -301,7 +301,8 @@ def octave_amplitudes(cells, amplitudes="1/f") -> np.ndarray:
 
 
 def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cells: int = 4,
-               filter: str = "bspline", sigma: float = 0.5, seed=None, dtype=np.float32) -> np.ndarray:
+               filter: str = "bspline", sigma: float = 0.5, rng=None, dtype=np.float32,
+               seed=DEPRECATED) -> np.ndarray:
     """Spectral synthesis by summing octaves made under magnification.
 
     Octave ``k`` is :func:`spectex.spectral.octave` with
@@ -328,7 +329,11 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
         Cells of the coarsest octave (4 in the seed).
     filter, sigma
         See :func:`spectex.spectral.magnify`.
-    seed : None, int or numpy.random.Generator
+    rng : int, numpy.random.Generator or None
+        Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
+        a Generator is used and advanced; None (the default) draws fresh
+        randomness. ``seed=``, the old name, still works for one release
+        with a ``DeprecationWarning``.
     dtype : float32 or float64
 
     Returns
@@ -356,10 +361,10 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
                          f"from base_cells={base_cells}); use spectral_noise for any size")
     amp = octave_amplitudes(cells, amplitudes)
     dtype = _dtype(dtype)
-    rng = _rng(seed)
+    rng = check_rng(rng, seed=seed, where="octave_sum")
     total = np.zeros((h, w), dtype=dtype)
     for c, a in zip(cells, amp):
-        part = octave((h, w), c, filter=filter, sigma=sigma, seed=rng, dtype=dtype)
+        part = octave((h, w), c, filter=filter, sigma=sigma, rng=rng, dtype=dtype)
         # A random whole-pixel shift per octave, so that the octaves' lattices
         # do not all line up (at the wrap edge, or anywhere else).
         shift = (int(rng.integers(0, h)), int(rng.integers(0, w)))
