@@ -154,7 +154,9 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         raise ValueError(f"gain={gain} with octaves={octaves} overflows or underflows the amplitude")
     if normalize:
         amp = amp / amp.sum()
-    P = np.concatenate([_tables.permutation(seed, o) for o in range(octaves)]).astype(np.int32)
+    perms = [_tables.permutation(seed, o) for o in range(octaves)]
+    P = np.concatenate(perms).astype(np.int32)
+    W = np.concatenate([_tables.pair_table(q) for q in perms])
     V = np.concatenate([_tables.lattice_values(seed, o) for o in range(octaves)]).astype(dtype)
     K = _constants(dtype)
     out = np.empty(flat[0].size, dtype=dtype)
@@ -162,9 +164,9 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         pf3 = np.full((octaves, 3), 256.0)
         pf3[:, :dims] = pf
         mode = _INTERPOLATIONS[interpolation] if basis == "value" else _kernels.QUINTIC
-        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic))
+        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic), dtype == np.float32)
         xs = flat + [flat[0]] * (3 - dims)
-        kernel(xs[0], xs[1], xs[2], out, P, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
+        kernel(xs[0], xs[1], xs[2], out, P, W, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
                amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), mode,
                bool(turbulent), K)
     return _finish(out, shape)

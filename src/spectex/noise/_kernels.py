@@ -24,6 +24,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ._bits import grad3 as _grad3_32
+from ._bits import grad2 as _grad2_32
+
 FASTMATH = {"nsz", "arcp", "contract"}
 BLOCK = 2048
 
@@ -201,32 +204,217 @@ def _value3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, V, vb, mode, K, periodic):
                        _lerp(u, V[_u(vb + h011)], V[_u(vb + h111)])))
 
 
+# ---------------------------------------------------------------- float32 point functions
+# float32 inputs: the same lattice hash, gradients and interpolation as the
+# float64 functions above, in float32 arithmetic with 32-bit integer lattice
+# indices, so that a 512-bit vector holds 16 lanes and every table look-up is
+# a gather with 32-bit indices (vpgatherdd on AVX-512).
+#
+# The hash reads a pair table W (int32, 512 entries per octave) with
+# W[i] = P[i] | P[i + 1] << 16: one look-up gives the hashes of two
+# neighbouring corners, exactly the reference's P[A] and P[A + 1]. Without a
+# period, a 3-D cell takes 7 look-ups instead of 14 (2-D: 3 instead of 6). An
+# index is written ``(w + Y) & 511`` with ``w`` the whole pair: the high half
+# is unknown to LLVM, so the mask stays and the index remains one 32-bit
+# vector. ``(P[X] + Y) & 511`` with P[X] known to be below 256 made LLVM drop
+# the mask and split the address into two vector additions of 64-bit
+# pointers, which cannot be a 32-bit-index gather.
+
+_U = np.uint32
+
+
+@njit(inline="always")
+def _pair(W, b, i):
+    """``W[b + (i & 511)]``: P[i] in the low half, P[i + 1] in the high half."""
+    return _U(W[b + (i & np.uint64(511))])
+
+
+@njit(inline="always")
+def _hi(w):
+    return _U(w >> np.uint64(16))
+
+
+@njit(inline="always")
+def _cell32(x, pf, ip, periodic):
+    """Lattice cell of float32 ``x``: ``(X0, X1, frac)``, indices 0..255 as uint64.
+
+    Not periodic: ``X0 = floor(x) & 255`` through an int32, which is exact
+    below 2**31; from 2**31 on every float32 is a multiple of 256, index 0,
+    and that is what those coordinates get (NaN and infinities too, with a
+    NaN fraction), so no coordinate meets an out-of-range conversion. ``X1``
+    is not needed (the pair table holds it). Periodic: as :func:`_cell`.
+    """
+    fl = np.floor(x)
+    zero = np.float32(0.0)
+    if periodic:
+        m = fl - pf * np.floor(fl * ip)
+        m = m + pf if m < zero else m
+        m = m - pf if m >= pf else m
+        m = m if m >= zero else zero
+        i0 = np.uint64(np.int32(m)) & np.uint64(255)
+        i1 = np.uint64(0) if m + np.float32(1.0) >= pf else (i0 + np.uint64(1)) & np.uint64(255)
+        return i0, i1, x - fl
+    m = fl if abs(fl) < np.float32(2147483648.0) else zero
+    i0 = np.uint64(np.int32(m)) & np.uint64(255)
+    return i0, i0, x - fl
+
+
+@njit(inline="always")
+def _hash2_32(X0, X1, Y0, Y1, W, b, periodic):
+    """Hashes of a 2-D cell's corners 00, 10, 01, 11 (low 8 bits; higher bits
+    may hold another corner's hash)."""
+    if periodic:
+        a0 = _pair(W, b, X0)
+        a1 = _pair(W, b, X1)
+        return (_pair(W, b, a0 + Y0), _pair(W, b, a1 + Y0),
+                _pair(W, b, a0 + Y1), _pair(W, b, a1 + Y1))
+    w = _pair(W, b, X0)
+    q0 = _pair(W, b, w + Y0)
+    q1 = _pair(W, b, _hi(w) + Y0)
+    return q0, q1, _hi(q0), _hi(q1)
+
+
+@njit(inline="always")
+def _hash3_32(X0, X1, Y0, Y1, Z0, Z1, W, b, periodic):
+    """Hashes of a 3-D cell's corners 000, 100, 010, 110, 001, 101, 011, 111
+    (low 8 bits, as :func:`_hash2_32`)."""
+    q00, q10, q01, q11 = _hash2_32(X0, X1, Y0, Y1, W, b, periodic)
+    if periodic:
+        return (_pair(W, b, q00 + Z0), _pair(W, b, q10 + Z0),
+                _pair(W, b, q01 + Z0), _pair(W, b, q11 + Z0),
+                _pair(W, b, q00 + Z1), _pair(W, b, q10 + Z1),
+                _pair(W, b, q01 + Z1), _pair(W, b, q11 + Z1))
+    c00 = _pair(W, b, q00 + Z0)
+    c10 = _pair(W, b, q10 + Z0)
+    c01 = _pair(W, b, q01 + Z0)
+    c11 = _pair(W, b, q11 + Z0)
+    return c00, c10, c01, c11, _hi(c00), _hi(c10), _hi(c01), _hi(c11)
+
+
+@njit(inline="always")
+def _perlin1_32(x, p, ip, W, b, G, K, periodic):
+    X0, X1, fx = _cell32(x, p, ip, periodic)
+    w0 = _pair(W, b, X0)
+    w1 = _pair(W, b, X1) if periodic else _hi(w0)
+    g0 = G[w0 & np.uint64(15)] * fx
+    g1 = G[w1 & np.uint64(15)] * (fx - K[1])
+    return _lerp(_fade(fx, QUINTIC, K), g0, g1) * K[7]
+
+
+@njit(inline="always")
+def _perlin2_32(x, y, px, ipx, py, ipy, W, b, K, periodic):
+    X0, X1, fx = _cell32(x, px, ipx, periodic)
+    Y0, Y1, fy = _cell32(y, py, ipy, periodic)
+    h00, h10, h01, h11 = _hash2_32(X0, X1, Y0, Y1, W, b, periodic)
+    gx = fx - K[1]
+    gy = fy - K[1]
+    n00 = _grad2_32(h00, fx, fy, K[10], K[11], K[12], K[13])
+    n10 = _grad2_32(h10, gx, fy, K[10], K[11], K[12], K[13])
+    n01 = _grad2_32(h01, fx, gy, K[10], K[11], K[12], K[13])
+    n11 = _grad2_32(h11, gx, gy, K[10], K[11], K[12], K[13])
+    u = _fade(fx, QUINTIC, K)
+    v = _fade(fy, QUINTIC, K)
+    return _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11)) * K[8]
+
+
+@njit(inline="always")
+def _perlin3_32(x, y, z, px, ipx, py, ipy, pz, ipz, W, b, K, periodic):
+    X0, X1, fx = _cell32(x, px, ipx, periodic)
+    Y0, Y1, fy = _cell32(y, py, ipy, periodic)
+    Z0, Z1, fz = _cell32(z, pz, ipz, periodic)
+    h000, h100, h010, h110, h001, h101, h011, h111 = _hash3_32(X0, X1, Y0, Y1, Z0, Z1, W, b,
+                                                               periodic)
+    gx = fx - K[1]
+    gy = fy - K[1]
+    gz = fz - K[1]
+    n000 = _grad3_32(h000, fx, fy, fz)
+    n100 = _grad3_32(h100, gx, fy, fz)
+    n010 = _grad3_32(h010, fx, gy, fz)
+    n110 = _grad3_32(h110, gx, gy, fz)
+    n001 = _grad3_32(h001, fx, fy, gz)
+    n101 = _grad3_32(h101, gx, fy, gz)
+    n011 = _grad3_32(h011, fx, gy, gz)
+    n111 = _grad3_32(h111, gx, gy, gz)
+    u = _fade(fx, QUINTIC, K)
+    v = _fade(fy, QUINTIC, K)
+    w = _fade(fz, QUINTIC, K)
+    return _lerp(w,
+                 _lerp(v, _lerp(u, n000, n100), _lerp(u, n010, n110)),
+                 _lerp(v, _lerp(u, n001, n101), _lerp(u, n011, n111))) * K[9]
+
+
+@njit(inline="always")
+def _v32(V, c, h):
+    return V[c + (h & np.uint64(255))]
+
+
+@njit(inline="always")
+def _value1_32(x, p, ip, W, b, V, c, mode, K, periodic):
+    X0, X1, fx = _cell32(x, p, ip, periodic)
+    w0 = _pair(W, b, X0)
+    w1 = _pair(W, b, X1) if periodic else _hi(w0)
+    return _lerp(_fade(fx, mode, K), _v32(V, c, w0), _v32(V, c, w1))
+
+
+@njit(inline="always")
+def _value2_32(x, y, px, ipx, py, ipy, W, b, V, c, mode, K, periodic):
+    X0, X1, fx = _cell32(x, px, ipx, periodic)
+    Y0, Y1, fy = _cell32(y, py, ipy, periodic)
+    h00, h10, h01, h11 = _hash2_32(X0, X1, Y0, Y1, W, b, periodic)
+    u = _fade(fx, mode, K)
+    v = _fade(fy, mode, K)
+    return _lerp(v, _lerp(u, _v32(V, c, h00), _v32(V, c, h10)),
+                 _lerp(u, _v32(V, c, h01), _v32(V, c, h11)))
+
+
+@njit(inline="always")
+def _value3_32(x, y, z, px, ipx, py, ipy, pz, ipz, W, b, V, c, mode, K, periodic):
+    X0, X1, fx = _cell32(x, px, ipx, periodic)
+    Y0, Y1, fy = _cell32(y, py, ipy, periodic)
+    Z0, Z1, fz = _cell32(z, pz, ipz, periodic)
+    h000, h100, h010, h110, h001, h101, h011, h111 = _hash3_32(X0, X1, Y0, Y1, Z0, Z1, W, b,
+                                                               periodic)
+    u = _fade(fx, mode, K)
+    v = _fade(fy, mode, K)
+    w = _fade(fz, mode, K)
+    return _lerp(w,
+                 _lerp(v, _lerp(u, _v32(V, c, h000), _v32(V, c, h100)),
+                       _lerp(u, _v32(V, c, h010), _v32(V, c, h110))),
+                 _lerp(v, _lerp(u, _v32(V, c, h001), _v32(V, c, h101)),
+                       _lerp(u, _v32(V, c, h011), _v32(V, c, h111))))
+
+
 # ---------------------------------------------------------------- kernels
-# One kernel per (dims, basis, periodic, turbulent, interpolation), made by
-# ``fractal_kernel`` on first use: those choices are compile-time constants
-# (closure variables), so each kernel's innermost loop is one straight-line
-# path that LLVM vectorises. Numba's disk cache keys closures by the values
-# they capture, so every variant is cached separately.
+# One kernel per (dims, basis, periodic, float32), made by ``fractal_kernel``
+# on first use: those choices are compile-time constants (closure
+# variables), so each kernel's innermost loop is one straight-line path that
+# LLVM vectorises. Numba's disk cache keys closures by the values they
+# capture, so every variant is cached separately.
 #
 # Arguments: coordinate arrays x, y, z (1-D, same length; unused ones may be
-# any array), out, P (one 512-entry int32 permutation per octave), V (one
+# any array), out, P (one 512-entry int32 permutation per octave), W (its
+# pair table, 512 int32 per octave, used by the float32 kernels), V (one
 # 256-entry value table per octave), G1 (1-D slopes), and per octave: freq,
 # amp, pf (periods as floats, shape (octaves, 3)), ip (their inverses).
 
 _KERNELS: dict = {}
 
 
-def fractal_kernel(dims: int, basis: int, periodic: bool):
-    """Return the (lazily compiled) kernel for one combination of choices."""
-    key = (dims, basis, periodic)
+def fractal_kernel(dims: int, basis: int, periodic: bool, single: bool = False):
+    """Return the (lazily compiled) kernel for one combination of choices.
+
+    ``single`` selects the float32 kernel (32-bit lattice arithmetic, pair
+    table); the float64 kernel keeps 64-bit indices.
+    """
+    key = (dims, basis, periodic, single)
     kernel = _KERNELS.get(key)
     if kernel is None:
-        kernel = _make_kernel(dims, basis, periodic)
+        kernel = _make_kernel(dims, basis, periodic, single)
         _KERNELS[key] = kernel
     return kernel
 
 
-def _make_kernel(dims, basis, periodic):
+def _make_kernel(dims, basis, periodic, single):
     # The closure captures plain constants only (numba's disk cache keys a
     # closure by the pickled values it captures; a captured dispatcher pickles
     # differently in every process, a cache miss every run). Written as
@@ -237,7 +425,7 @@ def _make_kernel(dims, basis, periodic):
     # not vectorise), then added to ``out`` by a second loop. ``mode`` and
     # ``turbulent`` are loop-invariant selects.
     @njit(parallel=True, cache=True, fastmath=FASTMATH)
-    def kernel(x, y, z, out, P, V, G1, freq, amp, pf, ip, mode, turbulent, K):
+    def kernel(x, y, z, out, P, W, V, G1, freq, amp, pf, ip, mode, turbulent, K):
         n = out.size
         n_oct = freq.size
         for blk in prange((n + BLOCK - 1) // BLOCK):
@@ -255,9 +443,31 @@ def _make_kernel(dims, basis, periodic):
                 qz = ip[o, 2]
                 b = 512 * o
                 c = 256 * o
+                bu = np.uint64(b)
+                cu = np.uint64(c)
                 for i in range(s, e):
                     u = _u(i)
-                    if dims == 1:
+                    if single:
+                        if dims == 1:
+                            if basis == PERLIN:
+                                v = _perlin1_32(x[u] * f, px, qx, W, bu, G1, K, periodic)
+                            else:
+                                v = _value1_32(x[u] * f, px, qx, W, bu, V, cu, mode, K, periodic)
+                        elif dims == 2:
+                            if basis == PERLIN:
+                                v = _perlin2_32(x[u] * f, y[u] * f, px, qx, py, qy, W, bu, K,
+                                                periodic)
+                            else:
+                                v = _value2_32(x[u] * f, y[u] * f, px, qx, py, qy, W, bu, V, cu,
+                                               mode, K, periodic)
+                        else:
+                            if basis == PERLIN:
+                                v = _perlin3_32(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz,
+                                                qz, W, bu, K, periodic)
+                            else:
+                                v = _value3_32(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz,
+                                               qz, W, bu, V, cu, mode, K, periodic)
+                    elif dims == 1:
                         if basis == PERLIN:
                             v = _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
                         else:

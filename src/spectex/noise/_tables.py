@@ -89,3 +89,14 @@ def lattice_values(seed, octave: int = 0) -> np.ndarray:
     s = 0 if seed is None else int(seed)
     rng = np.random.default_rng([s, int(octave), 0x5EED])
     return rng.uniform(-1.0, 1.0, 256)
+
+
+def pair_table(perm: np.ndarray) -> np.ndarray:
+    """The pair table of a doubled (512-entry) permutation, as int32.
+
+    ``W[i] = P[i] | P[i + 1] << 16`` (``P[512]`` wrapping to ``P[0]``): one
+    look-up gives the hashes of two neighbouring lattice points, exactly the
+    reference's ``P[A]`` and ``P[A + 1]``. The float32 kernels hash with it.
+    """
+    perm = np.asarray(perm, dtype=np.int64)
+    return (perm | (np.roll(perm, -1) << 16)).astype(np.int32)
