@@ -157,6 +157,7 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
     perms = [_tables.permutation(seed, o) for o in range(octaves)]
     P = np.concatenate(perms).astype(np.int32)
     W = np.concatenate([_tables.pair_table(q) for q in perms])
+    P8 = np.concatenate([q[:256] for q in perms]).astype(np.uint8)
     V = np.concatenate([_tables.lattice_values(seed, o) for o in range(octaves)]).astype(dtype)
     K = _constants(dtype)
     out = np.empty(flat[0].size, dtype=dtype)
@@ -166,7 +167,7 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         mode = _INTERPOLATIONS[interpolation] if basis == "value" else _kernels.QUINTIC
         kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic), dtype == np.float32)
         xs = flat + [flat[0]] * (3 - dims)
-        kernel(xs[0], xs[1], xs[2], out, P, W, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
+        kernel(xs[0], xs[1], xs[2], out, P, W, P8, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
                amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), mode,
                bool(turbulent), K)
     return _finish(out, shape)
