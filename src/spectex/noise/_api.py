@@ -154,11 +154,9 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         raise ValueError(f"gain={gain} with octaves={octaves} overflows or underflows the amplitude")
     if normalize:
         amp = amp / amp.sum()
-    perms = [_tables.permutation(seed, o) for o in range(octaves)]
-    P = np.concatenate(perms).astype(np.int32)
-    W = np.concatenate([_tables.pair_table(q) for q in perms])
-    P8 = np.concatenate([q[:256] for q in perms]).astype(np.uint8)
-    V = np.concatenate([_tables.lattice_values(seed, o) for o in range(octaves)]).astype(dtype)
+    tables = [_tables.octave_tables(seed, o) for o in range(octaves)]
+    P, W, P8, V = (np.concatenate([t[k] for t in tables]) for k in range(4))
+    V = V.astype(dtype)
     K = _constants(dtype)
     out = np.empty(flat[0].size, dtype=dtype)
     if out.size:

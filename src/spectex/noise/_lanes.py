@@ -23,6 +23,8 @@ or the float32 2-D cosines), the quintic fade and ``a + t (b - a)`` lerps.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from llvmlite import ir
 from numba import types
@@ -43,6 +45,7 @@ _VB = ir.VectorType(_I8, 4 * LANES)
 _FLAGS = ("nsz", "arcp", "contract")
 
 
+@functools.lru_cache(maxsize=None)
 def has_permute() -> bool:
     """Whether numba compiles for a CPU with AVX-512F, BW and VBMI (``vpermps``
     and ``vpermi2b`` on 512-bit registers)."""
@@ -179,10 +182,39 @@ class _Emit:
         top = b.icmp_signed("<", i8, ir.Constant(_VB, [0] * (4 * LANES)))
         return self.dwords(b.select(top, high, low))
 
+    def flip(self, f, sign):
+        """``f`` with its sign bit XORed with bit 31 of ``sign``."""
+        b = self.b
+        return b.bitcast(b.xor(b.bitcast(f, _VI), sign), _VF)
+
+    def grad3_select(self, h, dx, dy, dz):
+        """Perlin's grad() with selects and sign flips (no table)."""
+        b = self.b
+        zero = self.ic(0)
+        u = b.select(b.icmp_unsigned("==", b.and_(h, self.ic(8)), zero), dx, dy)
+        below4 = b.icmp_unsigned("==", b.and_(h, self.ic(12)), zero)
+        is12or14 = b.icmp_unsigned("==", b.and_(h, self.ic(13)), self.ic(12))
+        v = b.select(below4, dy, b.select(is12or14, dx, dz))
+        u = self.flip(u, b.shl(h, self.ic(31)))
+        v = self.flip(v, b.shl(b.and_(h, self.ic(2)), self.ic(30)))
+        return self.add(u, v)
+
     def cell(self, x):
-        """``(X, frac)``: ``X = floor(x) & 255`` (0 from 2**31 on and for NaN)."""
+        """``(X, frac)``: ``X = floor(x) & 255`` in the low byte (0 from 2**31
+        on and for NaN)."""
         b = self.b
         fl = self.unary("floor", x)
+        if self.permute:
+            # AVX-512's conversion is defined for every input: NaN and values
+            # out of the int32 range give 0x80000000, whose low byte is 0; the
+            # byte look-ups read only the low byte.
+            f = self.fn("llvm.x86.avx512.mask.cvttps2dq.512", _VI,
+                        [_VF, _VI, ir.IntType(16), _I32])
+            X = b.call(f, [fl, self.ic(0), ir.Constant(ir.IntType(16), 0xFFFF),
+                           ir.Constant(_I32, 4)])
+            return X, self.sub(x, fl)
+        # Generic IR: fptosi is undefined out of range, so those inputs are
+        # mapped to 0 before the conversion.
         ok = b.fcmp_ordered("<", self.unary("fabs", fl), self.fc(2147483648.0))
         m = b.select(ok, fl, self.fc(0.0))
         return b.and_(b.fptosi(m, _VI), self.ic(255)), self.sub(x, fl)
@@ -318,6 +350,8 @@ def _perlin3(em, hashes, cells):
     gx, gy, gz = em.sub(fx, one), em.sub(fy, one), em.sub(fz, one)
 
     def grad(h, dx, dy, dz):
+        if not em.permute:
+            return em.grad3_select(h, dx, dy, dz)
         r = em.mul(em.lookup(_G3[0], h), dx)
         r = em.add(r, em.mul(em.lookup(_G3[1], h), dy))
         return em.add(r, em.mul(em.lookup(_G3[2], h), dz))
