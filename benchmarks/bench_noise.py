@@ -76,6 +76,8 @@ for line in sys.stdin:
     print(json.dumps({"seconds": time.perf_counter() - t}), flush=True)
 """
 
+_PAUSE = 0.05  # seconds between two timings
+
 _BUILD_HINT = ('python3 -m venv fns-venv && fns-venv/bin/pip install "numpy<2" setuptools wheel '
                '&& fns-venv/bin/pip install --no-build-isolation pyfastnoisesimd')
 
@@ -204,6 +206,10 @@ def main(argv=None):
             best = {k: float("inf") for k in fns}
             for _ in range(args.repeats):
                 for k, f in fns.items():
+                    # numba's OpenMP threads spin for some milliseconds after a
+                    # parallel loop; on a machine with few cores that would slow
+                    # whatever runs next, so each timing starts after a pause.
+                    time.sleep(_PAUSE)
                     if k[0] == "FastNoiseSIMD":
                         s = fns_gen.time(octaves, k[1])
                     else:
