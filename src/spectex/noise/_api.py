@@ -165,9 +165,9 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         mode = _INTERPOLATIONS[interpolation] if basis == "value" else _kernels.QUINTIC
         kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic), dtype == np.float32)
         xs = flat + [flat[0]] * (3 - dims)
-        kernel(xs[0], xs[1], xs[2], out, P, W, P8, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
-               amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), mode,
-               bool(turbulent), K)
+        kernel(xs[0], xs[1], xs[2], out, P, W, P8, V, _tables.GRAD1.astype(dtype),
+               freq.astype(dtype), amp.astype(dtype), pf3.astype(dtype),
+               (1.0 / pf3).astype(dtype), mode, bool(turbulent), K)
     return _finish(out, shape)
 
 

@@ -477,44 +477,44 @@ def _make_kernel(dims, basis, periodic, single, permute):
                 else:
                     for i in range(s, e):
                         u = _u(i)
+                        xf = x[u] * f
+                        yf = y[u] * f
+                        zf = z[u] * f
                         if single:
                             if dims == 1:
                                 if basis == PERLIN:
-                                    v = _perlin1_32(x[u] * f, px, qx, W, bu, G1, K, periodic)
+                                    v = _perlin1_32(xf, px, qx, W, bu, G1, K, periodic)
                                 else:
-                                    v = _value1_32(x[u] * f, px, qx, W, bu, V, cu, mode, K, periodic)
+                                    v = _value1_32(xf, px, qx, W, bu, V, cu, mode, K, periodic)
                             elif dims == 2:
                                 if basis == PERLIN:
-                                    v = _perlin2_32(x[u] * f, y[u] * f, px, qx, py, qy, W, bu, K,
-                                                    periodic)
+                                    v = _perlin2_32(xf, yf, px, qx, py, qy, W, bu, K, periodic)
                                 else:
-                                    v = _value2_32(x[u] * f, y[u] * f, px, qx, py, qy, W, bu, V, cu,
-                                                   mode, K, periodic)
+                                    v = _value2_32(xf, yf, px, qx, py, qy, W, bu, V, cu, mode, K,
+                                                   periodic)
                             else:
                                 if basis == PERLIN:
-                                    v = _perlin3_32(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz,
-                                                    qz, W, bu, K, periodic)
+                                    v = _perlin3_32(xf, yf, zf, px, qx, py, qy, pz, qz, W, bu, K,
+                                                    periodic)
                                 else:
-                                    v = _value3_32(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz,
-                                                   qz, W, bu, V, cu, mode, K, periodic)
+                                    v = _value3_32(xf, yf, zf, px, qx, py, qy, pz, qz, W, bu, V, cu,
+                                                   mode, K, periodic)
                         elif dims == 1:
                             if basis == PERLIN:
-                                v = _perlin1(x[u] * f, px, qx, P, b, G1, K, periodic)
+                                v = _perlin1(xf, px, qx, P, b, G1, K, periodic)
                             else:
-                                v = _value1(x[u] * f, px, qx, P, b, V, c, mode, K, periodic)
+                                v = _value1(xf, px, qx, P, b, V, c, mode, K, periodic)
                         elif dims == 2:
                             if basis == PERLIN:
-                                v = _perlin2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, K, periodic)
+                                v = _perlin2(xf, yf, px, qx, py, qy, P, b, K, periodic)
                             else:
-                                v = _value2(x[u] * f, y[u] * f, px, qx, py, qy, P, b, V, c, mode, K,
-                                            periodic)
+                                v = _value2(xf, yf, px, qx, py, qy, P, b, V, c, mode, K, periodic)
                         else:
                             if basis == PERLIN:
-                                v = _perlin3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b,
-                                             K, periodic)
+                                v = _perlin3(xf, yf, zf, px, qx, py, qy, pz, qz, P, b, K, periodic)
                             else:
-                                v = _value3(x[u] * f, y[u] * f, z[u] * f, px, qx, py, qy, pz, qz, P, b,
-                                            V, c, mode, K, periodic)
+                                v = _value3(xf, yf, zf, px, qx, py, qy, pz, qz, P, b, V, c, mode, K,
+                                            periodic)
                         v = abs(v) if turbulent else v
                         tmp[_u(i - s)] = a * v
                     if o == 0:

@@ -138,17 +138,9 @@ class _Emit:
                                self.ic(0)])
 
     def lookup(self, table, h):
-        """``table[h & 15]`` per lane."""
-        if self.permute:
-            f = self.fn("llvm.x86.avx512.permvar.sf.512", _VF, [_VF, _VI])
-            return self.b.call(f, [ir.Constant(_VF, table), h])
-        # Generic: a binary tree of selects on bits 3..0.
-        b = self.b
-        level = [ir.Constant(_VF, [v] * LANES) for v in table]
-        for bit in (0, 1, 2, 3):
-            on = b.icmp_unsigned("!=", b.and_(h, self.ic(1 << bit)), self.ic(0))
-            level = [b.select(on, level[k + 1], level[k]) for k in range(0, len(level), 2)]
-        return level[0]
+        """``table[h & 15]`` per lane: one ``vpermps`` (permute path only)."""
+        f = self.fn("llvm.x86.avx512.permvar.sf.512", _VF, [_VF, _VI])
+        return self.b.call(f, [ir.Constant(_VF, table), h])
 
     # -- the permutation as four 64-byte registers (permute path) -------------
 
@@ -198,6 +190,20 @@ class _Emit:
         u = self.flip(u, b.shl(h, self.ic(31)))
         v = self.flip(v, b.shl(b.and_(h, self.ic(2)), self.ic(30)))
         return self.add(u, v)
+
+    def grad2_select(self, h, dx, dy):
+        """The 2-D gradient product with selects and sign flips (no table):
+        angle ``k = h & 3`` has cosine ``c_k`` and sine ``c_{3-k}``."""
+        b = self.b
+        zero = self.ic(0)
+        odd = b.icmp_unsigned("!=", b.and_(h, self.ic(1)), zero)
+        high = b.icmp_unsigned("!=", b.and_(h, self.ic(2)), zero)
+        k = [self.fc(c) for c in _COS]
+        c = b.select(odd, b.select(high, k[3], k[1]), b.select(high, k[2], k[0]))
+        s = b.select(odd, b.select(high, k[0], k[2]), b.select(high, k[1], k[3]))
+        xs = self.flip(dx, b.shl(b.and_(h, self.ic(4)), self.ic(29)))
+        ys = self.flip(dy, b.shl(b.and_(h, self.ic(8)), self.ic(28)))
+        return self.add(self.mul(c, xs), self.mul(s, ys))
 
     def cell(self, x):
         """``(X, frac)``: ``X = floor(x) & 255`` in the low byte (0 from 2**31
@@ -377,6 +383,8 @@ def _perlin2(em, hashes, cells):
     gx, gy = em.sub(fx, one), em.sub(fy, one)
 
     def grad(h, dx, dy):
+        if not em.permute:
+            return em.grad2_select(h, dx, dy)
         return em.add(em.mul(em.lookup(_G2[0], h), dx), em.mul(em.lookup(_G2[1], h), dy))
 
     n00 = grad(h00, fx, fy)
