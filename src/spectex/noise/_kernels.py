@@ -411,9 +411,10 @@ def fractal_kernel(dims: int, basis: int, periodic: bool, single: bool = False,
     look gradients up with a register permute (see ``_lanes``); ``False``
     gives the generic vector IR, the same values.
     """
+    lanes = single and basis == PERLIN and dims >= 2 and not periodic
     if permute is None:
-        permute = _lanes.has_permute()
-    permute = bool(permute) and single
+        permute = lanes and _lanes.has_permute()
+    permute = bool(permute) and lanes
     key = (dims, basis, periodic, single, permute)
     kernel = _KERNELS.get(key)
     if kernel is None:
