@@ -55,6 +55,7 @@ coords = fns.empty_coords(src.shape[1])
 coords[:, :] = src
 print(json.dumps({"version": fns.__version__, "simd": str(fns.extension.SIMD_LEVEL)}), flush=True)
 gens = {}
+clock = time.process_time if sys.argv[2] == "cpu" else time.perf_counter
 for line in sys.stdin:
     octaves, threads = (int(v) for v in line.split())
     key = (octaves, threads)
@@ -71,9 +72,9 @@ for line in sys.stdin:
             gen.fractal.lacunarity = 2.0
         gen.genFromCoords(coords)  # warm-up
         gens[key] = gen
-    t = time.perf_counter()
+    t = clock()
     gens[key].genFromCoords(coords)
-    print(json.dumps({"seconds": time.perf_counter() - t}), flush=True)
+    print(json.dumps({"seconds": clock() - t}), flush=True)
 """
 
 _PAUSE = 0.05  # seconds between two timings
@@ -85,12 +86,12 @@ _BUILD_HINT = ('python3 -m venv fns-venv && fns-venv/bin/pip install "numpy<2" s
 class FastNoiseSIMD:
     """The pyfastnoisesimd worker process (one per run)."""
 
-    def __init__(self, python, coords):
+    def __init__(self, python, coords, clock):
         self._dir = tempfile.TemporaryDirectory()
         path = os.path.join(self._dir.name, "coords.npy")
         np.save(path, coords)
-        self._proc = subprocess.Popen([python, "-c", _FNS_WORKER, path], stdin=subprocess.PIPE,
-                                      stdout=subprocess.PIPE, text=True)
+        self._proc = subprocess.Popen([python, "-c", _FNS_WORKER, path, clock],
+                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         first = self._proc.stdout.readline()
         if not first:
             self.close()
@@ -110,10 +111,10 @@ class FastNoiseSIMD:
         self._dir.cleanup()
 
 
-def _time(fn):
-    t = time.perf_counter()
+def _time(fn, clock=time.perf_counter):
+    t = clock()
     fn()
-    return time.perf_counter() - t
+    return clock() - t
 
 
 def main(argv=None):
@@ -125,6 +126,9 @@ def main(argv=None):
     parser.add_argument("--fns-python", default=os.environ.get("SPECTEX_FNS_PYTHON"),
                         help="python of a virtual environment with pyfastnoisesimd")
     parser.add_argument("--threads", default="1,2", help="thread counts, comma-separated")
+    parser.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                        help="wall: elapsed time (the default); cpu: the process's CPU time, "
+                             "which a busy machine disturbs less (meaningful with --threads 1)")
     parser.add_argument("--cases", default="p2,p3,f2,f3",
                         help="p2, p3: Perlin 2-D, 3-D; f2, f3: 8-octave fBm 2-D, 3-D")
     args = parser.parse_args(argv)
@@ -151,6 +155,7 @@ def main(argv=None):
     x, y, z = (np.ascontiguousarray(c) for c in coords)
     c2 = np.ascontiguousarray(coords[:2])
 
+    clock = time.process_time if args.clock == "cpu" else time.perf_counter
     fns_gen = None
     if args.fns_python is None:
         print("FastNoiseSIMD column skipped: pass --fns-python PATH (or set SPECTEX_FNS_PYTHON) "
@@ -159,7 +164,7 @@ def main(argv=None):
         print(f"FastNoiseSIMD column skipped: --fns-python {args.fns_python} does not exist. "
               f"Build one: {_BUILD_HINT}", file=sys.stderr)
     else:
-        fns_gen = FastNoiseSIMD(args.fns_python, coords)
+        fns_gen = FastNoiseSIMD(args.fns_python, coords, args.clock)
 
     def fnl(dims, octaves):
         gen = FastNoiseLite(0)
@@ -213,12 +218,12 @@ def main(argv=None):
                     if k[0] == "FastNoiseSIMD":
                         s = fns_gen.time(octaves, k[1])
                     else:
-                        s = _time(f)
+                        s = _time(f, clock)
                     best[k] = min(best[k], s)
             numba.set_num_threads(default_threads)
             ns = {k: v / n * 1e9 for k, v in best.items()}
             if noise_pkg is not None:
-                ns[("noise", 1)] = min(_time(loop(dims, octaves)) for _ in range(1)) \
+                ns[("noise", 1)] = min(_time(loop(dims, octaves), clock) for _ in range(1)) \
                     / args.loop_points * 1e9
             results[key] = (name, dims, octaves, ns)
     finally:
@@ -230,7 +235,8 @@ def main(argv=None):
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
     if fns_gen is not None:
         print(f"pyfastnoisesimd {fns_gen.info['version']}, {fns_gen.info['simd']}")
-    print(f"{n:,} float32 points in [0, 512), frequency 1, best of {args.repeats}; "
+    print(f"{n:,} float32 points in [0, 512), frequency 1, best of {args.repeats} "
+          f"({args.clock} clock); "
           "ns per sample (lower is better); 'vs FNS' = FastNoiseSIMD's time / spectex's "
           "(above 1: spectex is faster)\n")
     print("| case | threads | spectex | FastNoiseSIMD | vs FNS | FastNoiseLite (1 thread) "

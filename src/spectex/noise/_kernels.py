@@ -21,6 +21,9 @@ give NaN, and Perlin's 3-D reference is matched to rounding.
 
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 import numpy as np
 from numba import njit, prange
 
@@ -401,6 +404,21 @@ def _value3_32(x, y, z, px, ipx, py, ipy, pz, ipz, W, b, V, c, mode, K, periodic
 _KERNELS: dict = {}
 
 
+def _dependency_key() -> int:
+    """A number that changes with the source of ``_lanes`` and ``_bits``.
+
+    Numba's disk cache checks the timestamp of this file only; the kernels
+    capture this key, so editing the intrinsics they inline recompiles them.
+    """
+    digest = hashlib.sha1()
+    for name in ("_lanes.py", "_bits.py"):
+        digest.update((Path(__file__).parent / name).read_bytes())
+    return int.from_bytes(digest.digest()[:4], "little")
+
+
+_DEPENDENCIES = _dependency_key()
+
+
 def fractal_kernel(dims: int, basis: int, periodic: bool, single: bool = False,
                    permute: bool | None = None):
     """Return the (lazily compiled) kernel for one combination of choices.
@@ -436,10 +454,11 @@ def _make_kernel(dims, basis, periodic, single, permute):
     # and 3-D without a period runs 16 points per call of a ``_lanes``
     # intrinsic instead of the auto-vectorised point loop.
     lanes = single and basis == PERLIN and dims >= 2 and not periodic
+    dependencies = _DEPENDENCIES  # part of the cache key (see _dependency_key)
 
     @njit(parallel=True, cache=True, fastmath=FASTMATH)
     def kernel(x, y, z, out, P, W, P8, V, G1, freq, amp, pf, ip, mode, turbulent, K):
-        n = out.size
+        n = out.size + 0 * dependencies
         n_oct = freq.size
         for blk in prange((n + BLOCK - 1) // BLOCK):
             s = blk * BLOCK

@@ -51,6 +51,8 @@ def has_permute() -> bool:
     and ``vpermi2b`` on 512-bit registers)."""
     features = config.CPU_FEATURES
     if not features:
+        if config.CPU_NAME and config.CPU_NAME != "host":
+            return False  # a named target's features are not known here: generic IR
         import llvmlite.binding as llvm
         features = llvm.get_host_cpu_features().flatten()
     have = set(features.split(","))
@@ -76,13 +78,14 @@ class _VectorGEP(ir.instructions.Instruction):
     base (llvmlite's builder only types scalar indices). A gather from such a
     vector keeps 32-bit indices: ``vpgatherdd``."""
 
-    def __init__(self, parent, ptr, idx):
+    def __init__(self, parent, ptr, idx, element):
         super().__init__(parent, ir.VectorType(ptr.type, idx.type.count), "getelementptr",
                          [ptr, idx])
+        self.element = element
 
     def descr(self, buf):
         p, i = self.operands
-        buf.append(f"getelementptr {p.type.pointee}, {p.type} {p.get_reference()}, "
+        buf.append(f"getelementptr {self.element}, {p.type} {p.get_reference()}, "
                    f"{i.type} {i.get_reference()}\n")
 
 
@@ -131,7 +134,7 @@ class _Emit:
         self.b.call(f, [v, p, ir.Constant(_I32, 4), mask])
 
     def gather(self, base, idx):
-        g = _VectorGEP(self.b.block, base, idx)
+        g = _VectorGEP(self.b.block, base, idx, _I32)
         self.b._insert(g)
         f = self.fn("llvm.masked.gather.v16i32.v16p0", _VI, [g.type, _I32, _VM, _VI])
         return self.b.call(f, [g, ir.Constant(_I32, 4), ir.Constant(_VM, [1] * LANES),
