@@ -9,6 +9,11 @@ Block boundaries do not depend on the number of threads, and every element
 gets the same operations, so results are bit-identical whatever the thread
 count.
 
+float32 inputs have their own kernels: float32 arithmetic and 32-bit lattice
+indices (the ``_32`` point functions below, 16 lanes per AVX-512 vector), and
+for Perlin noise in 2-D and 3-D without a period, 16 points per call of an
+LLVM-IR intrinsic (``_lanes``). float64 inputs keep the 64-bit functions.
+
 Constants arrive in the tuple ``K`` typed like the output (float32 or
 float64), so float32 inputs are computed in float32 throughout:
 ``K = (0, 1, 2, 3, 6, 10, 15, scale1, scale2, scale3, c0, c1, c2, c3)`` with

@@ -325,9 +325,9 @@ def _hash_bytes_xy(em, tables, X, Y):
     """``[P[A], P[A + 1], P[B], P[B + 1]]`` in bytes 0-3 of each lane, with
     ``A = P[X] + Y`` and ``B = P[X + 1] + Y`` (all indices mod 256, as the
     doubled table reads them)."""
-    r1 = em.perm_lookup(tables, em.byte_add(em.spread(X, (0, 0, 0, 0)), em.bc((0, 1, 0, 0))))
-    ab = em.byte_add(em.spread(r1, (0, 0, 1, 1)),
-                     em.byte_add(em.spread(Y, (0, 0, 0, 0)), em.bc((0, 1, 0, 1))))
+    # [P[X], P[X], P[X + 1], P[X + 1]], then + [Y, Y + 1, Y, Y + 1].
+    r1 = em.perm_lookup(tables, em.byte_add(em.spread(X, (0, 0, 0, 0)), em.bc((0, 0, 1, 1))))
+    ab = em.byte_add(r1, em.byte_add(em.spread(Y, (0, 0, 0, 0)), em.bc((0, 1, 0, 1))))
     return em.perm_lookup(tables, ab)
 
 
