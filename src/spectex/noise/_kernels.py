@@ -468,38 +468,36 @@ def _make_kernel(dims, basis, periodic, single, permute):
         for blk in prange((n + BLOCK - 1) // BLOCK):
             s = blk * BLOCK
             e = min(s + BLOCK, n)
-            tmp = np.empty(0 if lanes else e - s, dtype=out.dtype)
-            for o in range(n_oct):
-                f = freq[o]
-                a = amp[o]
-                px = pf[o, 0]
-                py = pf[o, 1]
-                pz = pf[o, 2]
-                qx = ip[o, 0]
-                qy = ip[o, 1]
-                qz = ip[o, 2]
-                b = 512 * o
-                c = 256 * o
-                bu = np.uint64(b)
-                cu = np.uint64(c)
-                if lanes:
-                    acc = o > 0
-                    for i in range(s, e, _lanes.STEP):
-                        if dims == 3:
-                            if permute:
-                                _lanes.perlin3_lanes_permute(x, y, z, out, i, e, f, a, W, bu, P8,
-                                                             cu, turbulent, acc)
-                            else:
-                                _lanes.perlin3_lanes(x, y, z, out, i, e, f, a, W, bu, P8, cu,
-                                                     turbulent, acc)
+            if lanes:
+                # All octaves of 16 points per call (see _lanes).
+                for i in range(s, e, _lanes.STEP):
+                    if dims == 3:
+                        if permute:
+                            _lanes.perlin3_lanes_permute(x, y, z, out, i, e, freq, amp, W, P8,
+                                                         turbulent)
                         else:
-                            if permute:
-                                _lanes.perlin2_lanes_permute(x, y, z, out, i, e, f, a, W, bu, P8,
-                                                             cu, turbulent, acc)
-                            else:
-                                _lanes.perlin2_lanes(x, y, z, out, i, e, f, a, W, bu, P8, cu,
-                                                     turbulent, acc)
-                else:
+                            _lanes.perlin3_lanes(x, y, z, out, i, e, freq, amp, W, P8, turbulent)
+                    else:
+                        if permute:
+                            _lanes.perlin2_lanes_permute(x, y, z, out, i, e, freq, amp, W, P8,
+                                                         turbulent)
+                        else:
+                            _lanes.perlin2_lanes(x, y, z, out, i, e, freq, amp, W, P8, turbulent)
+            else:
+                tmp = np.empty(e - s, dtype=out.dtype)
+                for o in range(n_oct):
+                    f = freq[o]
+                    a = amp[o]
+                    px = pf[o, 0]
+                    py = pf[o, 1]
+                    pz = pf[o, 2]
+                    qx = ip[o, 0]
+                    qy = ip[o, 1]
+                    qz = ip[o, 2]
+                    b = 512 * o
+                    c = 256 * o
+                    bu = np.uint64(b)
+                    cu = np.uint64(c)
                     for i in range(s, e):
                         u = _u(i)
                         xf = x[u] * f

@@ -119,6 +119,11 @@ class _Emit:
     def mul(self, a, c):
         return self.b.fmul(a, c, flags=_FLAGS)
 
+    def fma(self, a, c, d):
+        """``a * c + d`` with one rounding (``llvm.fma``): the same bits
+        whichever way LLVM would otherwise have contracted the expression."""
+        return self.b.call(self.fn("llvm.fma.v16f32", _VF, [_VF, _VF, _VF]), [a, c, d])
+
     def unary(self, name, a):
         return self.b.call(self.fn(f"llvm.{name}.v16f32", _VF, [_VF]), [a])
 
@@ -206,7 +211,7 @@ class _Emit:
         s = b.select(odd, b.select(high, k[0], k[2]), b.select(high, k[1], k[3]))
         xs = self.flip(dx, b.shl(b.and_(h, self.ic(4)), self.ic(29)))
         ys = self.flip(dy, b.shl(b.and_(h, self.ic(8)), self.ic(28)))
-        return self.add(self.mul(c, xs), self.mul(s, ys))
+        return self.fma(c, xs, self.b.fmul(s, ys))
 
     def cell(self, x):
         """``(X, frac)``: ``X = floor(x) & 255`` in the low byte (0 from 2**31
@@ -244,51 +249,59 @@ class _Emit:
         return self.gather(base, self.b.and_(self.b.add(w, offset), self.ic(511)))
 
 
-def _prologue(context, builder, sig, args, dims):
-    """Pointers, the lane mask and the scaled coordinates of one call."""
-    arrays = [context.make_array(sig.args[k])(context, builder, args[k]).data for k in range(4)]
-    i, e, f = args[4:7]
-    lane = ir.Constant(_VI, list(range(LANES)))
-    e_ = _Emit(builder, False)
-    rem = builder.trunc(builder.sub(e, i), _I32)
-    mask = builder.icmp_signed("<", lane, e_.splat(rem, _VI))
-    fv = e_.splat(f, _VF)
-    coords = [e_.mul(e_.load(builder.gep(arrays[k], [i]), mask), fv) for k in range(dims)]
-    out = builder.gep(arrays[3], [i])
-    return coords, out, mask
-
-
-def _epilogue(em, value, amp, turbulent, accumulate, out, mask):
-    """``out = (accumulate ? out : -0) + amp * (turbulent ? |value| : value)``
-    (-0 is the identity of addition, so the first octave stores its term
-    exactly, as the point loop does)."""
-    b = em.b
-    value = b.select(turbulent, em.unary("fabs", value), value)
-    prev = b.select(accumulate, em.load(out, mask), em.fc(-0.0))
-    em.store(em.add(prev, em.mul(value, em.splat(amp, _VF))), out, mask)
-
-
 def _make(dims, permute):
-    def typer(typingctx, x, y, z, out, i, e, f, amp, W, b, P8, c, turbulent, accumulate):
-        sig = types.void(x, y, z, out, i, e, f, amp, W, b, P8, c, turbulent, accumulate)
+    """The intrinsic ``perlin{dims}_lanes(x, y, z, out, i, e, freq, amp, W, P8,
+    turbulent)``: all octaves of fBm for points ``i`` to ``min(i + 16, e) - 1``.
+
+    The coordinates are loaded once and the sum stays in a register across the
+    octaves (an IR loop); ``out`` is stored once. Octave ``o`` reads its
+    tables at ``W[512 o:]`` (pair table) or ``P8[256 o:]`` (bytes).
+    """
+    def typer(typingctx, x, y, z, out, i, e, freq, amp, W, P8, turbulent):
+        sig = types.void(x, y, z, out, i, e, freq, amp, W, P8, turbulent)
 
         def codegen(context, builder, signature, args):
             em = _Emit(builder, permute)
-            coords, out, mask = _prologue(context, builder, signature, args, dims)
-            amp_, W_, b_, P8_, c_, turb, acc = args[7:14]
-            cells = [em.cell(v) for v in coords]
+            data = [context.make_array(signature.args[k])(context, builder, args[k]).data
+                    for k in (0, 1, 2, 3, 6, 7, 8, 9)]
+            xp, yp, zp, outp, fp, ap, wp, pp = data
+            i, e, turb = args[4], args[5], args[10]
+            n_oct = context.make_array(signature.args[6])(context, builder, args[6]).nitems
+            lane = ir.Constant(_VI, list(range(LANES)))
+            rem = builder.trunc(builder.sub(e, i), _I32)
+            mask = builder.icmp_signed("<", lane, em.splat(rem, _VI))
+            raw = [em.load(builder.gep(p, [i]), mask) for p in (xp, yp, zp)[:dims]]
+            i64 = ir.IntType(64)
+            pre = builder.block
+            body = builder.append_basic_block("octave")
+            done = builder.append_basic_block("octaves.done")
+            builder.branch(body)
+            builder.position_at_end(body)
+            o = builder.phi(i64)
+            acc = builder.phi(_VF)
+            o.add_incoming(ir.Constant(i64, 0), pre)
+            acc.add_incoming(em.fc(-0.0), pre)
+            fv = em.splat(builder.load(builder.gep(fp, [o])), _VF)
+            cells = [em.cell(em.mul(c, fv)) for c in raw]
             if permute:
-                pp = context.make_array(signature.args[10])(context, builder, P8_).data
-                base = builder.bitcast(builder.gep(pp, [c_]), _VB.as_pointer())
+                base = builder.bitcast(builder.gep(pp, [builder.mul(o, ir.Constant(i64, 256))]),
+                                       _VB.as_pointer())
                 tables = [builder.load(builder.gep(base, [ir.Constant(_I32, k)]), align=1)
                           for k in range(4)]
                 hashes = (_hash3_bytes if dims == 3 else _hash2_bytes)(em, tables, cells)
             else:
-                wp = context.make_array(signature.args[8])(context, builder, W_).data
-                base = builder.gep(wp, [b_])
+                base = builder.gep(wp, [builder.mul(o, ir.Constant(i64, 512))])
                 hashes = (_hash3_pairs if dims == 3 else _hash2_pairs)(em, base, cells)
             value = (_perlin3 if dims == 3 else _perlin2)(em, hashes, cells)
-            _epilogue(em, value, amp_, turb, acc, out, mask)
+            value = builder.select(turb, em.unary("fabs", value), value)
+            amp = em.splat(builder.load(builder.gep(ap, [o])), _VF)
+            total = em.add(acc, em.mul(value, amp))
+            o_next = builder.add(o, ir.Constant(i64, 1))
+            o.add_incoming(o_next, builder.block)
+            acc.add_incoming(total, builder.block)
+            builder.cbranch(builder.icmp_signed("<", o_next, n_oct), body, done)
+            builder.position_at_end(done)
+            em.store(total, builder.gep(outp, [i]), mask)
             return context.get_dummy_value()
 
         return sig, codegen
@@ -388,7 +401,7 @@ def _perlin2(em, hashes, cells):
     def grad(h, dx, dy):
         if not em.permute:
             return em.grad2_select(h, dx, dy)
-        return em.add(em.mul(em.lookup(_G2[0], h), dx), em.mul(em.lookup(_G2[1], h), dy))
+        return em.fma(em.lookup(_G2[0], h), dx, em.b.fmul(em.lookup(_G2[1], h), dy))
 
     n00 = grad(h00, fx, fy)
     n10 = grad(h10, gx, fy)
