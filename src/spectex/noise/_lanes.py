@@ -153,8 +153,10 @@ class _Emit:
         masks = [0 if v == 0 else (0x7FFFFFFF if v > 0 else -1) for v in g]
         f = self.fn("llvm.x86.avx512.permvar.si.512", _VI, [_VI, _VI])
         m = b.call(f, [ir.Constant(_VI, masks), h])
-        sign = self.ic(-0x80000000)
-        bits = b.xor(b.and_(b.bitcast(d, _VI), b.or_(m, sign)), b.and_(m, sign))
+        # Bitwise f(d, m, s) = s ? d ^ m : d & m, with s set on the sign bit
+        # only: truth table 0x68 for (d, m, s).
+        tern = self.fn("llvm.x86.avx512.pternlog.d.512", _VI, [_VI, _VI, _VI, _I32])
+        bits = b.call(tern, [b.bitcast(d, _VI), m, self.ic(-0x80000000), ir.Constant(_I32, 0x68)])
         return b.bitcast(bits, _VF)
 
     def lookup(self, table, h):
