@@ -1,24 +1,30 @@
 """Float32 Perlin noise 16 points at a time, written as LLVM vector IR.
 
 The loop vectoriser widens the float32 point functions of ``_kernels`` to 16
-lanes, but it cannot widen a table look-up from a register: each of Perlin's
-gradients then costs a dozen selects and bit operations (``_bits``). Here
-the 16 lanes are explicit ``<16 x float>`` / ``<16 x i32>`` values, so a
-gradient component is one variable permute of a 16-entry register table
-(``vpermps`` on AVX-512, ``llvm.x86.avx512.permvar.sf.512``), as FastNoiseSIMD
-does. Targets without AVX-512F get the same IR with the gradients as selects
-(generic vector IR, which LLVM splits into 8- or 4-lane registers).
+lanes, but every table look-up then becomes a gather, and on Zen 4 the
+gathers were the bottleneck. Here the 16 lanes are explicit ``<16 x float>``
+/ ``<16 x i32>`` values, so that, with AVX-512 F, BW and VBMI:
 
-One intrinsic call computes one octave for up to 16 consecutive points and
-writes ``amp * noise`` (or ``amp * |noise|``) into the block's scratch buffer;
-lanes past the end are masked off (masked load and store), so every point,
-the last ones of a block included, goes through the same instructions and
-the result never depends on a point's position or the thread count.
+* the permutation sits in four 64-byte registers and is read with
+  ``vpermi2b`` (``llvm.x86.avx512.vpermi2var.qi.512``): one look-up gives 64
+  bytes, four corners of 16 points; the 3-D hash of a cell takes 4 look-ups;
+* a gradient component is one ``vpermps`` of a 16-entry register table
+  (``llvm.x86.avx512.permvar.sf.512``), as FastNoiseSIMD does.
+
+Other targets get generic IR instead (gathers from the pair table, gradients
+by selects, ``fptosi`` after mapping out-of-range values to 0), which LLVM
+splits into 8- or 4-lane registers; the results are bit-identical (tested).
+
+One intrinsic call computes all octaves of fBm (or turbulence) for up to 16
+consecutive points, keeps the sum in a register and stores it once; lanes
+past the end are masked off (masked load and store), so every point, the last
+ones of a block included, goes through the same instructions and the result
+never depends on a point's position or the thread count.
 
 Arithmetic is that of the float32 point functions: the same lattice index
 (``floor(x) & 255`` through an int32, 0 from 2**31 on and for NaN), the same
-pair-table hash, gradient products that are exact (components are -1, 0, 1
-or the float32 2-D cosines), the quintic fade and ``a + t (b - a)`` lerps.
+hash, gradient products that are exact (components are -1, 0, 1 or the
+float32 2-D cosines), the quintic fade and ``a + t (b - a)`` lerps.
 """
 
 from __future__ import annotations
