@@ -279,6 +279,89 @@ def test_nan_and_inf_coordinates():
         assert np.isnan(v32[0]) and np.isfinite(v32[1])
 
 
+
+# ---------------------------------------------------------------- the float32 path
+# float32 inputs run 32-bit kernels (pair table, 16-lane IR for Perlin 2-D and
+# 3-D); they must give the float64 path's noise on the same coordinates, to
+# float32 rounding: same lattice hash, same gradients.
+
+_F32_CASES = {
+    "perlin": lambda *c: noise.perlin(*c),
+    "perlin-periodic": lambda *c: noise.perlin(*c, period=(5, 300, 1000)[:len(c)]),
+    "value": lambda *c: noise.value(*c, interpolation="quintic"),
+    "value-periodic": lambda *c: noise.value(*c, period=(3, 9, 1000)[:len(c)]),
+    "fbm": lambda *c: noise.fbm(*c, octaves=4, seed=3),
+    "turbulence": lambda *c: noise.turbulence(*c, octaves=3, seed=4),
+}
+
+
+# Each float32 kernel costs a compile (cached on disk afterwards): the cases
+# cover every float32 code path (16-lane Perlin 2-D and 3-D, point-loop Perlin
+# 1-D, value noise, periodic lattices) without compiling every combination.
+@pytest.mark.parametrize("kind,dims", [
+    ("perlin", 1), ("perlin", 2), ("perlin", 3), ("fbm", 3), ("turbulence", 2),
+    ("value", 1), ("value", 2), ("perlin-periodic", 2), ("value-periodic", 1),
+])
+def test_float32_path_agrees_with_float64(kind, dims):
+    rng = np.random.default_rng(9)
+    pts = rng.uniform(-1e4, 1e4, size=(dims, 3001)).astype(np.float32)
+    pts[:, :1000] = rng.uniform(-600, 600, size=(dims, 1000))  # many cells, both signs
+    got = _F32_CASES[kind](*pts)
+    want = _F32_CASES[kind](*pts.astype(np.float64))
+    assert got.dtype == np.float32
+    assert np.max(np.abs(got - want)) < 2e-6
+    assert np.std(want) > 0.05
+
+
+def test_float32_huge_coordinates_take_lattice_index_zero():
+    # From 2**31 on every float32 is a multiple of 256; the float32 path
+    # converts floor(x) through an int32 and must not overflow there.
+    x = np.float32([2.0**31, 2.0**40, -2.0**31, -3e38, 3e38, 5.5])
+    y = np.full_like(x, 0.3)
+    for f in (noise.value, noise.perlin):
+        got = f(x, y)
+        want = f(x.astype(np.float64), y.astype(np.float64))
+        assert np.max(np.abs(got - want)) < 1e-6
+    assert np.all(noise.value(x[:5], np.float32(0.0)) == noise.value(np.float32([0.0]), np.float32(0.0)))
+
+
+def test_float32_lanes_do_not_depend_on_position():
+    # The 16-lane kernels mask the last lanes of a block; a point must give
+    # the same bits wherever it sits in the array, alone or among others.
+    rng = np.random.default_rng(10)
+    pts = rng.uniform(-300, 300, size=(3, 4099)).astype(np.float32)
+    for dims in (2, 3):
+        whole = noise.fbm(*pts[:dims], octaves=3, seed=2)
+        for i in (0, 15, 16, 2047, 2048, 4098):
+            single = noise.fbm(*(c[i:i + 1] for c in pts[:dims]), octaves=3, seed=2)
+            assert single.tobytes() == whole[i:i + 1].tobytes()
+
+
+def test_float32_lanes_generic_ir_matches_the_permute_path():
+    # Without AVX-512 (VBMI) the 16-lane kernels use generic vector IR: gathers
+    # from the pair table and selects for the gradients. Same bits expected.
+    from spectex.noise import _kernels, _lanes
+    from spectex.noise._api import _constants
+
+    if not _lanes.has_permute():
+        pytest.skip("this CPU runs the generic path only")
+    rng = np.random.default_rng(11)
+    pts = rng.uniform(-700, 700, size=(3, 1000)).astype(np.float32)
+    f32 = np.float32
+    P, W, P8, V = (np.array(t) for t in _tables.octave_tables(5, 0))  # writable, as in _api
+    # kernel(x, y, z, out, P, W, P8, V, G1, freq, amp, pf, ip, mode, turbulent, K)
+    rest = (P, W, P8, V.astype(f32), _tables.GRAD1.astype(f32), np.ones(1, f32), np.ones(1, f32),
+            np.full((1, 3), 256, f32), np.full((1, 3), 1 / 256, f32), _kernels.QUINTIC, False,
+            _constants(f32))
+    for dims in (2, 3):
+        out = []
+        for permute in (True, False):
+            o = np.empty(1000, np.float32)
+            _kernels.fractal_kernel(dims, _kernels.PERLIN, False, True, permute)(*pts, o, *rest)
+            out.append(o)
+        assert out[0].tobytes() == out[1].tobytes()
+        assert np.array_equal(out[0], noise.perlin(*pts[:dims], seed=5))
+
 @pytest.mark.parametrize("args,expected", [
     ((np.float32(0.5),), np.float32),
     ((np.float32([0.5]), np.float32([0.2])), np.float32),

@@ -154,19 +154,20 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         raise ValueError(f"gain={gain} with octaves={octaves} overflows or underflows the amplitude")
     if normalize:
         amp = amp / amp.sum()
-    P = np.concatenate([_tables.permutation(seed, o) for o in range(octaves)]).astype(np.int32)
-    V = np.concatenate([_tables.lattice_values(seed, o) for o in range(octaves)]).astype(dtype)
+    tables = [_tables.octave_tables(seed, o) for o in range(octaves)]
+    P, W, P8, V = (np.concatenate([t[k] for t in tables]) for k in range(4))
+    V = V.astype(dtype)
     K = _constants(dtype)
     out = np.empty(flat[0].size, dtype=dtype)
     if out.size:
         pf3 = np.full((octaves, 3), 256.0)
         pf3[:, :dims] = pf
         mode = _INTERPOLATIONS[interpolation] if basis == "value" else _kernels.QUINTIC
-        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic))
+        kernel = _kernels.fractal_kernel(dims, _BASES[basis], bool(periodic), dtype == np.float32)
         xs = flat + [flat[0]] * (3 - dims)
-        kernel(xs[0], xs[1], xs[2], out, P, V, _tables.GRAD1.astype(dtype), freq.astype(dtype),
-               amp.astype(dtype), pf3.astype(dtype), (1.0 / pf3).astype(dtype), mode,
-               bool(turbulent), K)
+        kernel(xs[0], xs[1], xs[2], out, P, W, P8, V, _tables.GRAD1.astype(dtype),
+               freq.astype(dtype), amp.astype(dtype), pf3.astype(dtype),
+               (1.0 / pf3).astype(dtype), mode, bool(turbulent), K)
     return _finish(out, shape)
 
 

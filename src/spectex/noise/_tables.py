@@ -8,6 +8,8 @@ four bits of the hash pick a gradient from the tables below.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 # Ken Perlin's permutation from the Improved Noise reference (2002).
@@ -89,3 +91,28 @@ def lattice_values(seed, octave: int = 0) -> np.ndarray:
     s = 0 if seed is None else int(seed)
     rng = np.random.default_rng([s, int(octave), 0x5EED])
     return rng.uniform(-1.0, 1.0, 256)
+
+
+def pair_table(perm: np.ndarray) -> np.ndarray:
+    """The pair table of a doubled (512-entry) permutation, as int32.
+
+    ``W[i] = P[i] | P[i + 1] << 16`` (``P[512]`` wrapping to ``P[0]``): one
+    look-up gives the hashes of two neighbouring lattice points, exactly the
+    reference's ``P[A]`` and ``P[A + 1]``. The float32 kernels hash with it.
+    """
+    perm = np.asarray(perm, dtype=np.int64)
+    return (perm | (np.roll(perm, -1) << 16)).astype(np.int32)
+
+
+@functools.lru_cache(maxsize=256)
+def octave_tables(seed, octave: int):
+    """The kernels' tables for ``seed`` and ``octave``, read-only and cached:
+    ``(P, W, P8, V)`` = the doubled permutation (int32), its pair table
+    (int32), the permutation as 256 bytes, and the lattice values (float64).
+    """
+    perm = permutation(seed, octave)
+    out = (perm.astype(np.int32), pair_table(perm), perm[:256].astype(np.uint8),
+           lattice_values(seed, octave))
+    for a in out:
+        a.setflags(write=False)
+    return out
