@@ -13,6 +13,8 @@ import numpy as np
 
 from spectex import io, procedural
 
+TEST_ARGS = ["--tile", "32"]
+
 PANELS = [
     ("perlin", "grey", {"scale": 6}),
     ("fbm", "earth", {"scale": 3, "octaves": 8}),

@@ -154,26 +154,32 @@ def test_render_mipmapping_is_alias_free(gl, full_contrast):
 
 
 @pytest.mark.parametrize("blend", ["alpha", "detail", "variance"])
-def test_render_cpu_fast_path_matches_general(monkeypatch, blend):
+def test_render_cpu_fast_path_matches_general(blend):
     """The fast kernel (REPEAT, square power-of-two tile, trilinear, isotropic)
     against the general sampler on random views: positions near and far
     from the origin, altitudes from 0.3 m to 3 km, any heading, pitches down
     to straight down and up to the horizon, so that the coordinates and the
     footprints (magnification to the 1 x 1 level) are spread widely;
     supersampling and layer toggles included."""
-    import spectex.render.cpu as cpu
+    from spectex.shading import pack, view_params
+    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
 
     rng = np.random.default_rng(7)
     tex = SpectralTexture.paper_preset(make_tile(64, seed=3), blend=blend)
-    assert cpu.fast_path_args(tex, tex.packed()) is not None
+    assert pack(tex).fast
     for k in range(6):
         cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
                      yaw=rng.uniform(0.0, 360.0), pitch=rng.uniform(-90.0, 5.0), fov=rng.uniform(20.0, 90.0))
-        kw = dict(supersample=1 + k % 2, enabled=rng.random(5) < 0.8 if k >= 3 else None)
-        fast = render_cpu(tex, cam, (24, 40), **kw)
-        with monkeypatch.context() as m:
-            m.setattr(cpu, "fast_path_args", lambda *a: None)
-            general = render_cpu(tex, cam, (24, 40), **kw)
+        n = 1 + k % 2
+        tables = pack(tex, enabled=rng.random(5) < 0.8 if k >= 3 else None)
+        view = view_params(cam, (24, 40), supersample=n)
+        anchor = tex.anchor_coords(*cam.position[:2])
+        fast = np.empty((24, 40, 3), np.float32)
+        general = np.empty((24, 40, 3), np.float32)
+        render_kernel_fast(tables, anchor, view, row_order(24), fast)
+        render_kernel(tables, anchor, view, row_order(24), general)
+        np.testing.assert_array_equal(render_cpu(tex, cam, (24, 40), supersample=n,
+                                                 enabled=[bool(v) for v in tables.on]), fast)
         assert np.abs(fast - general).max() <= 1e-5, (k, np.abs(fast - general).max())
         assert general.std() > 0.01  # a textured picture, not a blank one
 
@@ -184,7 +190,7 @@ def test_render_cpu_fast_log2_exp_match_numpy():
     haze and sky exponents 0 down to -700), including the mantissa edges."""
     import numba
 
-    from spectex.render._kernels import _exp, _log2
+    from spectex.shading.view import _exp, _log2
 
     @numba.njit
     def both(x, y, a, b):
@@ -202,13 +208,14 @@ def test_render_cpu_fast_log2_exp_match_numpy():
 
 
 def test_render_cpu_fast_path_only_where_it_applies():
-    import spectex.render.cpu as cpu
+    from spectex.shading import pack
 
     tex = SpectralTexture.paper_preset(make_tile(64, seed=3))
-    assert cpu.fast_path_args(tex, tex.packed(filter="linear")) is None
-    assert cpu.fast_path_args(tex, tex.packed(anisotropy=4.0)) is None
+    assert pack(tex).fast
+    assert not pack(tex, filter="linear").fast
+    assert not pack(tex, anisotropy=4.0).fast
     odd = SpectralTexture.plain(make_tile(64, seed=3)[:, :48], 5.0)
-    assert cpu.fast_path_args(odd, odd.packed()) is None
+    assert not pack(odd).fast
 
 
 def test_render_cpu_haze_and_sky():
@@ -270,7 +277,7 @@ def test_render_no_gl_falls_back_to_cpu(monkeypatch):
 
 @pytest.mark.parametrize("h", [1, 7, 16, 17, 180, 1080])
 def test_row_order_is_a_permutation_spread_over_the_picture(h):
-    from spectex.render._kernels import row_order
+    from spectex.shading.view import row_order
 
     rows = row_order(h)
     assert rows.dtype == np.int64

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from spectex.texture import FORMAT, Layer, SpectralTexture
+from spectex.texture import Layer, SpectralTexture
+from spectex.texture_file import FORMAT
 from spectex.tiles import make_tile
 
 
@@ -259,14 +260,20 @@ def test_texel_store_is_made_once_and_matches_the_mip_levels():
         np.testing.assert_array_equal(got, lv)
     base = tex.texel_store(mipmaps=False)
     assert base[1] == 16 * 16 and len(base[2]) == 1
-    np.testing.assert_array_equal(tex.packed(mipmaps=False)[0], base[0])
+    from spectex.shading import pack
+
+    np.testing.assert_array_equal(pack(tex, mipmaps=False).data, base[0])
 
 
-def test_packed_names_a_bad_filter_or_anisotropy():
+def test_pack_names_a_bad_filter_or_anisotropy():
+    from spectex.shading import constants as C
+    from spectex.shading import pack
+
     tex = SpectralTexture.paper_preset(make_tile(16, seed=2))
     with pytest.raises(ValueError, match="filter.*bogus"):
-        tex.packed(filter="bogus")
+        pack(tex, filter="bogus")
     with pytest.raises(ValueError, match="anisotropy"):
-        tex.packed(anisotropy=40.0)
-    assert tex.packed(filter="nearest")[8] == 0  # NEAREST magnifies with NEAREST
-    assert tex.packed(filter="trilinear")[7:9] == (5, 1)
+        pack(tex, anisotropy=40.0)
+    assert pack(tex, filter="nearest").mag_filter == C.FILTER_NEAREST  # NEAREST magnifies with NEAREST
+    tri = pack(tex, filter="trilinear")
+    assert (tri.min_filter, tri.mag_filter) == (C.FILTER_LINEAR_MIPMAP_LINEAR, C.FILTER_LINEAR)

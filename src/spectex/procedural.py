@@ -122,20 +122,53 @@ def wood(shape, *, scale=2.0, rings=10.0, strength=1.0, octaves=3, seed=0, time=
     """Wood: concentric rings ``frac(rings * r + strength * fbm)``.
 
     ``r`` is the distance from the image centre in image widths. The ring
-    profile is sharpened (early wood light, late wood dark). Radial, so not
-    tileable. Returns values in [-1, 1].
+    profile is sharpened (early wood light, late wood dark): ``p(x) = 2 x^3
+    - 1`` of the ring phase ``x = frac(t)``, which jumps from 1 back to -1 at
+    each ring edge. Each pixel gets the mean of ``p`` over the phases its
+    footprint covers (an analytic box filter: ``P(t) = floor(t) P(1) +
+    P(frac(t))`` with ``P(x) = x^4 / 2 - x`` the integral of ``p``, over the
+    footprint width ``|grad t|``), so the ring edges are anti-aliased
+    instead of stair-stepped. Radial, so not tileable. Returns values in
+    [-1, 1].
     """
     shape, scale, octaves, seed, time = _check_common(shape, scale, octaves, seed, time)
     rings = check_float("rings", rings, minimum=0.0)
     strength = check_float("strength", strength, minimum=0.0)
     h, w = shape
     n = noise_image(shape, kind="fbm", scale=scale, octaves=octaves, seed=seed, time=time)
-    u = ((np.arange(w, dtype=np.float32) + 0.5) / w - 0.5)[None, :]
-    v = ((np.arange(h, dtype=np.float32) + 0.5) / w - 0.5 * h / w)[:, None]
-    r = np.sqrt(u * u + v * v)
-    t = np.float32(rings) * r + np.float32(strength) * n
+    u = ((np.arange(w, dtype=np.float64) + 0.5) / w - 0.5)[None, :]
+    v = ((np.arange(h, dtype=np.float64) + 0.5) / w - 0.5 * h / w)[:, None]
+    t = rings * np.sqrt(u * u + v * v) + strength * n.astype(np.float64)
+    return ring_profile(t, _footprint(t)).astype(np.float32)
+
+
+def _footprint(t: np.ndarray) -> np.ndarray:
+    """Per pixel, how far ``t`` moves across one pixel: the longer of its
+    central differences along the rows and the columns (one-sided at the
+    edges, 0 for a single row or column)."""
+    widths = [np.abs(np.gradient(t, axis=a)) if t.shape[a] > 1 else np.zeros_like(t) for a in (0, 1)]
+    return np.maximum(widths[0], widths[1])
+
+
+def ring_profile(t, width):
+    """The wood ring profile ``2 frac(t)^3 - 1``, box-filtered over ``[t - width/2, t + width/2]``.
+
+    ``width = 0`` gives the profile itself; the result is exact for any
+    width (the integral of the profile is known in closed form).
+    """
+    t = np.asarray(t, dtype=np.float64)
+    width = np.asarray(width, dtype=np.float64)
+
+    def integral(x):  # of 2 frac^3 - 1 from 0 to x: -1/2 per whole ring, then P(frac)
+        f = x - np.floor(x)
+        return -0.5 * np.floor(x) + 0.5 * f ** 4 - f
+
     frac = t - np.floor(t)
-    return (np.float32(2.0) * frac ** np.float32(3.0) - np.float32(1.0)).astype(np.float32)
+    point = 2.0 * frac ** 3 - 1.0
+    wide = width > 1e-6
+    safe = np.where(wide, width, 1.0)
+    box = (integral(t + 0.5 * safe) - integral(t - 0.5 * safe)) / safe
+    return np.where(wide, box, point)
 
 
 def stripes(shape, *, scale=4.0, frequency=8.0, octaves=5, seed=0, tileable=False, time=None):

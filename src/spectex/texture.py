@@ -21,8 +21,11 @@ Also here, for comparison and as options:
   mip level), so that blending two independent layers keeps their variance
   instead of washing it out.
 
-The layer compositing here is the written-down specification of
-``docs/sampling.md``; the GLSL renderer implements the same text.
+This module is the data model: layers, tiles, presets and derived data
+(mip levels, texel store). How a texture is sampled, composited and seen
+is the shading core's (``spectex.shading``, ``docs/sampling.md``), which
+:meth:`SpectralTexture.bake` and the renderers call; the file format is
+``spectex.texture_file``.
 
 References
 ----------
@@ -35,25 +38,15 @@ References
 
 from __future__ import annotations
 
-import math
-import numbers
-import tomllib
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from ._validate import check_choice, check_float, check_image, check_int, check_shape
+from .shading.constants import BLENDS, MAX_LAYERS, MAX_TILES
 
-__all__ = ["Layer", "SpectralTexture", "BLENDS", "FORMAT", "FORMAT_VERSION", "MAX_BAKE_PIXELS"]
+__all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS"]
 
-#: How a layer goes over the layers drawn before it (codes 0, 1, 2 in the kernels).
-BLENDS = ("alpha", "detail", "variance")
-#: File format name and version written to and required in texture files.
-FORMAT = "spectex.spectral-texture"
-FORMAT_VERSION = 1
-#: Most layers a texture may have (the GL shader is generated for up to this many).
-MAX_LAYERS = 8
 #: Largest bake, in pixels (times supersample squared): 64 Mpx, about 1 GiB of float32 work arrays.
 MAX_BAKE_PIXELS = 1 << 26
 
@@ -104,9 +97,9 @@ class Layer:
 
         ``(s, t) = R(-rotation) (p - offset) / size``.
         """
-        th = math.radians(self.rotation)
-        c, s = math.cos(th), math.sin(th)
-        return np.array([[c, s], [-s, c]], dtype=np.float64) / self.size
+        from .shading.tables import layer_matrix
+
+        return layer_matrix(self.size, self.rotation)
 
     def coords(self, x, y):
         """Tile coordinates (s, t) of world points (x, y), float64."""
@@ -160,6 +153,8 @@ class SpectralTexture:
         tiles = list(tiles)
         if not tiles:
             raise ValueError("tiles must hold at least one tile, got 0")
+        if len(tiles) > MAX_TILES:
+            raise ValueError(f"tiles must hold at most {MAX_TILES} tiles, got {len(tiles)}")
         if bits not in (8, None):
             raise ValueError(f"bits must be 8 or None, got {bits!r}")
         checked = []
@@ -172,7 +167,7 @@ class SpectralTexture:
                                  "all tiles must have the same shape")
             if np.any(tile < 0) or np.any(tile > 1):
                 raise ValueError(f"tiles[{i}] values must be in [0, 1], got [{tile.min():g}, {tile.max():g}]")
-            from .sampling import quantize
+            from .shading.sampler import quantize
 
             checked.append(np.ascontiguousarray(quantize(tile, bits)))
         layers = [_as_layer(i, layer) for i, layer in enumerate(layers)]
@@ -263,7 +258,7 @@ class SpectralTexture:
     @property
     def nbytes_mipmapped(self) -> int:
         """Bytes with all mip levels."""
-        from .sampling import gl_level_shapes
+        from .shading.sampler import gl_level_shapes
 
         per = sum(h * w for h, w in gl_level_shapes(*self.tile_shape)) * 4 * (1 if self.bits == 8 else 4)
         return len(self.tiles) * per
@@ -280,7 +275,7 @@ class SpectralTexture:
         renderer uploads.
         """
         if self._levels is None:
-            from .sampling import default_mip_chain, quantize
+            from .shading.sampler import default_mip_chain, quantize
 
             self._levels = [[quantize(level, self.bits) for level in default_mip_chain(tile)]
                             for tile in self.tiles]
@@ -312,7 +307,7 @@ class SpectralTexture:
         """
         key = bool(mipmaps)
         if key not in self._stores:
-            from .sampling import MipTexture
+            from .shading.sampler import MipTexture
 
             textures = [MipTexture(lv if mipmaps else lv[:1], bits=None) for lv in self.mip_levels()]
             tex = textures[0]
@@ -320,42 +315,20 @@ class SpectralTexture:
             self._stores[key] = (data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
         return self._stores[key]
 
-    def packed(self, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=None):
-        """Kernel arguments: texel store, sampler state and layer tables (see ``render.cpu``)."""
-        from .sampling import filter_code
-
-        code = filter_code("filter", filter)
-        state = (0, 0, code, 0 if code == 0 else 1,  # REPEAT both ways; NEAREST magnifies only under NEAREST
-                 check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0), 0.0, -1000.0, 1000.0)
-        n = len(self.layers)
-        if enabled is None:
-            enabled = [True] * n
-        if len(enabled) != n:
-            raise ValueError(f"enabled must have one flag per layer ({n}), got {len(enabled)}")
-        tile_idx = np.array([layer.tile for layer in self.layers], dtype=np.int64)
-        mats = np.stack([layer.matrix() for layer in self.layers]).astype(np.float64)
-        blends = np.array([BLENDS.index(layer.blend) for layer in self.layers], dtype=np.int64)
-        means = self.mean_colours()[tile_idx]
-        opacity = np.array([layer.opacity for layer in self.layers], dtype=np.float64)
-        on = np.array([bool(e) for e in enabled], dtype=np.bool_)
-        return self.texel_store(mipmaps=mipmaps) + state + (tile_idx, mats, blends, means, opacity, on)
-
     def anchor_coords(self, x0: float, y0: float) -> np.ndarray:
         """Per layer, the tile coordinates (s, t) of world point (x0, y0), reduced modulo 2.
 
-        Computed in float64 on the host, so that the kernels and shaders work
-        with small coordinates relative to an anchor (the camera, a bake's
-        corner) and keep their precision far from the world origin. Modulo 2
-        is a period of both REPEAT and MIRRORED_REPEAT.
+        Computed in float64 on the host (``spectex.shading.tables.anchor_coords``),
+        so that the kernels and shaders work with small coordinates relative
+        to an anchor (the camera, a bake's corner) and keep their precision
+        far from the world origin.
         """
-        out = np.empty((len(self.layers), 2), dtype=np.float64)
-        for k, layer in enumerate(self.layers):
-            s, t = layer.coords(x0, y0)
-            out[k] = (float(s) % 2.0, float(t) % 2.0)
-        return out
+        from .shading.tables import anchor_coords
+
+        return anchor_coords(self.layers, x0, y0)
 
     def bake(self, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="trilinear", anisotropy=1.0,
-             supersample=1, mipmaps=True):
+             supersample=1, mipmaps=True, start=(0, 0)):
         """Render a top-down orthographic view of a region, filtered for its footprint.
 
         Pixel ``(r, c)`` covers the world square with corner ``origin +
@@ -385,6 +358,12 @@ class SpectralTexture:
             ``n`` gives ``n x n`` box-filtered samples per pixel.
         mipmaps : bool
             With False, only level 0 is sampled (for aliasing comparisons).
+        start : (int, int)
+            Bake the block of the region's pixel grid whose first pixel is
+            ``(row, column) = start``: pixel ``(r, c)`` of the result is pixel
+            ``(start[0] + r, start[1] + c)`` of the grid anchored at
+            ``origin``, with the same bits as in a bake of the whole region
+            (for baking a large region in blocks).
 
         Returns
         -------
@@ -395,13 +374,16 @@ class SpectralTexture:
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // (n * n))
         ox, oy = _pair("origin", origin)
         p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
-        anisotropy = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
-        args = self.packed(filter=filter, anisotropy=anisotropy, mipmaps=mipmaps)
-        anchor = self.anchor_coords(ox, oy)
-        out = np.empty((h, w, 3), dtype=np.float32)
-        from .render._kernels import bake_kernel
+        if not isinstance(start, (tuple, list)) or len(start) != 2:
+            raise ValueError(f"start must be a pair (row, column) of integers, got {start!r}")
+        row0 = check_int("start[0]", start[0], minimum=0)
+        col0 = check_int("start[1]", start[1], minimum=0)
+        from .shading.tables import pack
+        from .shading.view import bake_kernel
 
-        bake_kernel(*args, anchor, p, n, out)
+        tables = pack(self, filter=filter, anisotropy=anisotropy, mipmaps=mipmaps)
+        out = np.empty((h, w, 3), dtype=np.float32)
+        bake_kernel(tables, self.anchor_coords(ox, oy), p, n, row0, col0, out)
         return out
 
     def bake_layers(self, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="trilinear"):
@@ -413,7 +395,7 @@ class SpectralTexture:
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // max(1, len(self.layers)))
         ox, oy = _pair("origin", origin)
         p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
-        from .sampling import MipTexture, sample
+        from .shading.sampler import MipTexture, sample
 
         r, c = np.mgrid[0:h, 0:w]
         x = ox + (c + 0.5) * p
@@ -428,175 +410,21 @@ class SpectralTexture:
         return out
 
     # ------------------------------------------------------------------- files
-    def to_dict(self, tile_names) -> dict:
-        return {
-            "format": FORMAT,
-            "version": FORMAT_VERSION,
-            "bits": 8 if self.bits == 8 else 32,
-            "tiles": list(tile_names),
-            "layers": [{"tile": layer.tile, "size": layer.size, "offset": list(layer.offset),
-                        "rotation": layer.rotation, "blend": layer.blend, "opacity": layer.opacity}
-                       for layer in self.layers],
-        }
+    def save(self, path):
+        """Write the texture file (TOML) and its tile PNG(s) beside it (``spectex.texture_file.save``)."""
+        from .texture_file import save
 
-    def save(self, path) -> Path:
-        """Write the texture file (TOML) and its tile PNG(s) beside it, atomically.
-
-        ``ground.toml`` gets ``ground.tile.png`` (or ``ground.tile0.png``,
-        ``ground.tile1.png``, ... for several tiles): 8-bit RGBA PNGs for
-        ``bits=8``, 16-bit for float tiles. If any file fails, the files
-        written by this call are removed.
-
-        Returns
-        -------
-        Path
-            The texture file.
-        """
-        from .io import atomic_path, check_output_path, write_image
-
-        path = check_output_path("output", path, (".toml",))
-        names = ([f"{path.stem}.tile.png"] if len(self.tiles) == 1
-                 else [f"{path.stem}.tile{i}.png" for i in range(len(self.tiles))])
-        written = []
-        try:
-            for name, tile in zip(names, self.tiles):
-                target = path.parent / name
-                existed = target.exists()
-                write_image(target, tile, bit_depth=8 if self.bits == 8 else 16)
-                if not existed:
-                    written.append(target)
-            text = dumps_toml(self.to_dict(names))
-            with atomic_path(path) as tmp:
-                tmp.write_text(text, encoding="utf-8")
-        except BaseException:
-            for target in written:
-                target.unlink(missing_ok=True)
-            raise
-        return path
+        return save(self, path)
 
     @classmethod
     def load(cls, path) -> "SpectralTexture":
-        """Read a texture file written by :meth:`save` (or by hand).
+        """Read a texture file (``spectex.texture_file.load``); every field is checked."""
+        from .texture_file import load
 
-        Every field is checked; an error names the field and the file.
-        """
-        path = Path(path)
-        if not path.is_file():
-            raise ValueError(f"texture file not found: '{path}'")
-        try:
-            text = path.read_text(encoding="utf-8")
-            doc = tomllib.loads(text)
-        except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-            raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
-        try:
-            return cls.from_dict(doc, base=path.parent)
-        except (ValueError, TypeError) as exc:
-            raise ValueError(f"texture file '{path}': {exc}") from None
-
-    @classmethod
-    def from_dict(cls, doc: dict, *, base=".") -> "SpectralTexture":
-        """Build from the parsed file contents; tile paths are relative to ``base``."""
-        if not isinstance(doc, dict):
-            raise TypeError(f"texture must be a table, got {type(doc).__name__}")
-        known = {"format", "version", "bits", "tiles", "layers"}
-        extra = sorted(set(doc) - known)
-        if extra:
-            raise ValueError(f"unknown field {extra[0]!r} (known: {', '.join(sorted(known))})")
-        for key in ("format", "version", "tiles", "layers"):
-            if key not in doc:
-                raise ValueError(f"missing field '{key}'")
-        if doc["format"] != FORMAT:
-            raise ValueError(f"field 'format' must be {FORMAT!r}, got {doc['format']!r}")
-        version = doc["version"]
-        if not isinstance(version, int) or isinstance(version, bool):
-            raise ValueError(f"field 'version' must be an integer, got {version!r}")
-        if version != FORMAT_VERSION:
-            raise ValueError(f"field 'version' is {version}; this spectex reads version {FORMAT_VERSION}")
-        bits = doc.get("bits", 8)
-        if bits not in (8, 32) or isinstance(bits, bool):
-            raise ValueError(f"field 'bits' must be 8 or 32, got {bits!r}")
-        names = doc["tiles"]
-        if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
-            raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {names!r}")
-        from .io import read_image
-
-        tiles = []
-        for i, name in enumerate(names):
-            tile_path = Path(base) / name
-            try:
-                tile = read_image(tile_path, name=f"tiles[{i}]")
-            except ValueError as exc:
-                raise ValueError(f"field 'tiles[{i}]': {exc}") from None
-            if tile.ndim == 2:
-                tile = np.repeat(tile[:, :, None], 3, axis=2)
-            elif tile.shape[2] == 2:
-                tile = np.concatenate([np.repeat(tile[:, :, :1], 3, axis=2), tile[:, :, 1:]], axis=2)
-            tiles.append(tile)
-        raw_layers = doc["layers"]
-        if not isinstance(raw_layers, list) or not raw_layers:
-            raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
-        layers = []
-        allowed = {"tile", "size", "offset", "rotation", "blend", "opacity"}
-        for i, entry in enumerate(raw_layers):
-            if not isinstance(entry, dict):
-                raise ValueError(f"field 'layers[{i}]' must be a table, got {entry!r}")
-            extra = sorted(set(entry) - allowed)
-            if extra:
-                raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
-            if "size" not in entry:
-                raise ValueError(f"missing field 'layers[{i}].size'")
-            for key in ("size", "rotation", "opacity"):
-                if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
-                    raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {entry[key]!r}")
-            try:
-                layers.append(Layer(**entry))
-            except (ValueError, TypeError) as exc:
-                raise ValueError(f"field 'layers[{i}].{exc}") from None
-        try:
-            return cls(tiles, layers, bits=8 if bits == 8 else None)
-        except (ValueError, TypeError) as exc:
-            msg = str(exc)
-            raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
+        return load(path)
 
 
 def _pair(name, value) -> tuple[float, float]:
     if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2:
         raise ValueError(f"{name} must be a pair (x, y) of numbers, got {value!r}")
     return check_float(f"{name}[0]", value[0]), check_float(f"{name}[1]", value[1])
-
-
-def _toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        text = repr(float(value))
-        return text if any(ch in text for ch in ".en") else text + ".0"
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise TypeError(f"cannot write {type(value).__name__} to TOML")
-
-
-def dumps_toml(doc: dict) -> str:
-    """The texture document as TOML (scalars, arrays, and one array of tables, ``layers``)."""
-    lines = ["# spectex spectral texture: layers of one tile at different scales.",
-             "# Layers are drawn in order (finest first); each later one is blended over the",
-             "# ones before by its 'blend': alpha | detail | variance, with alpha = opacity * tile alpha.",
-             "# size and offset are metres, rotation degrees counter-clockwise. Tiles are relative",
-             "# to this file."]
-    tables = []
-    for key, value in doc.items():
-        if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-            tables.append((key, value))
-        else:
-            lines.append(f"{key} = {_toml_value(value)}")
-    for key, entries in tables:
-        for entry in entries:
-            lines.append("")
-            lines.append(f"[[{key}]]")
-            for k, v in entry.items():
-                lines.append(f"{k} = {_toml_value(v)}")
-    return "\n".join(lines) + "\n"

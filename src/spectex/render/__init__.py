@@ -8,7 +8,7 @@ follow ``docs/sampling.md``. Nothing heavy is imported here.
 
 from __future__ import annotations
 
-from .camera import Atmosphere, Camera, check_size
+from ..shading.camera import Atmosphere, Camera, check_size
 
 __all__ = ["Camera", "Atmosphere", "check_size", "render"]
 

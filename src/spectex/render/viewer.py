@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from .camera import Atmosphere, Camera
+from ..shading.camera import Atmosphere, Camera
 
 __all__ = ["NoDisplay", "check_display", "run_viewer", "Flight"]
 

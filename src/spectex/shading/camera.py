@@ -1,6 +1,10 @@
 """The perspective camera over the ground plane, and the sky and haze around it.
 
-Conventions (shared by the CPU and GL renderers, ``docs/sampling.md``):
+Section 7 of ``docs/sampling.md``; the CPU kernels (``shading.view``) and the
+shader (``shaders/ground.frag.glsl``) take the camera as one
+:class:`ViewParams`, made by :func:`view_params`.
+
+Conventions (shared by the CPU and GL renderers):
 world metres, ``x`` east, ``y`` north, ``z`` up, the ground is ``z = 0``.
 ``yaw`` is a compass heading in degrees (0 looks north along +y, 90 east
 along +x); ``pitch`` is degrees above the horizontal (negative looks down,
@@ -12,12 +16,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from .._validate import check_float
+from .constants import FAR_HAZE_RATIO
 
-__all__ = ["Camera", "Atmosphere", "MAX_RENDER_PIXELS", "check_size"]
+__all__ = ["Camera", "Atmosphere", "ViewParams", "view_params", "MAX_RENDER_PIXELS", "check_size"]
 
 #: Largest render, pixels times supersample squared: 64 Mpx (the CPU work
 #: arrays and the GL framebuffer of such a render take about 1 GiB).
@@ -124,11 +130,12 @@ class Atmosphere:
     """Sky gradient and distance haze.
 
     The ground colour at distance ``D`` along the ray becomes ``horizon + exp(-D /
-    haze_distance) (ground - horizon)``; beyond ``far = 50 haze_distance`` it is
+    haze_distance) (ground - horizon)``; beyond ``far = FAR_HAZE_RATIO
+    haze_distance`` (50, ``shading.constants``) it is
     the horizon colour (the texture is not sampled there). The sky at
     elevation ``e`` (sine of the ray's angle above the horizon) is ``horizon +
-    (1 - exp(-4 e)) (zenith - horizon)``, continuous with the hazed ground at
-    the horizon.
+    (1 - exp(-SKY_FALLOFF e)) (zenith - horizon)`` (``SKY_FALLOFF = 4``),
+    continuous with the hazed ground at the horizon.
     """
 
     horizon: tuple[float, float, float] = (0.78, 0.82, 0.86)
@@ -147,4 +154,42 @@ class Atmosphere:
 
     @property
     def far(self) -> float:
-        return 50.0 * self.haze_distance
+        return FAR_HAZE_RATIO * self.haze_distance
+
+
+class ViewParams(NamedTuple):
+    """A perspective view as the kernels and the shader take it (section 7).
+
+    Made by :func:`view_params`; numba passes it to the render kernels as
+    one argument, and ``render.gl`` sets one uniform per field.
+    """
+
+    height: float          #: camera altitude, metres (> 0)
+    fwd: np.ndarray        #: (3,) unit forward vector
+    right: np.ndarray      #: (3,) unit right vector (horizontal)
+    up: np.ndarray         #: (3,) unit up vector of the picture
+    tan_x: float           #: half-extent of the image plane at distance 1, along x
+    tan_y: float           #: and along y
+    ddx: np.ndarray        #: (3,) change of the ray per pixel along x (Camera.ray_steps)
+    ddy: np.ndarray        #: (3,) and along y
+    horizon: np.ndarray    #: (3,) RGB
+    zenith: np.ndarray     #: (3,) RGB
+    haze_distance: float   #: metres
+    far: float             #: no texture beyond this distance, metres
+    supersample: int       #: n x n samples per pixel
+
+
+def view_params(camera: Camera, shape, *, atmosphere=None, supersample=1) -> ViewParams:
+    """The :class:`ViewParams` of ``camera`` for a picture of ``shape = (height, width)`` pixels."""
+    if not isinstance(camera, Camera):
+        raise TypeError(f"camera must be a Camera, got {type(camera).__name__}")
+    atmosphere = Atmosphere() if atmosphere is None else atmosphere
+    if not isinstance(atmosphere, Atmosphere):
+        raise TypeError(f"atmosphere must be an Atmosphere, got {type(atmosphere).__name__}")
+    h, w = shape
+    fwd, right, up = camera.basis()
+    tan_x, tan_y = camera.tangents(h, w)
+    ddx, ddy = camera.ray_steps(h, w)
+    return ViewParams(float(camera.position[2]), fwd, right, up, float(tan_x), float(tan_y), ddx, ddy,
+                      np.array(atmosphere.horizon, dtype=np.float64), np.array(atmosphere.zenith, dtype=np.float64),
+                      float(atmosphere.haze_distance), float(atmosphere.far), int(supersample))

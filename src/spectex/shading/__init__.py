@@ -1,0 +1,44 @@
+"""The shading core: how a spectral texture is sampled, composited and seen.
+
+One home for the shading specification (``docs/sampling.md``), below the
+data model (``spectex.texture``) and the renderers (``spectex.render``),
+which call down into it; nothing here imports anything above.
+
+========================  ================================================
+module                    what lives there
+========================  ================================================
+``shading.constants``     the one table of codes and constants (blends,
+                          tilings, filters, wraps, sky and haze, limits)
+``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
+``shading.tables``          a texture as one typed structure for the kernels
+                          and the shader (:class:`ShadingTables`)
+``shading.layers``        a layer's sample and blend, per point and per row (6)
+``shading.camera``        camera, atmosphere, :class:`ViewParams` (7)
+``shading.view``          ground footprint, haze, sky; bake and render kernels (7-8)
+``shading.glsl``          the GLSL of the renderer and the exports, generated
+``shading/shaders/``      the GLSL sources: the layer library and ``main()``
+========================  ================================================
+
+A new layer mode: its name in ``constants``, one branch in
+``layers.sample_layer``, one in ``shaders/spectex_layers.glsl``.
+
+Nothing heavy is imported here: the numba modules load on first use.
+"""
+
+from __future__ import annotations
+
+from . import constants
+from .camera import MAX_RENDER_PIXELS, Atmosphere, Camera, ViewParams, check_size, view_params
+
+__all__ = ["constants", "Camera", "Atmosphere", "ViewParams", "view_params", "check_size", "MAX_RENDER_PIXELS",
+           "ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+
+_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables", "layer_matrix": "tables"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        from importlib import import_module
+
+        return getattr(import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

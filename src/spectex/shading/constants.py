@@ -1,0 +1,97 @@
+"""The shading constants, defined once.
+
+Every implementation of the shading specification (``docs/sampling.md``)
+takes its codes and constants from here: the numba kernels import these
+names, and the GLSL (the renderer's shader and every export) gets them as
+``#define`` lines written by :func:`glsl_defines`, so that no port can hold
+a different number.
+
+Adding a layer blend or a tiling mode starts here: append its name to
+:data:`BLENDS` or :data:`TILINGS` (the code is the index), then give it one
+branch in ``shading/layers.py`` and one in ``shading/shaders/spectex_layers.glsl``.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
+    "TILINGS", "TILING_PERIODIC",
+    "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
+    "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
+    "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
+    "DEFAULT_MIN_LOD", "DEFAULT_MAX_LOD", "LOD_FLOOR", "ANCHOR_PERIOD",
+    "SKY_FALLOFF", "FAR_HAZE_RATIO", "MAX_LAYERS", "MAX_TILES", "glsl_defines",
+]
+
+# ------------------------------------------------------------------ layers
+#: How a layer goes over the layers drawn before it; the code is the index.
+BLENDS = ("alpha", "detail", "variance")
+BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE = 0, 1, 2
+#: The code of the first drawn layer, whatever its blend: it sets the colour.
+BLEND_FIRST = -1
+
+#: How a layer repeats its tile over the plane; the code is the index.
+TILINGS = ("periodic",)
+TILING_PERIODIC = 0
+
+#: Most layers in a texture (and per-layer uniform arrays in the shader).
+MAX_LAYERS = 8
+#: Most tiles in a texture (sampler units in the shader).
+MAX_TILES = 8
+
+# ----------------------------------------------------------------- sampler
+#: Wrap modes (OpenGL table 8.20); the code is the index.
+WRAP_MODES = ("repeat", "clamp_to_edge", "mirrored_repeat")
+WRAP_REPEAT, WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT = 0, 1, 2
+
+#: Texture filters; the code is the index. Only the first two magnify.
+FILTERS = ("nearest", "linear", "nearest_mipmap_nearest", "linear_mipmap_nearest",
+           "nearest_mipmap_linear", "linear_mipmap_linear")
+FILTER_NEAREST, FILTER_LINEAR = 0, 1
+FILTER_NEAREST_MIPMAP_NEAREST, FILTER_LINEAR_MIPMAP_NEAREST = 2, 3
+FILTER_NEAREST_MIPMAP_LINEAR, FILTER_LINEAR_MIPMAP_LINEAR = 4, 5
+#: Other names accepted for filters.
+FILTER_ALIASES = {"trilinear": "linear_mipmap_linear", "bilinear": "linear"}
+
+#: OpenGL's default level-of-detail clamps (GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD).
+DEFAULT_MIN_LOD = -1000.0
+DEFAULT_MAX_LOD = 1000.0
+#: The footprint length (texels or metres) below which lambda is taken at this
+#: floor, so that log2 never sees 0.
+LOD_FLOOR = 1e-30
+#: Per-layer anchor coordinates are reduced modulo this (a period of REPEAT
+#: and MIRRORED_REPEAT), in float64 on the host.
+ANCHOR_PERIOD = 2.0
+
+# --------------------------------------------------------------- atmosphere
+#: Sky: ``horizon + (1 - exp(-SKY_FALLOFF * elevation)) (zenith - horizon)``,
+#: ``elevation = d_z / |d|``.
+SKY_FALLOFF = 4.0
+#: The texture is not sampled beyond ``FAR_HAZE_RATIO * haze_distance``.
+FAR_HAZE_RATIO = 50.0
+
+
+def _glsl_number(value) -> str:
+    if isinstance(value, int):
+        return str(value)
+    text = repr(float(value))
+    return text if any(ch in text for ch in ".e") else text + ".0"
+
+
+def glsl_defines() -> str:
+    """The constants above as GLSL ``#define`` lines (prefix ``SPX_``).
+
+    Blend and tiling codes, the sampler's filter and wrap codes used by the
+    layer library, and the atmosphere constants; the shader sources refer
+    to these names only, never to literal codes.
+    """
+    lines = ["// Generated from spectex/shading/constants.py: do not edit."]
+    for name, code in (("FIRST", BLEND_FIRST), *((b.upper(), i) for i, b in enumerate(BLENDS))):
+        lines.append(f"#define SPX_BLEND_{name} {code}")
+    for i, t in enumerate(TILINGS):
+        lines.append(f"#define SPX_TILING_{t.upper()} {i}")
+    lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
+    lines.append(f"#define SPX_LOD_FLOOR {_glsl_number(LOD_FLOOR)}")
+    lines.append(f"#define SPX_SKY_FALLOFF {_glsl_number(SKY_FALLOFF)}")
+    lines.append(f"#define SPX_FAR_HAZE_RATIO {_glsl_number(FAR_HAZE_RATIO)}")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,98 @@
+"""GLSL generation: the shader text of the renderer and of every export, from one source.
+
+A shader is put together from
+
+1. a **prelude** for the target (:data:`TARGETS`): the ``#version`` line,
+   precision statements for GLSL ES, and the three texture macros the layer
+   library is written with (``SPX_TEX_ARG``, ``SPX_TEX``, ``SPX_LOD``);
+2. the **constants** of ``shading/constants.py`` as ``#define`` lines
+   (:func:`spectex.shading.constants.glsl_defines`);
+3. the **layer library** ``shaders/spectex_layers.glsl`` (self-contained: no
+   uniforms, everything by argument): layer coordinates, sampling with the
+   level of detail, blending, haze and sky;
+4. for the renderer, ``shaders/ground.frag.glsl``: the camera, the uniforms
+   and ``main()``, with one unrolled call per drawn layer.
+
+``render.gl`` compiles :func:`fragment_source`; the exports write the same
+text (or :func:`layer_library` alone, for an engine's own main), so the
+exported shader and the renderer's shader cannot drift apart.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+
+from .constants import BLEND_FIRST, BLENDS, glsl_defines
+
+__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file"]
+
+#: Targets: desktop OpenGL 3.3 core, and WebGL2 / OpenGL ES 3.0.
+TARGETS = ("330", "es300")
+
+_TEXTURE_MACROS = """#define SPX_TEX_ARG(name) sampler2D name
+#define SPX_TEX(name) name
+#define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
+"""
+
+
+def shader_file(name: str) -> str:
+    """The text of ``shading/shaders/NAME``."""
+    return resources.files("spectex.shading").joinpath("shaders", name).read_text(encoding="utf-8")
+
+
+def _check_target(target):
+    if target not in TARGETS:
+        raise ValueError(f"target must be one of {', '.join(TARGETS)}, got {target!r}")
+    return target
+
+
+def prelude(target: str = "330") -> str:
+    """``#version`` (and, for ``"es300"``, precision) lines and the texture macros."""
+    _check_target(target)
+    head = ("#version 330 core\n" if target == "330" else
+            "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n")
+    return head + _TEXTURE_MACROS
+
+
+def layer_library(*, anisotropic: bool = False) -> str:
+    """The constants and the layer library, without a prelude (for exports that bring their own).
+
+    ``anisotropic`` compiles the anisotropic path of ``spectex_sample_grad``
+    (``SPX_ANISO``): even untaken, its loop costs llvmpipe about a third of
+    a frame.
+    """
+    return (glsl_defines() + f"#define SPX_ANISO {1 if anisotropic else 0}\n"
+            + shader_file("spectex_layers.glsl"))
+
+
+def _blend_name(code: int) -> str:
+    return "SPX_BLEND_FIRST" if code == BLEND_FIRST else f"SPX_BLEND_{BLENDS[code].upper()}"
+
+
+def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: bool = False,
+                    iso_lod: bool = False, sky_only: bool = False) -> str:
+    """The ground shader for a texture's :class:`~spectex.shading.tables.ShadingTables`.
+
+    Sampler arrays may only be indexed by constants, so each drawn layer
+    (``tables.on``) gets its own call with its tile's index and its blend
+    code (``tables.blend``: the first drawn layer has ``SPX_BLEND_FIRST``)
+    written in, and the compiler folds every branch away: llvmpipe runs
+    both sides of a branch it cannot fold, and a runtime toggle or "first
+    layer" flag cost a quarter of the frame. ``iso_lod`` (square tiles, no
+    anisotropy) derives each layer's level of detail from one per-pixel
+    world level (``docs/sampling.md``, section 3). ``sky_only`` compiles
+    the ground branch out, for the rows that see only sky.
+    """
+    calls = [f"        shade_layer({k}, {_blend_name(int(tables.blend[k]))}, u_tile[{int(tables.tile[k])}], "
+             "c, p, jx, jy, lam_w);" for k in range(len(tables.tile)) if tables.on[k]]
+    switches = (f"#define N_LAYERS {len(tables.tile)}\n#define N_TILES {int(n_tiles)}\n"
+                f"#define ISO_LOD {1 if iso_lod and not anisotropic else 0}\n"
+                f"#define SKY_ONLY {1 if sky_only else 0}\n")
+    main = shader_file("ground.frag.glsl").replace("//@LAYERS@", "\n".join(calls))
+    return prelude(target) + layer_library(anisotropic=anisotropic) + switches + main
+
+
+def vertex_source(target: str = "330") -> str:
+    """The full-screen triangle's vertex shader."""
+    head = "#version 330 core\n" if _check_target(target) == "330" else "#version 300 es\nprecision highp float;\n"
+    return head + shader_file("fullscreen.vert.glsl")

@@ -1,0 +1,256 @@
+"""Layer sampling and compositing (``docs/sampling.md``, section 6), in numba.
+
+The one home of a layer's maths on the CPU:
+
+* :func:`layer_coords`: a ground point and its footprint in a layer's tile
+  coordinates, relative to the per-layer anchor;
+* :func:`sample_layer`: one layer's RGBA at a point, by its tiling mode
+  (periodic: the OpenGL-exact sampler of ``shading.sampler``); a new
+  tiling mode is a new branch here and in ``shaders/spectex_layers.glsl``;
+* :func:`blend_alpha`, :func:`blend_detail`, :func:`blend_variance` and
+  :func:`blend`: how a layer goes over the colour of the layers before it;
+* :func:`shade_ground` (one point, any sampler state) and :func:`shade_row`
+  (a row of points, the fast path's sampler state), which both composite
+  through the functions above.
+
+The GLSL side is ``shaders/spectex_layers.glsl``; its codes come from the
+same ``shading.constants``. Compiled on first use, never at import.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST
+from .sampler import sample_grad
+
+__all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "blend",
+           "shade_ground", "shade_row", "bilinear_repeat"]
+
+_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
+
+
+@_jit_inline
+def layer_coords(mats, anchor, k, dx, dy):
+    """Tile coordinates ``(s, t)`` of layer ``k`` at world displacement ``(dx, dy)`` from the anchor."""
+    return (anchor[k, 0] + (mats[k, 0, 0] * dx + mats[k, 0, 1] * dy),
+            anchor[k, 1] + (mats[k, 1, 0] * dx + mats[k, 1, 1] * dy))
+
+
+@_jit_inline
+def sample_layer(T, k, s, t, dsdx, dtdx, dsdy, dtdy):
+    """Layer ``k``'s RGBA at tile coordinates ``(s, t)`` with footprint derivatives (sections 3-5).
+
+    ``T``: :class:`~spectex.shading.tables.ShadingTables`. Periodic tiling:
+    the tile repeats (``REPEAT``), sampled by the OpenGL-exact sampler.
+    """
+    return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,
+                       T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod, T.max_lod,
+                       s, t, dsdx, dtdx, dsdy, dtdy)
+
+
+@_jit_inline
+def blend_alpha(c, x, a):
+    """The paper's blend: ``a x + (1 - a) c``."""
+    return a * x + (1.0 - a) * c
+
+
+@_jit_inline
+def blend_detail(c, x):
+    """Detail texturing: ``2 x c`` (modulate around mid-grey; no alpha)."""
+    return 2.0 * x * c
+
+
+@_jit_inline
+def variance_norm(a):
+    """``1 / sqrt(a^2 + (1 - a)^2)``, the variance-preserving blend's normalisation."""
+    return 1.0 / math.sqrt(a * a + (1.0 - a) * (1.0 - a))
+
+
+@_jit_inline
+def blend_variance(c, x, a, mu, norm):
+    """Heitz and Neyret's variance-preserving blend around the tile mean ``mu``; ``norm = variance_norm(a)``."""
+    return mu + (a * (x - mu) + (1.0 - a) * (c - mu)) * norm
+
+
+@_jit_inline
+def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
+    """The colour after a layer with blend ``code`` (``constants.BLEND_*``) goes over ``c``."""
+    if code == BLEND_FIRST:
+        return r, g, b
+    if code == BLEND_ALPHA:
+        return blend_alpha(cr, r, a), blend_alpha(cg, g, a), blend_alpha(cb, b, a)
+    if code == BLEND_DETAIL:
+        return blend_detail(cr, r), blend_detail(cg, g), blend_detail(cb, b)
+    nn = variance_norm(a)
+    return blend_variance(cr, r, a, mr, nn), blend_variance(cg, g, a, mg, nn), blend_variance(cb, b, a, mb, nn)
+
+
+@_jit_inline
+def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
+    """The spectral texture's colour at a ground point, any sampler state.
+
+    ``(dx, dy)``: world displacement (metres) from the anchor whose per-layer
+    tile coordinates are ``anchor``; ``(jxx, jyx)`` and ``(jxy, jyy)``: the
+    world derivatives of the point along the screen's x and y.
+    Returns RGB clamped to [0, 1] (black if no layer is drawn).
+    """
+    cr = 0.0
+    cg = 0.0
+    cb = 0.0
+    mats = T.mats
+    for k in range(T.tile.shape[0]):
+        if T.on[k] == 0:
+            continue
+        s, t = layer_coords(mats, anchor, k, dx, dy)
+        dsdx = mats[k, 0, 0] * jxx + mats[k, 0, 1] * jyx
+        dtdx = mats[k, 1, 0] * jxx + mats[k, 1, 1] * jyx
+        dsdy = mats[k, 0, 0] * jxy + mats[k, 0, 1] * jyy
+        dtdy = mats[k, 1, 0] * jxy + mats[k, 1, 1] * jyy
+        r, g, b, a = sample_layer(T, k, s, t, dsdx, dtdx, dsdy, dtdy)
+        cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a * T.opacity[k], T.mean[k, 0], T.mean[k, 1],
+                           T.mean[k, 2])
+    return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)
+
+
+# --------------------------------------------------------------------------
+# The fast path (docs/sampling.md, section 10): REPEAT, square power-of-two
+# tiles, trilinear, isotropic, default lod clamps, periodic tiling. The same
+# numbers as shade_ground (to float rounding), organised for speed: one
+# straight loop over a row of samples per layer, each layer's lambda from
+# the row's world lambda plus the layer's offset (section 3).
+# --------------------------------------------------------------------------
+
+
+@_jit_inline
+def bilinear_repeat(flat, off, wd, s, t):
+    """OpenGL LINEAR with REPEAT on the level of width ``wd`` (a power of two)
+    whose first texel is ``off`` in ``flat`` (RGBA float32, row-major):
+    returns (r, g, b, a). Unsigned indices and no branches, so that a loop
+    around it can be vectorised (gathers)."""
+    mask = wd - 1
+    u = s * wd - 0.5
+    v = t * wd - 0.5
+    fu = math.floor(u)
+    fv = math.floor(v)
+    a = np.float32(u - fu)
+    b = np.float32(v - fv)
+    i0 = np.int64(fu)
+    j0 = np.int64(fv)
+    i1 = (i0 + 1) & mask
+    j1 = (j0 + 1) & mask
+    i0 = i0 & mask
+    j0 = j0 & mask
+    r0 = off + j0 * wd
+    r1 = off + j1 * wd
+    k00 = np.uint64((r0 + i0) * 4)
+    k10 = np.uint64((r0 + i1) * 4)
+    k01 = np.uint64((r1 + i0) * 4)
+    k11 = np.uint64((r1 + i1) * 4)
+    one = np.float32(1.0)
+    w00 = (one - a) * (one - b)
+    w10 = a * (one - b)
+    w01 = (one - a) * b
+    w11 = a * b
+    u1 = np.uint64(1)
+    u2 = np.uint64(2)
+    u3 = np.uint64(3)
+    return (w00 * flat[k00] + w10 * flat[k10] + w01 * flat[k01] + w11 * flat[k11],
+            w00 * flat[k00 + u1] + w10 * flat[k10 + u1] + w01 * flat[k01 + u1] + w11 * flat[k11 + u1],
+            w00 * flat[k00 + u2] + w10 * flat[k10 + u2] + w01 * flat[k01 + u2] + w11 * flat[k11 + u2],
+            w00 * flat[k00 + u3] + w10 * flat[k10 + u3] + w01 * flat[k01 + u3] + w11 * flat[k11 + u3])
+
+
+@_jit_inline
+def _sample_row(flat, base, offsets, size0, mats, anchor, k, off_k, px, py, lamw, lr, lg, lb, la, m, two):
+    """Sections 3-4, trilinear, for layer ``k`` on ``m`` samples: the layer's
+    lambda is the world lambda plus ``off_k``. With ``two``, both levels
+    are always fetched (the second with weight 0 at and beyond the last
+    level and in magnification, where lambda is clamped to 0); without, the
+    caller knows that every lambda of the row is <= 0 or >= q, where the
+    second level has weight 0, and it is skipped (the same numbers)."""
+    q = offsets.shape[0] - 1
+    qf = np.float64(q)
+    if two == 0:
+        for x in range(m):
+            s, t = layer_coords(mats, anchor, k, px[x], py[x])
+            lam = min(max(lamw[x] + off_k, 0.0), qf)
+            d1 = np.int64(math.floor(lam))
+            r, g, b, a = bilinear_repeat(flat, base + offsets[d1], size0 >> d1, s, t)
+            lr[x] = r
+            lg[x] = g
+            lb[x] = b
+            la[x] = a
+        return 0
+    for x in range(m):
+        s, t = layer_coords(mats, anchor, k, px[x], py[x])
+        lam = min(max(lamw[x] + off_k, 0.0), qf)
+        fd = math.floor(lam)
+        beta = np.float32(lam - fd)
+        d1 = np.int64(fd)
+        d2 = min(d1 + 1, q)
+        r, g, b, a = bilinear_repeat(flat, base + offsets[d1], size0 >> d1, s, t)
+        r2, g2, b2, a2 = bilinear_repeat(flat, base + offsets[d2], size0 >> d2, s, t)
+        lr[x] = r + beta * (r2 - r)
+        lg[x] = g + beta * (g2 - g)
+        lb[x] = b + beta * (b2 - b)
+        la[x] = a + beta * (a2 - a)
+    return 0
+
+
+@_jit_inline
+def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off, anchor,
+              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m):
+    """Section 6 on ``m`` samples of a row (the fast path): world points
+    ``(px, py)`` relative to the anchor, world lambda ``lamw`` (between
+    ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
+    (not clamped); ``lr .. la`` are float32 scratch.
+
+    The arrays of :class:`ShadingTables` come one by one, unpacked by the
+    kernel before its parallel loop: numba marks only plain array arguments
+    ``noalias``, and without that LLVM does not vectorise these loops. The
+    blend formulas are :func:`blend_alpha` and friends, one loop per code.
+    """
+    for x in range(m):  # black where no layer is drawn, as shade_ground
+        cr[x] = 0.0
+        cg[x] = 0.0
+        cb[x] = 0.0
+    q = offsets.shape[0] - 1
+    for k in range(tile.shape[0]):
+        if on[k] == 0:
+            continue
+        two = 0 if lam_hi + lod_off[k] <= 0.0 or lam_lo + lod_off[k] >= q else 1
+        _sample_row(flat, tile[k] * stride, offsets, size0, mats, anchor, k, lod_off[k], px, py, lamw,
+                    lr, lg, lb, la, m, two)
+        op = opacity[k]
+        code = blend_code[k]
+        if code == BLEND_FIRST:
+            for x in range(m):
+                cr[x] = lr[x]
+                cg[x] = lg[x]
+                cb[x] = lb[x]
+        elif code == BLEND_ALPHA:
+            for x in range(m):
+                a = la[x] * op
+                cr[x] = blend_alpha(cr[x], lr[x], a)
+                cg[x] = blend_alpha(cg[x], lg[x], a)
+                cb[x] = blend_alpha(cb[x], lb[x], a)
+        elif code == BLEND_DETAIL:
+            for x in range(m):
+                cr[x] = blend_detail(cr[x], lr[x])
+                cg[x] = blend_detail(cg[x], lg[x])
+                cb[x] = blend_detail(cb[x], lb[x])
+        else:
+            mr = mean[k, 0]
+            mg = mean[k, 1]
+            mb = mean[k, 2]
+            for x in range(m):
+                a = la[x] * op
+                nn = variance_norm(a)
+                cr[x] = blend_variance(cr[x], lr[x], a, mr, nn)
+                cg[x] = blend_variance(cg[x], lg[x], a, mg, nn)
+                cb[x] = blend_variance(cb[x], lb[x], a, mb, nn)
+    return 0

@@ -1,0 +1,132 @@
+"""A texture's layers as the kernels and the shader take them: one typed structure.
+
+:func:`pack` turns a spectral texture (anything with ``layers``,
+``texel_store()``, ``mean_colours()`` and ``tile_shape``, i.e.
+:class:`spectex.SpectralTexture`; this module imports nothing above it)
+and a sampler state into :class:`ShadingTables`, a ``NamedTuple`` of
+arrays and scalars that numba passes to the kernels as one argument and
+from which ``render.gl`` sets the shader's per-layer uniforms. Everything a
+layer needs that is derived on the host (its map, its level-of-detail
+offset, its blend code with the first drawn layer marked) is computed here
+and nowhere else.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._validate import check_float
+from .constants import (ANCHOR_PERIOD, BLEND_FIRST, BLENDS, DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_LINEAR,
+                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_NEAREST, TILINGS, WRAP_REPEAT)
+from .sampler import filter_code
+
+__all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+
+
+class ShadingTables(NamedTuple):
+    """The texel store, the sampler state and the per-layer tables of a texture.
+
+    Per-layer arrays have one entry per layer ``k`` in drawing order.
+    """
+
+    data: np.ndarray       #: (N, 4) float32: every tile's mip levels, RGBA (``SpectralTexture.texel_store``)
+    flat: np.ndarray       #: (4 N,) float32: the same texels as one flat array (the fast path's view)
+    stride: int            #: rows of ``data`` per tile
+    offsets: np.ndarray    #: (levels,) int64: first row of each mip level within a tile
+    widths: np.ndarray     #: (levels,) int64
+    heights: np.ndarray    #: (levels,) int64
+    wrap_s: int            #: ``constants.WRAP_*``
+    wrap_t: int
+    min_filter: int        #: ``constants.FILTER_*``
+    mag_filter: int
+    max_aniso: float       #: 1 = off
+    bias: float
+    min_lod: float
+    max_lod: float
+    tile: np.ndarray       #: (L,) int64: the layer's tile
+    mats: np.ndarray       #: (L, 2, 2) float64: world metres -> tile coordinates (``layer_matrix``)
+    blend: np.ndarray      #: (L,) int64: ``constants.BLEND_*``; ``BLEND_FIRST`` for the first enabled layer
+    tiling: np.ndarray     #: (L,) int64: ``constants.TILING_*``
+    mean: np.ndarray       #: (L, 3) float64: mean colour of the layer's tile (its 1 x 1 level)
+    opacity: np.ndarray    #: (L,) float64
+    on: np.ndarray         #: (L,) int64: 1 if the layer is drawn
+    lod_off: np.ndarray    #: (L,) float64: log2(tile width / layer size), texels per metre (section 3)
+    size0: int             #: width of level 0
+    fast: bool             #: the fast path's sampler state (docs/sampling.md, section 10)
+
+
+def layer_matrix(size: float, rotation: float) -> np.ndarray:
+    """The 2 x 2 map from world displacement (metres) to tile coordinates (s, t).
+
+    ``M = R(-rotation) / size`` (rotation in degrees, counter-clockwise).
+    """
+    th = math.radians(rotation)
+    c, s = math.cos(th), math.sin(th)
+    return np.array([[c, s], [-s, c]], dtype=np.float64) / size
+
+
+def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
+    """Per layer, the tile coordinates of world point ``(x0, y0)`` modulo ``ANCHOR_PERIOD``, ``(L, 2)``.
+
+    Computed in float64 on the host, so that the kernels and shaders work
+    with small coordinates relative to an anchor (the camera, a bake's
+    corner) and keep their precision far from the world origin.
+    """
+    out = np.empty((len(layers), 2), dtype=np.float64)
+    for k, layer in enumerate(layers):
+        m = layer_matrix(layer.size, layer.rotation)
+        dx = float(x0) - layer.offset[0]
+        dy = float(y0) - layer.offset[1]
+        out[k] = ((m[0, 0] * dx + m[0, 1] * dy) % ANCHOR_PERIOD, (m[1, 0] * dx + m[1, 1] * dy) % ANCHOR_PERIOD)
+    return out
+
+
+def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=None) -> ShadingTables:
+    """The :class:`ShadingTables` of ``texture`` for a sampler state.
+
+    Parameters
+    ----------
+    texture : SpectralTexture
+    filter : str
+        Minification filter (``constants.FILTERS`` or an alias such as
+        "trilinear"); ``"nearest"`` also magnifies with NEAREST.
+    anisotropy : float
+        Maximum anisotropy, 1 (off) to 16.
+    mipmaps : bool
+        False keeps level 0 only (for aliasing comparisons).
+    enabled : sequence of bool, optional
+        Per layer, whether it is drawn.
+    """
+    code = filter_code("filter", filter)
+    aniso = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
+    layers = texture.layers
+    n = len(layers)
+    if enabled is None:
+        enabled = [True] * n
+    enabled = [bool(e) for e in enabled]
+    if len(enabled) != n:
+        raise ValueError(f"enabled must have one flag per layer ({n}), got {len(enabled)}")
+    data, stride, offsets, widths, heights = texture.texel_store(mipmaps=mipmaps)
+    tile = np.array([layer.tile for layer in layers], dtype=np.int64)
+    blend = np.array([BLENDS.index(layer.blend) for layer in layers], dtype=np.int64)
+    if any(enabled):
+        blend[enabled.index(True)] = BLEND_FIRST
+    tiling = np.array([TILINGS.index(getattr(layer, "tiling", "periodic")) for layer in layers], dtype=np.int64)
+    h0, w0 = texture.tile_shape
+    mag = FILTER_NEAREST if code == FILTER_NEAREST else FILTER_LINEAR
+    size0 = int(widths[0])
+    fast = bool(code == FILTER_LINEAR_MIPMAP_LINEAR and aniso == 1.0 and h0 == w0 and size0 & (size0 - 1) == 0
+                and widths.shape[0] == size0.bit_length() and all(t == 0 for t in tiling))
+    return ShadingTables(
+        data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
+        wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
+        min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile,
+        mats=np.stack([layer_matrix(layer.size, layer.rotation) for layer in layers]).astype(np.float64),
+        blend=blend, tiling=tiling, mean=np.ascontiguousarray(texture.mean_colours()[tile], dtype=np.float64),
+        opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
+        on=np.array(enabled, dtype=np.int64),
+        lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),
+        size0=size0, fast=fast)

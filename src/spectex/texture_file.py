@@ -1,0 +1,193 @@
+"""The spectral texture file format: a TOML document and its tile PNGs.
+
+A texture file (``ground.toml``) names its tiles (PNG files beside it) and
+lists its layers, finest first::
+
+    format = "spectex.spectral-texture"
+    version = 1
+    bits = 8
+    tiles = ["ground.tile.png"]
+
+    [[layers]]
+    tile = 0
+    size = 15.625            # metres per repeat of the tile
+    offset = [0.0, 0.0]      # metres
+    rotation = 0.0           # degrees, counter-clockwise
+    blend = "alpha"          # alpha | detail | variance
+    opacity = 1.0
+
+:func:`save` writes it with ``tomli-w`` (the tiles as 8-bit RGBA PNGs for
+``bits = 8``, 16-bit for float tiles), :func:`load` reads and checks every
+field; an error names the field and the file.
+"""
+
+from __future__ import annotations
+
+import numbers
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["FORMAT", "FORMAT_VERSION", "save", "load", "to_dict", "from_dict", "dumps"]
+
+#: File format name and version written to and required in texture files.
+FORMAT = "spectex.spectral-texture"
+FORMAT_VERSION = 1
+
+_HEADER = """# spectex spectral texture: layers of one tile at different scales.
+# Layers are drawn in order (finest first); each later one is blended over the
+# ones before by its 'blend': alpha | detail | variance, with alpha = opacity * tile alpha.
+# size and offset are metres, rotation degrees counter-clockwise. Tiles are relative
+# to this file.
+"""
+
+_LAYER_FIELDS = ("tile", "size", "offset", "rotation", "blend", "opacity")
+
+
+def to_dict(texture, tile_names) -> dict:
+    """The document of ``texture`` whose tiles are saved as ``tile_names``."""
+    return {
+        "format": FORMAT,
+        "version": FORMAT_VERSION,
+        "bits": 8 if texture.bits == 8 else 32,
+        "tiles": list(tile_names),
+        "layers": [{"tile": layer.tile, "size": layer.size, "offset": list(layer.offset),
+                    "rotation": layer.rotation, "blend": layer.blend, "opacity": layer.opacity}
+                   for layer in texture.layers],
+    }
+
+
+def dumps(doc: dict) -> str:
+    """The document as TOML text (``tomli-w``), after a comment header."""
+    import tomli_w
+
+    return _HEADER + tomli_w.dumps(doc)
+
+
+def tile_names(path: Path, n_tiles: int) -> list[str]:
+    """The tile file names beside ``path``: ``ground.tile.png``, or ``ground.tile0.png``, ... for several."""
+    if n_tiles == 1:
+        return [f"{path.stem}.tile.png"]
+    return [f"{path.stem}.tile{i}.png" for i in range(n_tiles)]
+
+
+def save(texture, path) -> Path:
+    """Write the texture file (TOML) and its tile PNG(s) beside it, atomically.
+
+    ``ground.toml`` gets ``ground.tile.png`` (or ``ground.tile0.png``,
+    ``ground.tile1.png``, ... for several tiles): 8-bit RGBA PNGs for
+    ``bits=8``, 16-bit for float tiles. If any file fails, the files
+    written by this call are removed.
+
+    Returns
+    -------
+    Path
+        The texture file.
+    """
+    from .io import atomic_path, check_output_path, write_image
+
+    path = check_output_path("output", path, (".toml",))
+    names = tile_names(path, len(texture.tiles))
+    written = []
+    try:
+        for name, tile in zip(names, texture.tiles):
+            target = path.parent / name
+            existed = target.exists()
+            write_image(target, tile, bit_depth=8 if texture.bits == 8 else 16)
+            if not existed:
+                written.append(target)
+        text = dumps(to_dict(texture, names))
+        with atomic_path(path) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+    except BaseException:
+        for target in written:
+            target.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def load(path):
+    """Read a texture file written by :func:`save` (or by hand) as a ``SpectralTexture``.
+
+    Every field is checked; an error names the field and the file.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"texture file not found: '{path}'")
+    try:
+        text = path.read_text(encoding="utf-8")
+        doc = tomllib.loads(text)
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
+    try:
+        return from_dict(doc, base=path.parent)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"texture file '{path}': {exc}") from None
+
+
+def from_dict(doc: dict, *, base="."):
+    """A ``SpectralTexture`` from the parsed file contents; tile paths are relative to ``base``."""
+    from .texture import Layer, SpectralTexture
+
+    if not isinstance(doc, dict):
+        raise TypeError(f"texture must be a table, got {type(doc).__name__}")
+    known = {"format", "version", "bits", "tiles", "layers"}
+    extra = sorted(set(doc) - known)
+    if extra:
+        raise ValueError(f"unknown field {extra[0]!r} (known: {', '.join(sorted(known))})")
+    for key in ("format", "version", "tiles", "layers"):
+        if key not in doc:
+            raise ValueError(f"missing field '{key}'")
+    if doc["format"] != FORMAT:
+        raise ValueError(f"field 'format' must be {FORMAT!r}, got {doc['format']!r}")
+    version = doc["version"]
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise ValueError(f"field 'version' must be an integer, got {version!r}")
+    if version != FORMAT_VERSION:
+        raise ValueError(f"field 'version' is {version}; this spectex reads version {FORMAT_VERSION}")
+    bits = doc.get("bits", 8)
+    if bits not in (8, 32) or isinstance(bits, bool):
+        raise ValueError(f"field 'bits' must be 8 or 32, got {bits!r}")
+    names = doc["tiles"]
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {names!r}")
+    from .io import read_image
+
+    tiles = []
+    for i, name in enumerate(names):
+        tile_path = Path(base) / name
+        try:
+            tile = read_image(tile_path, name=f"tiles[{i}]")
+        except ValueError as exc:
+            raise ValueError(f"field 'tiles[{i}]': {exc}") from None
+        if tile.ndim == 2:
+            tile = np.repeat(tile[:, :, None], 3, axis=2)
+        elif tile.shape[2] == 2:
+            tile = np.concatenate([np.repeat(tile[:, :, :1], 3, axis=2), tile[:, :, 1:]], axis=2)
+        tiles.append(tile)
+    raw_layers = doc["layers"]
+    if not isinstance(raw_layers, list) or not raw_layers:
+        raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
+    layers = []
+    allowed = set(_LAYER_FIELDS)
+    for i, entry in enumerate(raw_layers):
+        if not isinstance(entry, dict):
+            raise ValueError(f"field 'layers[{i}]' must be a table, got {entry!r}")
+        extra = sorted(set(entry) - allowed)
+        if extra:
+            raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
+        if "size" not in entry:
+            raise ValueError(f"missing field 'layers[{i}].size'")
+        for key in ("size", "rotation", "opacity"):
+            if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
+                raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {entry[key]!r}")
+        try:
+            layers.append(Layer(**entry))
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"field 'layers[{i}].{exc}") from None
+    try:
+        return SpectralTexture(tiles, layers, bits=8 if bits == 8 else None)
+    except (ValueError, TypeError) as exc:
+        msg = str(exc)
+        raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
