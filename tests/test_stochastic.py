@@ -8,7 +8,7 @@ from scipy.special import ndtr
 
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
-from spectex.stochastic import (GAUSS_SCALE, LUT_SIZE, StochasticTables, decorrelation, gaussianize, layer_key,
+from spectex.shading.stochastic import (GAUSS_SCALE, LUT_SIZE, StochasticTables, decorrelation, gaussianize, layer_key,
                                 lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix)
 from spectex.tiles import make_tile
 
@@ -153,10 +153,10 @@ def test_tables_are_deterministic_monotone_and_end_at_the_mean(tile, tables):
     # the last level: one texel, the table maps everything to the tile's mean
     mean = tile.reshape(-1, 4).mean(axis=0)
     last = tables.origin + tables.lut[-1, :, :3] @ tables.basis.T
-    assert np.allclose(last, mean[:3], atol=1e-5)
-    assert np.allclose(tables.lut[-1, :, 3], mean[3], atol=1e-5)
+    assert np.allclose(last, mean[:3], atol=5e-4)
+    assert np.allclose(tables.lut[-1, :, 3], mean[3], atol=5e-4)
     out = sample_stochastic(tables, np.linspace(-3, 3, 50), np.linspace(5, -1, 50), lod=20.0)
-    assert np.allclose(out, mean, atol=1e-4)
+    assert np.allclose(out, mean, atol=5e-4)
 
 
 def test_coarse_rows_regress_the_filtered_colour_on_the_filtered_gaussian(tile, tables):

@@ -63,8 +63,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._validate import check_float, check_image, check_seed
-from .sampling import MipTexture, clamp_lod, filter_code, sample_at_lod
+from .._validate import check_float, check_image, check_seed
+from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE
+from .sampler import MipTexture, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [
     "GAUSS_SCALE",
@@ -78,10 +79,6 @@ __all__ = [
     "lowbias32",
 ]
 
-#: Standard deviation of the Gaussianised tile about its mean of 0.5.
-GAUSS_SCALE = 0.1
-#: Entries of each row of the inverse look-up table, spanning G in [0, 1].
-LUT_SIZE = 1024
 #: ``sqrt(3)``: the height of an equilateral triangle of side 2.
 _SQRT3 = math.sqrt(3.0)
 
@@ -104,9 +101,9 @@ def lowbias32(x):
     x = np.asarray(x, dtype=np.uint32).copy()
     with np.errstate(over="ignore"):
         x ^= x >> np.uint32(16)
-        x *= np.uint32(0x7FEB352D)
+        x *= np.uint32(HASH_MUL1)
         x ^= x >> np.uint32(15)
-        x *= np.uint32(0x846CA68B)
+        x *= np.uint32(HASH_MUL2)
         x ^= x >> np.uint32(16)
     return x
 
@@ -172,7 +169,7 @@ def gaussianize(values) -> np.ndarray:
     if not np.all(np.isfinite(values)):
         raise ValueError("values must be finite, got NaN or infinity")
     ranks = rankdata(values.ravel(), method="average") - 1.0
-    g = 0.5 + GAUSS_SCALE * ndtri((ranks + 0.5) / values.size)
+    g = GAUSS_MEAN + GAUSS_SCALE * ndtri((ranks + 0.5) / values.size)
     return np.clip(g, 0.0, 1.0).reshape(values.shape)
 
 
@@ -205,7 +202,8 @@ class StochasticTables:
         values are exactly representable as half floats.
     lut : ndarray, shape (levels, LUT_SIZE, 4), float32
         Row ``d``, entry ``i``: the decorrelated colour (0-2) and alpha (3)
-        for a level-``d`` Gaussian value ``i / (LUT_SIZE - 1)``.
+        for a level-``d`` Gaussian value ``i / (LUT_SIZE - 1)``; half-float
+        values (an ``RGBA16F`` texture, linearly filtered, on the GPU).
     basis : ndarray, shape (3, 3), float64
         RGB = ``origin + basis @ v`` for decorrelated ``v``.
     origin : ndarray, shape (3,), float64
@@ -256,7 +254,7 @@ def stochastic_tables(tile) -> StochasticTables:
     Heitz and Neyret 2018, section 5 (prefiltering); Deliot and Heitz 2019
     (decorrelated 1-D histogram transformations, prefiltered table).
     """
-    from .tiles import mip_chain
+    from ..tiles import mip_chain
 
     tile = check_image("tile", tile, channels=(3, 4))
     if tile.shape[2] == 3:
@@ -277,7 +275,7 @@ def stochastic_tables(tile) -> StochasticTables:
         for c in range(4):
             lut[d, :, c] = _monotone_table(gl[:, :, c].ravel().astype(np.float64),
                                            vl[:, :, c].ravel().astype(np.float64), grid)
-    return StochasticTables(gaussian=gauss_levels, lut=np.ascontiguousarray(lut), basis=basis, origin=origin)
+    return StochasticTables(gaussian=gauss_levels, lut=np.ascontiguousarray(_half(lut)), basis=basis, origin=origin)
 
 
 # --------------------------------------------------------------------------
@@ -302,9 +300,9 @@ def _mul32(a, c):
 def hash32(x):
     """``lowbias32`` on an int64 holding a uint32."""
     x ^= x >> 16
-    x = _mul32(x, 0x7FEB352D)
+    x = _mul32(x, HASH_MUL1)
     x ^= x >> 15
-    x = _mul32(x, 0x846CA68B)
+    x = _mul32(x, HASH_MUL2)
     x ^= x >> 16
     return x
 
@@ -401,10 +399,11 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     r3, g3, b3, a3 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
     inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
-    v0 = 0.5 + (w1 * (r1 - 0.5) + w2 * (r2 - 0.5) + w3 * (r3 - 0.5)) * inv
-    v1 = 0.5 + (w1 * (g1 - 0.5) + w2 * (g2 - 0.5) + w3 * (g3 - 0.5)) * inv
-    v2 = 0.5 + (w1 * (b1 - 0.5) + w2 * (b2 - 0.5) + w3 * (b3 - 0.5)) * inv
-    v3 = 0.5 + (w1 * (a1 - 0.5) + w2 * (a2 - 0.5) + w3 * (a3 - 0.5)) * inv
+    m = GAUSS_MEAN
+    v0 = m + (w1 * (r1 - m) + w2 * (r2 - m) + w3 * (r3 - m)) * inv
+    v1 = m + (w1 * (g1 - m) + w2 * (g2 - m) + w3 * (g3 - m)) * inv
+    v2 = m + (w1 * (b1 - m) + w2 * (b2 - m) + w3 * (b3 - m)) * inv
+    v3 = m + (w1 * (a1 - m) + w2 * (a2 - m) + w3 * (a3 - m)) * inv
     d1, d2, beta = lut_levels(lam, min_filter, mag_filter, widths.shape[0] - 1)
     x0 = lut_lookup(lut, row0, d1, d2, beta, v0, 0)
     x1 = lut_lookup(lut, row0, d1, d2, beta, v1, 1)
