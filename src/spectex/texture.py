@@ -261,7 +261,8 @@ class SpectralTexture:
             layers.append(Layer(size=size, tile=0,
                                 offset=(round((0.382 * k % 1.0) * size, 6), round((0.618 * k % 1.0) * size, 6)),
                                 rotation=round((golden * k) % 360.0, 6), blend=blend,
-                                opacity=1.0 if k == 0 else opacity, tiling=tiling, patch=patch, seed=k))
+                                opacity=1.0 if k == 0 else opacity, tiling=tiling, patch=patch,
+                                seed=k if tiling == "stochastic" else 0))
         return cls(tile, layers, bits=bits)
 
     @classmethod
