@@ -74,12 +74,11 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
         acc = acc + w[..., None] * (g - 0.5)
         norm = norm + w * w
     gb = 0.5 + acc / np.sqrt(norm)[..., None]
-    grid = np.linspace(0.0, 1.0, LUT_SIZE)
-    v = np.empty_like(gb)
-    for c in range(4):
-        lo = np.array([np.interp(gb[k, c], grid, tables.lut[d1[k], :, c]) for k in range(len(s))])
-        hi = np.array([np.interp(gb[k, c], grid, tables.lut[d2[k], :, c]) for k in range(len(s))])
-        v[:, c] = lo + beta[:, 0] * (hi - lo)
+    # the expanded table: nearest of 8 rows per level step, nearest of LUT_SIZE entries
+    table = tables.expanded()
+    row = np.floor(lam * 8 + 0.5).astype(np.int64)
+    entry = np.floor(np.clip(gb, 0.0, 1.0) * (LUT_SIZE - 1) + 0.5).astype(np.int64)
+    v = np.stack([table[row, entry[:, c], c] for c in range(4)], axis=1).astype(np.float64)
     rgb = tables.origin + v[:, :3] @ tables.basis.T
     return np.clip(np.concatenate([rgb, v[:, 3:]], axis=1), 0.0, 1.0)
 
@@ -250,3 +249,14 @@ def test_seed_changes_the_layout_and_inputs_are_checked(tables):
         sample_stochastic(tables, np.nan, 0.0)
     with pytest.raises(ValueError, match="derivatives"):
         sample_stochastic(tables, 0.0, 0.0, dsdx=1.0)
+
+
+def test_expanded_table_rows_interpolate_the_levels(tables):
+    from spectex.shading.stochastic import expand_lut
+
+    table = expand_lut(tables.lut)
+    assert table.shape == ((tables.levels - 1) * 8 + 1, LUT_SIZE, 4)
+    assert np.array_equal(table[::8], tables.lut)
+    mid = 0.625 * tables.lut[2] + 0.375 * tables.lut[3]
+    assert np.allclose(table[2 * 8 + 3], mid, atol=1e-3)
+    assert np.array_equal(table, table.astype(np.float16).astype(np.float32))

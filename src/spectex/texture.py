@@ -367,11 +367,11 @@ class SpectralTexture:
     def stochastic_store(self, *, mipmaps=True):
         """The stochastic layers' texels as the kernels take them, made once per texture.
 
-        Returns ``(gauss, lut, lut_levels)``: ``gauss`` holds every tile's
+        Returns ``(gauss, lut, lut_rows)``: ``gauss`` holds every tile's
         Gaussianised levels laid out exactly as :meth:`texel_store`'s
         ``data`` (level 0 only without ``mipmaps``); ``lut`` is ``(tiles *
-        lut_levels, LUT_SIZE, 4)`` float32, tile ``i``'s level-``d`` row at
-        ``i * lut_levels + d``.
+        lut_rows, LUT_SIZE, 4)`` float32, tile ``i``'s expanded table
+        (``spectex.shading.stochastic.expand_lut``) from row ``i * lut_rows``.
         """
         key = bool(mipmaps)
         if key not in self._stochastic_stores:
@@ -380,8 +380,9 @@ class SpectralTexture:
             tables = self.stochastic_tables()
             textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]
             gauss = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
-            lut = np.ascontiguousarray(np.concatenate([tb.lut for tb in tables]), dtype=np.float32)
-            self._stochastic_stores[key] = (gauss, lut, tables[0].lut.shape[0])
+            rows = [tb.expanded() for tb in tables]
+            lut = np.ascontiguousarray(np.concatenate(rows), dtype=np.float32)
+            self._stochastic_stores[key] = (gauss, lut, rows[0].shape[0])
         return self._stochastic_stores[key]
 
     def anchor_coords(self, x0: float, y0: float) -> np.ndarray:

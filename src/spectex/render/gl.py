@@ -145,7 +145,7 @@ class GLRenderer:
         """
         from ..shading.glsl import fragment_source, vertex_source
 
-        key = (anisotropic, sky_only, () if sky_only else tuple(int(v) for v in tables.on))
+        key = (anisotropic, sky_only, int(tables.min_filter), () if sky_only else tuple(int(v) for v in tables.on))
         if key not in self._programs:
             texture = self.texture
             program = self.ctx.program(
@@ -166,10 +166,10 @@ class GLRenderer:
             self._set_uniform("u_gauss", list(range(n, 2 * n)))
             self._set_uniform("u_lut", 2 * n)
             self._set_uniform("u_lut_rows", float(tables.lut.shape[0]))
-            self._set_uniform("u_lut_q", float(tables.lut_levels - 1))
+            self._set_uniform("u_lut_q", float(len(self.texture.mip_levels()[0]) - 1))
             self._set_uniform("u_grid", [tuple(float(v) for v in g.reshape(-1)) for g in tables.grid])
             self._set_uniform("u_key", [int(v) for v in tables.key])
-            self._set_uniform("u_lut_row", [float(t * tables.lut_levels) for t in tables.tile])
+            self._set_uniform("u_lut_row", [float(t * tables.lut_rows) for t in tables.tile])
             # GLSL's mat3 is column-major: the columns of basis, one after the other
             self._set_uniform("u_basis", [tuple(float(v) for v in b.T.reshape(-1)) for b in tables.basis])
             self._set_uniform("u_origin", [tuple(float(v) for v in o) for o in tables.origin])
@@ -207,7 +207,7 @@ class GLRenderer:
 
         Both hold half floats (``RGBA16F``; the CPU holds the same values as
         float32): the Gaussian tiles mip-mapped and filtered like the tiles,
-        the tables (``SPX_LUT_SIZE`` x rows) linearly filtered, clamped.
+        the tables (``SPX_LUT_SIZE`` x rows, expanded) point-sampled, clamped.
         """
         from ..shading.constants import MAX_TILES
 
@@ -229,7 +229,7 @@ class GLRenderer:
         rows, size = lut.shape[:2]
         self.lut_texture = self.ctx.texture((size, rows), 4, np.ascontiguousarray(lut.astype(np.float16)).tobytes(),
                                             dtype="f2", alignment=1)
-        self.lut_texture.filter = (self._mgl.LINEAR, self._mgl.LINEAR)
+        self.lut_texture.filter = (self._mgl.NEAREST, self._mgl.NEAREST)
         self.lut_texture.repeat_x = False
         self.lut_texture.repeat_y = False
 
@@ -325,7 +325,6 @@ class GLRenderer:
         self._set_uniform("u_max_aniso", tables.max_aniso)
         self._set_uniform("u_anchor", [(float(a[0]), float(a[1])) for a in anchor])
         if self.lut_texture is not None:
-            self._set_uniform("u_min_filter", int(tables.min_filter))
             self._set_uniform("u_ganchor", [(float(a[2]), float(a[3])) for a in anchor])
             self._set_uniform("u_gbase", [(int(a[4]), int(a[5])) for a in anchor])
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
-    "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE",
+    "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
@@ -43,6 +43,8 @@ GAUSS_MEAN = 0.5
 GAUSS_SCALE = 0.1
 #: Entries of each row of the inverse look-up table (Gaussian value 0 .. 1).
 LUT_SIZE = 1024
+#: Rows of the sampled table per mip level step (``stochastic.expand_lut``).
+LUT_SUBROWS = 8
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -107,6 +109,7 @@ def glsl_defines() -> str:
         lines.append(f"#define SPX_FILTER_{f.upper()} {i}")
     lines.append(f"#define SPX_GAUSS_MEAN {_glsl_number(GAUSS_MEAN)}")
     lines.append(f"#define SPX_LUT_SIZE {LUT_SIZE}")
+    lines.append(f"#define SPX_LUT_SUBROWS {LUT_SUBROWS}")
     lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")

@@ -84,7 +84,9 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     layer" flag cost a quarter of the frame. ``iso_lod`` (square tiles, no
     anisotropy) derives each layer's level of detail from one per-pixel
     world level (``docs/sampling.md``, section 3). ``sky_only`` compiles
-    the ground branch out, for the rows that see only sky.
+    the ground branch out, for the rows that see only sky. The
+    minification filter's code is written in (``MIN_FILTER``), so that the
+    stochastic layers' choice of table row folds to one formula.
     """
     calls = []
     for k in range(len(tables.tile)):
@@ -101,7 +103,8 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     switches = (f"#define N_LAYERS {len(tables.tile)}\n#define N_TILES {int(n_tiles)}\n"
                 f"#define ISO_LOD {1 if iso_lod and not anisotropic else 0}\n"
                 f"#define SKY_ONLY {1 if sky_only else 0}\n"
-                f"#define STOCHASTIC {1 if stochastic else 0}\n")
+                f"#define STOCHASTIC {1 if stochastic else 0}\n"
+                f"#define MIN_FILTER {int(tables.min_filter)}\n")
     main = shader_file("ground.frag.glsl").replace("//@LAYERS@", "\n".join(calls))
     return prelude(target) + layer_library(anisotropic=anisotropic) + switches + main
 

@@ -66,7 +66,7 @@ def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
         ky = anchor[k, 3] + (g[k, 1, 0] * sr + g[k, 1, 1] * tr)
         return sample_stochastic_grad(T.gauss, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s,
                                       T.wrap_t, T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod,
-                                      T.max_lod, T.lut, T.tile[k] * T.lut_levels, T.basis[k], T.origin[k],
+                                      T.max_lod, T.lut, T.tile[k] * T.lut_rows, T.basis[k], T.origin[k],
                                       T.grid[k], np.int64(anchor[k, 4]), np.int64(anchor[k, 5]), T.key[k],
                                       s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
     return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,

@@ -58,8 +58,8 @@ class ShadingTables(NamedTuple):
     fast: bool             #: the fast path's sampler state (docs/sampling.md, section 10)
     # stochastic tiling (section 6b; ``shading.stochastic``); 1-row placeholders when no layer is stochastic
     gauss: np.ndarray      #: (N, 4) float32: every tile's Gaussianised levels, laid out as ``data``
-    lut: np.ndarray        #: (tiles * lut_levels, LUT_SIZE, 4) float32: inverse tables, row ``tile * lut_levels + d``
-    lut_levels: int        #: table rows per tile (the full mip chain's levels)
+    lut: np.ndarray        #: (tiles * lut_rows, LUT_SIZE, 4) float32: expanded inverse tables, tile ``i`` from row ``i * lut_rows``
+    lut_rows: int          #: table rows per tile (``stochastic.expand_lut``)
     grid: np.ndarray       #: (L, 2, 2) float64: tile coordinates -> skewed triangle-grid coordinates
     key: np.ndarray        #: (L,) int64: the layer's hash key (``stochastic.layer_key(seed)``)
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
@@ -152,7 +152,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     if np.any(tiling == TILING_STOCHASTIC):
         from .stochastic import layer_key, triangle_grid_matrix
 
-        gauss, lut, lut_levels = texture.stochastic_store(mipmaps=mipmaps)
+        gauss, lut, lut_rows = texture.stochastic_store(mipmaps=mipmaps)
         stoch = texture.stochastic_tables()
         for k, layer in enumerate(layers):
             if tiling[k] == TILING_STOCHASTIC:
@@ -163,7 +163,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     else:
         gauss = np.zeros((1, 4), dtype=np.float32)
         lut = np.zeros((1, 2, 4), dtype=np.float32)
-        lut_levels = 1
+        lut_rows = 1
     return ShadingTables(
         data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
         wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
@@ -173,5 +173,5 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
         on=np.array(enabled, dtype=np.int64),
         lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),
-        size0=size0, fast=fast, gauss=gauss, lut=lut, lut_levels=int(lut_levels), grid=grid, key=key,
+        size0=size0, fast=fast, gauss=gauss, lut=lut, lut_rows=int(lut_rows), grid=grid, key=key,
         basis=basis, origin=origin)

@@ -6,6 +6,7 @@
 //   ISO_LOD   1: each layer's lambda from the pixel's world lambda (section 3)
 //   SKY_ONLY  1: the ground branch compiled out (rows that see only sky)
 //   STOCHASTIC 1: some drawn layer is stochastic (section 6b): its textures and uniforms
+//   MIN_FILTER the minification filter's code (SPX_FILTER_*)
 // and the unrolled layer calls in place of the LAYERS marker below (only
 // the drawn layers', each with its tile and blend code written in).
 
@@ -37,7 +38,6 @@ uniform sampler2D u_gauss[N_TILES]; // per tile: its Gaussianised levels (RGBA16
 uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x u_lut_rows (RGBA16F, LINEAR)
 uniform float u_lut_rows;          // rows of u_lut
 uniform float u_lut_q;             // the last mip level (rows per tile - 1 with mip-maps, else 0)
-uniform int u_min_filter;          // the minification filter's code (SPX_FILTER_*)
 uniform vec4 u_grid[N_LAYERS];     // per layer: tile coords -> skewed grid coords (m00, m01, m10, m11)
 uniform vec2 u_ganchor[N_LAYERS];  // per layer: the anchor's grid position minus its vertex
 uniform uvec2 u_gbase[N_LAYERS];   // per layer: that grid vertex, mod 2^32
@@ -76,12 +76,12 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
     vec2 g = u_ganchor[k] + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);
 #if ISO_LOD
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
-                                       lam_w + u_lod_off[k], u_min_filter, u_lut_q, u_lut_row[k], u_lut_rows,
+                                       lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
                                        u_basis[k], u_origin[k]);
 #else
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,
                                             u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
-                                            u_tex_size, u_max_aniso, gm, u_min_filter, u_lut_q, u_lut_row[k],
+                                            u_tex_size, u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
                                             u_lut_rows, u_basis[k], u_origin[k]);
 #endif
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);

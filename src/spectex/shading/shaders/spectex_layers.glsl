@@ -91,12 +91,13 @@ float spectex_lut_level(float lam, int min_filter, float q) {
     return min(lam, q);
 }
 
-// The inverse tables at Gaussian values g (one per channel): row `row`
-// (fractional, blended linearly with the next) of a table texture of
-// `rows` rows and SPX_LUT_SIZE columns, linearly filtered.
-vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row, float rows) {
-    float v = (row + 0.5) / rows;
-    vec4 u = (clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) / float(SPX_LUT_SIZE);
+// The inverse tables at Gaussian values g (one per channel), at a
+// (fractional) level: the nearest of the SPX_LUT_SUBROWS rows per level step
+// from row `row0` and the nearest of the SPX_LUT_SIZE entries, of a table
+// texture of `rows` rows (NEAREST-filtered; stochastic.expand_lut).
+vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) {
+    float v = (row0 + floor(level * float(SPX_LUT_SUBROWS) + 0.5) + 0.5) / rows;
+    vec4 u = (floor(clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) + 0.5) / float(SPX_LUT_SIZE);
     return vec4(SPX_LOD(lut, vec2(u.x, v), 0.0).x, SPX_LOD(lut, vec2(u.y, v), 0.0).y,
                 SPX_LOD(lut, vec2(u.z, v), 0.0).z, SPX_LOD(lut, vec2(u.w, v), 0.0).w);
 }
@@ -127,7 +128,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key), lam);
     vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
     vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
-    vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0 + spectex_lut_level(lam, min_filter, q), lut_rows);
+    vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
     return clamp(vec4(origin + basis * v.xyz, v.w), 0.0, 1.0);
 }
 
