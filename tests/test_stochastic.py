@@ -62,8 +62,9 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
     norm = 0.0
     for vi, vj, w in verts:
         h = lowbias32(vi.astype(np.int64).astype(np.uint32) ^ lowbias32(vj.astype(np.int64).astype(np.uint32) ^ key))
-        ox = (h & 0xFFFF) / 65536.0
-        oy = (h >> 16) / 65536.0
+        w0, h0 = levels[0].shape[1], levels[0].shape[0]
+        ox = np.floor((h & 0xFFFF) / 65536.0 * w0) / w0
+        oy = np.floor((h >> 16) / 65536.0 * h0) / h0
         g = np.empty(s.shape + (4,))
         for d in range(q + 1):
             sel = d1 == d
@@ -104,8 +105,9 @@ def test_a_grid_vertex_shows_the_tile_texel_its_offset_points_to(tile, tables):
     out = sample_stochastic(tables, st[:, 0], st[:, 1], patch=0.5, seed=7, lod=0.0, filter="nearest")
     key = np.uint32(layer_key(7))
     h = lowbias32(ij[:, 0].astype(np.uint32) ^ lowbias32(ij[:, 1].astype(np.uint32) ^ key))
-    col = np.floor((st[:, 0] + (h & 0xFFFF) / 65536.0) * 128).astype(np.int64) % 128
-    row = np.floor((st[:, 1] + (h >> 16) / 65536.0) * 128).astype(np.int64) % 128
+    # offsets are whole texels: floor(u * 128) / 128
+    col = (np.floor(st[:, 0] * 128).astype(np.int64) + np.floor((h & 0xFFFF) / 65536.0 * 128).astype(np.int64)) % 128
+    row = (np.floor(st[:, 1] * 128).astype(np.int64) + np.floor((h >> 16) / 65536.0 * 128).astype(np.int64)) % 128
     err = np.abs(out - tile[row, col])
     assert err.max() < 3.0 / 255.0
     assert err.mean() < 0.3 / 255.0

@@ -339,15 +339,19 @@ def hash32(x):
 
 
 @_jit_inline
-def vertex_offset(i, j, key):
-    """The random offset (tile units, [0, 1)^2) of grid vertex ``(i, j)`` under a layer's ``key``.
+def vertex_offset(i, j, key, w0, h0):
+    """The random offset (tile units) of grid vertex ``(i, j)`` under a layer's ``key``.
 
     ``h = lowbias32(i ^ lowbias32(j ^ key))`` on the vertex's coordinates
     as uint32 (two's complement, so the grid's vertices repeat only after
-    2^32 of them); the offset is ``(h & 0xFFFF, h >> 16) / 65536``.
+    2^32 of them); ``(h & 0xFFFF, h >> 16) / 65536`` in [0, 1)^2, snapped
+    down to whole texels of the ``w0 x h0`` level 0 (``floor(u w0) / w0``),
+    so that a patch's texels fall where the un-offset tile's would: a bake
+    on the texel grid samples texel centres, unblurred.
     """
     h = hash32((i & _M32) ^ hash32((j & _M32) ^ key))
-    return (h & 0xFFFF) * (1.0 / 65536.0), (h >> 16) * (1.0 / 65536.0)
+    return (math.floor((h & 0xFFFF) * (1.0 / 65536.0) * w0) / w0,
+            math.floor((h >> 16) * (1.0 / 65536.0) * h0) / h0)
 
 
 @_jit_inline
@@ -414,13 +418,15 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     decorrelation.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
-    ox, oy = vertex_offset(bi + i1, bj + j1, key)
+    w0 = np.float64(widths[0])
+    h0 = np.float64(heights[0])
+    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0)
     r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
-    ox, oy = vertex_offset(bi + i2, bj + j2, key)
+    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, h0)
     r2, g2, b2, a2 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
-    ox, oy = vertex_offset(bi + i3, bj + j3, key)
+    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, h0)
     r3, g3, b3, a3 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
     inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)

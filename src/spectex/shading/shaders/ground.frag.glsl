@@ -76,7 +76,7 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
     vec2 g = u_ganchor[k] + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);
 #if ISO_LOD
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
-                                       lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
+                                       u_tex_size, lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
                                        u_basis[k], u_origin[k]);
 #else
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,

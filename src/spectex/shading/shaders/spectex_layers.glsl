@@ -73,10 +73,11 @@ SPX_UINT spectex_hash(SPX_UINT x) {
     return x;
 }
 
-// The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under a layer's key.
-vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key) {
+// The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under
+// a layer's key, snapped down to whole texels of level 0 (tex_size texels).
+vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size) {
     SPX_UINT h = spectex_hash(i ^ spectex_hash(j ^ key));
-    return vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0);
+    return floor(vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0) * tex_size) / tex_size;
 }
 
 // The table row (fractional: row d1 + beta) that goes with the levels a
@@ -103,13 +104,14 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 }
 
 // One stochastic sample at lambda: st the tile coordinates, g the same point
-// in skewed grid coordinates relative to the grid vertex (base_i, base_j);
+// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
+// tex_size the level-0 width and height;
 // three patches of the Gaussianised tile `gauss`, each offset by its
 // vertex's hash, blended with the barycentric weights preserving the
 // variance, then the layer's row `lut_row0` (+ level) of the tables and the
 // inverse decorrelation (origin + basis * v). RGBA in [0, 1].
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
-                               SPX_UINT base_j, SPX_UINT key, float lam, int min_filter, float q,
+                               SPX_UINT base_j, SPX_UINT key, vec2 tex_size, float lam, int min_filter, float q,
                                float lut_row0, float lut_rows, mat3 basis, vec3 origin) {
     vec2 c = floor(g);
     vec2 f = g - c;
@@ -123,9 +125,9 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     int i3 = lower ? ci : ci + 1;
     int j3 = lower ? cj + 1 : cj;
     vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
-    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key), lam);
-    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key), lam);
-    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key), lam);
+    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key, tex_size), lam);
+    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key, tex_size), lam);
+    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key, tex_size), lam);
     vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
     vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
@@ -158,14 +160,14 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
             for (float i = 1.0; i <= n; i += 1.0) {
                 float fi = i / (n + 1.0) - 0.5;
                 acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
-                                                 base_j, key, lam, min_filter, q, lut_row0, lut_rows, basis,
-                                                 origin);
+                                                 base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
+                                                 basis, origin);
             }
             return acc / n;
         }
     }
 #endif
-    return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key,
+    return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, tex_size,
                                      log2(max(pmax, SPX_LOD_FLOOR)), min_filter, q, lut_row0, lut_rows, basis,
                                      origin);
 }
