@@ -24,11 +24,14 @@ _GOLDEN = 137.50776405003785
 #: Most power per octave the continuation may gain towards coarser scales (dB per octave).
 MAX_COARSE_SLOPE = -1.5
 #: Far-away bake regions used by the fit, in units of the second coarse layer's size.
-_FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577))
+_FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577), (-2.718, -1.414), (1.732, -3.606))
 #: An exemplar whose fine detail repeats by itself (its :func:`spectex.metrics.repeat_peak`)
 #: at least this much is *structured* (bricks, tiles, lines): ``tiling="auto"`` keeps its
 #: finest layer periodic, because tiling and blending would blur the structure.
 STRUCTURED_PEAK = 0.1
+#: Band and mean steps on the stochastic texture's bakes, and the regions they are measured on.
+STOCHASTIC_ROUNDS = 2
+STOCHASTIC_REGIONS = 4
 #: The fit's tiling choices (see :func:`fit`).
 FIT_TILINGS = ("auto", "stochastic", "periodic")
 
@@ -242,10 +245,13 @@ class _Problem:
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
         self.target_cross, self.fine = target["value"], target["fine"]
-        # two regions on the pixel grid (layer 0 sampled at its texel centres): the
-        # exemplar's own place and one far away in the coarse layers
-        self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * pixel_size,
-                                          round(tile_px * ratio ** 2 * fy) * pixel_size)
+        self.set_regions(n_regions, tile_px=tile_px, ratio=ratio)
+
+    def set_regions(self, n_regions, *, tile_px, ratio):
+        """Regions on the pixel grid (layer 0 sampled at its texel centres): the exemplar's own
+        place and ``n_regions - 1`` far away in the coarse layers."""
+        self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * self.p,
+                                          round(tile_px * ratio ** 2 * fy) * self.p)
                                          for fx, fy in _FAR[:n_regions - 1]]
 
     def texture(self, colour, alpha):
@@ -496,7 +502,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     else:
         tilings = ["periodic"] + ["stochastic"] * (layers - 1)
     stochastic = "stochastic" in tilings
-    total = 2 + 4 + 1 + 2 * (iterations + 1) + (2 if stochastic else 0)
+    total = 2 + 4 + 1 + 2 * (iterations + 1) + (2 * STOCHASTIC_ROUNDS if stochastic else 0)
     done = 0
 
     def tick():
@@ -572,9 +578,12 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         tick()
         tick()
     if stochastic:
-        # step 5: the final layers; one more band and mean step on their bakes
+        # step 5: the final layers; more regions (a stochastic texture's regions differ more than a
+        # periodic one's) and STOCHASTIC_ROUNDS band and mean steps on their bakes
         problem.layers = layer_list = _with_tilings(layer_list, tilings, patch)
-        colour = spectral_and_histogram(colour, alpha)
+        problem.set_regions(STOCHASTIC_REGIONS, tile_px=n, ratio=ratio)
+        for _ in range(STOCHASTIC_ROUNDS):
+            colour = spectral_and_histogram(colour, alpha)
     # the exact histograms (a monotone map per channel), then a last band-power step
     colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
     err = problem.band_error(problem.bakes(colour, alpha))
