@@ -100,8 +100,10 @@ def _validator():
 @pytest.mark.parametrize("anisotropic", [False, True])
 def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
     exe = _validator()
-    tex = SpectralTexture(make_tile(16, seed=1), [dict(size=3.0), dict(size=17.0, blend="detail")])
+    tex = SpectralTexture(make_tile(16, seed=1), [dict(size=3.0), dict(size=17.0, blend="detail"),
+                                                  dict(size=40.0, tiling="stochastic", seed=3)])
     tables = pack(tex, anisotropy=4.0 if anisotropic else 1.0)
+    assert "shade_layer_stochastic(2, SPX_BLEND_ALPHA, u_gauss[0], u_lut" in glsl.fragment_source(tables, 1)
     for name, text in (("ground.frag", glsl.fragment_source(tables, 1, target=target, anisotropic=anisotropic,
                                                             iso_lod=not anisotropic)),
                        ("sky.frag", glsl.fragment_source(tables, 1, target=target, sky_only=True)),
