@@ -56,8 +56,9 @@ READ_VERSIONS = (1, 2)
 _HEADER = """# spectex spectral texture: layers of one tile at different scales.
 # Layers are drawn in order (finest first); each later one is blended over the
 # ones before by its 'blend': alpha | detail | variance, with alpha = opacity * tile alpha.
-# size and offset are metres, rotation degrees counter-clockwise. Tiles are relative
-# to this file.
+# size and offset are metres, rotation degrees counter-clockwise. tiling: periodic (the
+# tile repeats) | stochastic (never repeats; patch: triangle side in tiles, seed: the random
+# offsets). Tiles are relative to this file.
 """
 
 _LAYER_FIELDS = ("tile", "size", "offset", "rotation", "blend", "opacity")
