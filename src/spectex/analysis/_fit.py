@@ -27,8 +27,9 @@ MAX_COARSE_SLOPE = -1.5
 _FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577), (-2.718, -1.414), (1.732, -3.606))
 #: An exemplar whose fine detail repeats by itself (its :func:`spectex.metrics.repeat_peak`)
 #: at least this much is *structured* (bricks, tiles, lines): ``tiling="auto"`` keeps its
-#: finest layer periodic, because tiling and blending would blur the structure.
-STRUCTURED_PEAK = 0.1
+#: finest layer periodic, because tiling and blending would blur the structure. Between the
+#: unstructured photos' highest (0.11, moon's 128 x 128 corner) and brick's lowest (0.18).
+STRUCTURED_PEAK = 0.15
 #: Band and mean steps on the stochastic texture's bakes, and the regions they are measured on.
 STOCHASTIC_ROUNDS = 2
 STOCHASTIC_REGIONS = 4
@@ -158,9 +159,11 @@ def structure_peak(exemplar) -> float:
     """How much the exemplar's own fine detail repeats: :func:`spectex.metrics.repeat_peak` of it.
 
     ``min_lag`` is 24 pixels, less for exemplars under 48 pixels (half the
-    shorter side). At least :data:`STRUCTURED_PEAK` (0.1) marks a
-    structured texture (scikit-image's brick: 0.18; grass, gravel, moon:
-    0.02 to 0.06).
+    shorter side). At least :data:`STRUCTURED_PEAK` (0.15) marks a
+    structured texture. scikit-image's pictures: brick 0.18 (whole) and
+    0.45 (128 x 128 corner); grass, gravel, moon, immunohistochemistry 0.02
+    to 0.06 whole and 0.05 to 0.11 as 128 x 128 corners (a small picture's
+    noise floor is higher: about ``sqrt(2 ln N / N)``, 0.03 for N = 128^2).
     """
     from ..metrics import repeat_peak
 
