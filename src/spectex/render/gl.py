@@ -207,7 +207,8 @@ class GLRenderer:
 
         Both hold half floats (``RGBA16F``; the CPU holds the same values as
         float32): the Gaussian tiles mip-mapped and filtered like the tiles,
-        the tables (``SPX_LUT_SIZE`` x rows, expanded) point-sampled, clamped.
+        the tables (expanded) as one channel, ``SPX_LUT_SIZE`` x ``4 rows``
+        (channel ``c``'s rows in the ``c``-th quarter), point-sampled, clamped.
         """
         from ..shading.constants import MAX_TILES
 
@@ -227,8 +228,9 @@ class GLRenderer:
             self.gauss_textures.append(tex)
         _, lut, _ = self.texture.stochastic_store()
         rows, size = lut.shape[:2]
-        self.lut_texture = self.ctx.texture((size, rows), 4, np.ascontiguousarray(lut.astype(np.float16)).tobytes(),
-                                            dtype="f2", alignment=1)
+        planar = np.concatenate([lut[:, :, c] for c in range(4)], axis=0).astype(np.float16)  # channel c: rows c*rows..
+        self.lut_texture = self.ctx.texture((size, 4 * rows), 1, np.ascontiguousarray(planar).tobytes(), dtype="f2",
+                                            alignment=1)
         self.lut_texture.filter = (self._mgl.NEAREST, self._mgl.NEAREST)
         self.lut_texture.repeat_x = False
         self.lut_texture.repeat_y = False

@@ -35,8 +35,8 @@ uniform float u_lod_off[N_LAYERS]; // per layer: log2(tile width / layer size), 
 
 #if STOCHASTIC
 uniform sampler2D u_gauss[N_TILES]; // per tile: its Gaussianised levels (RGBA16F)
-uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x u_lut_rows (RGBA16F, LINEAR)
-uniform float u_lut_rows;          // rows of u_lut
+uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x 4 u_lut_rows (R16F, NEAREST)
+uniform float u_lut_rows;          // rows of u_lut per channel
 uniform float u_lut_q;             // the last mip level (rows per tile - 1 with mip-maps, else 0)
 uniform vec4 u_grid[N_LAYERS];     // per layer: tile coords -> skewed grid coords (m00, m01, m10, m11)
 uniform vec2 u_ganchor[N_LAYERS];  // per layer: the anchor's grid position minus its vertex

@@ -74,10 +74,11 @@ SPX_UINT spectex_hash(SPX_UINT x) {
 }
 
 // The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under
-// a layer's key, snapped down to whole texels of level 0 (tex_size texels).
-vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size) {
+// a layer's key, snapped down to whole texels of level 0 (tex_size texels,
+// inv_size = 1 / tex_size).
+vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size, vec2 inv_size) {
     SPX_UINT h = spectex_hash(i ^ spectex_hash(j ^ key));
-    return floor(vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0) * tex_size) / tex_size;
+    return floor(vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0) * tex_size) * inv_size;
 }
 
 // The table row (fractional: row d1 + beta) that goes with the levels a
@@ -94,13 +95,15 @@ float spectex_lut_level(float lam, int min_filter, float q) {
 
 // The inverse tables at Gaussian values g (one per channel), at a
 // (fractional) level: the nearest of the SPX_LUT_SUBROWS rows per level step
-// from row `row0` and the nearest of the SPX_LUT_SIZE entries, of a table
-// texture of `rows` rows (NEAREST-filtered; stochastic.expand_lut).
+// from row `row0` and the nearest of the SPX_LUT_SIZE entries. The table
+// texture is one channel (R16F, NEAREST-filtered; stochastic.expand_lut),
+// SPX_LUT_SIZE wide and 4 `rows` high: channel c's rows are the c-th quarter
+// (a one-channel fetch costs llvmpipe less than an RGBA one).
 vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) {
-    float v = (row0 + floor(level * float(SPX_LUT_SUBROWS) + 0.5) + 0.5) / rows;
+    float v = (row0 + floor(level * float(SPX_LUT_SUBROWS) + 0.5) + 0.5) / (4.0 * rows);
     vec4 u = (floor(clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) + 0.5) / float(SPX_LUT_SIZE);
-    return vec4(SPX_LOD(lut, vec2(u.x, v), 0.0).x, SPX_LOD(lut, vec2(u.y, v), 0.0).y,
-                SPX_LOD(lut, vec2(u.z, v), 0.0).z, SPX_LOD(lut, vec2(u.w, v), 0.0).w);
+    return vec4(SPX_LOD(lut, vec2(u.x, v), 0.0).x, SPX_LOD(lut, vec2(u.y, v + 0.25), 0.0).x,
+                SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
 // One stochastic sample at lambda: st the tile coordinates, g the same point
@@ -125,9 +128,10 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     int i3 = lower ? ci : ci + 1;
     int j3 = lower ? cj + 1 : cj;
     vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
-    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key, tex_size), lam);
-    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key, tex_size), lam);
-    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key, tex_size), lam);
+    vec2 inv_size = 1.0 / tex_size;
+    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key, tex_size, inv_size), lam);
+    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key, tex_size, inv_size), lam);
+    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key, tex_size, inv_size), lam);
     vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
     vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
