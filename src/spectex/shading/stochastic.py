@@ -77,6 +77,10 @@ __all__ = [
     "sample_stochastic",
     "triangle_grid_matrix",
     "lowbias32",
+    "layer_key",
+    "expand_lut",
+    "sample_stochastic_grad",
+    "sample_stochastic_at_lod",
 ]
 
 #: ``sqrt(3)``: the height of an equilateral triangle of side 2.
