@@ -77,12 +77,12 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
 #if ISO_LOD
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
                                        u_tex_size, lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
-                                       u_basis[k], u_origin[k]);
+                                       u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
 #else
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,
                                             u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
                                             u_tex_size, u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
-                                            u_lut_rows, u_basis[k], u_origin[k]);
+                                            u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
 #endif
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);
 }

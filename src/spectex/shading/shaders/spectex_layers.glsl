@@ -6,10 +6,11 @@
 //   SPX_TEX_ARG(name)       a texture parameter      (GLSL: sampler2D name)
 //   SPX_TEX(name)           passing it on            (GLSL: name)
 //   SPX_LOD(name, uv, lod)  a sample at a given lod  (GLSL: textureLod(name, uv, lod))
-//   SPX_UINT                an unsigned 32-bit int   (GLSL: uint)
+//   SPX_UINT                an unsigned 32-bit int   (GLSL: uint); the stochastic
+//                           tiling's functions (section 6b) are compiled only where it is defined
 //   SPX_ANISO               1 to compile the anisotropic path (section 5)
 // and the constants of spectex/shading/constants.py (SPX_BLEND_*, ...).
-// Only vec2/vec3/vec4, mat3, float, int, SPX_UINT and functions common to
+// Only vec2/vec3/vec4, float, int, SPX_UINT and functions common to
 // GLSL and HLSL (floor, ceil, log2, exp, sqrt, length, dot, min, max, clamp)
 // are used.
 
@@ -61,7 +62,8 @@ vec4 spectex_sample_layer(SPX_TEX_ARG(tile), vec2 st, float lod) {
 
 // Section 6b: stochastic tiling (SPX_TILING_STOCHASTIC), histogram-preserving
 // tiling and blending (Heitz and Neyret 2018; spectex/shading/stochastic.py is
-// the CPU side and the numbers' home).
+// the CPU side and the numbers' home). Compiled where the prelude defines SPX_UINT.
+#ifdef SPX_UINT
 
 // Wellons' lowbias32 hash.
 SPX_UINT spectex_hash(SPX_UINT x) {
@@ -112,10 +114,11 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 // three patches of the Gaussianised tile `gauss`, each offset by its
 // vertex's hash, blended with the barycentric weights preserving the
 // variance, then the layer's row `lut_row0` (+ level) of the tables and the
-// inverse decorrelation (origin + basis * v). RGBA in [0, 1].
+// inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2, b0..b2 the
+// basis's columns). RGBA in [0, 1].
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                SPX_UINT base_j, SPX_UINT key, vec2 tex_size, float lam, int min_filter, float q,
-                               float lut_row0, float lut_rows, mat3 basis, vec3 origin) {
+                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
     vec2 c = floor(g);
     vec2 f = g - c;
     int ci = int(c.x);
@@ -135,7 +138,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
     vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
-    return clamp(vec4(origin + basis * v.xyz, v.w), 0.0, 1.0);
+    return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
 }
 
 // Sections 3, 5 and 6b: lambda from the un-offset derivatives of (s, t),
@@ -145,7 +148,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
 vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                     SPX_UINT base_j, SPX_UINT key, vec2 dx, vec2 dy, vec2 tex_size,
                                     float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
-                                    float lut_rows, mat3 basis, vec3 origin) {
+                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
     vec2 ux = dx * tex_size;
     vec2 uy = dy * tex_size;
     float px = length(ux);
@@ -165,16 +168,17 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
                 float fi = i / (n + 1.0) - 0.5;
                 acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
                                                  base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
-                                                 basis, origin);
+                                                 b0, b1, b2, origin);
             }
             return acc / n;
         }
     }
 #endif
     return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, tex_size,
-                                     log2(max(pmax, SPX_LOD_FLOOR)), min_filter, q, lut_row0, lut_rows, basis,
-                                     origin);
+                                     log2(max(pmax, SPX_LOD_FLOOR)), min_filter, q, lut_row0, lut_rows, b0, b1,
+                                     b2, origin);
 }
+#endif
 
 // Section 6: the colour after a layer's sample x (RGBA) goes over c.
 // blend: SPX_BLEND_FIRST (the first drawn layer: sets the colour),
