@@ -1,5 +1,7 @@
 """``spectex demo``, ``spectex render`` and ``spectex view`` from the command line."""
 
+import re
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -47,6 +49,8 @@ def test_cli_render_demo_writes_pictures_and_report(tmp_path, capsys, gl):
     assert "327680 x 327680" in text and "3.05 cm" in text
     assert "1.00 MiB" in text and "300.0 GiB" in text
     assert "OpenGL" in text and "ground" in text and "aerial" in text
+    peaks = re.search(r"periodic layers \(the paper\) ([0-9.]+), stochastic layers ([0-9.]+)", text)
+    assert peaks and float(peaks.group(1)) > 0.5 and float(peaks.group(2)) <= 0.1
     for name in ("ground", "closeup", "aerial"):
         assert read_image(out / f"{name}.png").shape == (540, 960, 3)
     assert read_image(out / "tile_colour.png").shape == (512, 512, 3)
@@ -59,6 +63,7 @@ def test_cli_render_demo_without_gl_uses_cpu(tmp_path, capsys, no_gl, monkeypatc
     import spectex.cli._demo as demo
 
     monkeypatch.setattr(demo, "DEMO_SIZE", (36, 64))
+    monkeypatch.setattr(demo, "REPEAT_BAKE", (128, 16))
     out = tmp_path / "demo"
     assert main(["demo", "-o", str(out)]) == 0
     captured = capsys.readouterr()

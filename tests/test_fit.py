@@ -159,3 +159,34 @@ def test_fit_continues_the_spectrum_at_coarser_scales(fitted, name):
     plain = SpectralTexture(res.texture.tiles[0], res.texture.layers[:1])
     plain_coarse = band_power(plain.bake((128, 128), pixel_size=4.0))[1][2:4]
     assert np.abs(plain_coarse - [last + slope, last + 2 * slope]).max() > 1.5
+
+
+def test_fit_never_repeats_by_default(fitted):
+    # gravel (not structured): every layer stochastic; the repeat peak of the fine detail stays low
+    # at the exemplar's scale and at 8 times it; the control, the same fit with periodic layers, repeats
+    from spectex.analysis import STRUCTURED_PEAK
+    from spectex.metrics import repeat_peak
+
+    res = fitted["gravel"]
+    assert res.params["structure_peak"] < STRUCTURED_PEAK
+    assert all(layer.tiling == "stochastic" for layer in res.texture.layers)
+    assert len({layer.seed for layer in res.texture.layers}) == len(res.texture.layers)
+    near = res.texture.bake((1024, 1024))
+    far = res.texture.bake((1024, 1024), pixel_size=8.0)
+    assert repeat_peak(near) <= 0.1 and repeat_peak(far) <= 0.1
+    periodic = fit(_crop("gravel"), seed=0, tiling="periodic")
+    assert all(layer.tiling == "periodic" for layer in periodic.layers)
+    assert repeat_peak(periodic.bake((1024, 1024))) > 0.5
+
+
+def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
+    # brick's own fine detail repeats (its structure_peak is over the threshold): tiling and
+    # blending would blur the bricks, so the finest layer stays periodic, by measurement
+    from spectex.analysis import STRUCTURED_PEAK, structure_peak
+
+    res = fitted["brick"]
+    assert res.params["structure_peak"] >= STRUCTURED_PEAK
+    assert [layer.tiling for layer in res.texture.layers] == ["periodic"] + ["stochastic"] * 4
+    assert structure_peak(res.exemplar) == res.params["structure_peak"]
+    with pytest.raises(ValueError, match="tiling"):
+        fit(_crop("gravel", 48), tiling="random")

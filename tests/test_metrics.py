@@ -165,3 +165,70 @@ def test_band_power_segments_compare_sizes_at_one_resolution():
     assert len(bands) == 4
     with pytest.raises(ValueError, match="segment\\[0\\] must be <= 128, got 200"):
         metrics.band_power(crop, segment=(200, 64))
+
+
+# ---------------------------------------------------------------- repeat_peak
+
+def _smooth_noise_tile(n, seed):
+    from scipy import ndimage
+
+    tile = ndimage.gaussian_filter(np.random.default_rng(seed).random((n, n)), 1.0, mode="wrap")
+    return ((tile - tile.min()) / (tile.max() - tile.min())).astype(np.float32)
+
+
+def test_repeat_peak_plain_tiling_is_one_and_white_noise_is_near_zero():
+    tile = _smooth_noise_tile(64, 0)
+    assert metrics.repeat_peak(np.tile(tile, (8, 8))) == pytest.approx(1.0, abs=1e-9)
+    # a period shorter than min_lag is still seen at its multiples
+    assert metrics.repeat_peak(np.tile(_smooth_noise_tile(16, 1), (32, 32))) == pytest.approx(1.0, abs=1e-9)
+    noise = np.random.default_rng(2).random((1024, 1024)).astype(np.float32)
+    peak = metrics.repeat_peak(noise)
+    assert 0.002 < peak < 0.008  # sqrt(2 ln N / N) = 0.0051
+
+
+def test_repeat_peak_sees_a_rotated_and_offset_tiling_that_repetition_misses():
+    from scipy import ndimage
+
+    tile = _smooth_noise_tile(64, 3)
+    rotated = ndimage.rotate(np.tile(tile, (16, 16)), 30.0, reshape=False, order=1, mode="wrap")[200:712, 217:729]
+    peak = metrics.repeat_peak(rotated)
+    assert 0.65 < peak < 0.95
+    # the axis-aligned exact-copy measure sees nothing here (the reason for repeat_peak)
+    assert metrics.repetition(rotated, 64) < 0.01
+
+
+def test_repeat_peak_is_blind_to_coarse_variation_over_a_tiling():
+    # coarse modulation dilutes the raw autocorrelation but not the detail's
+    tile = _smooth_noise_tile(64, 4)
+    y, x = np.mgrid[0:512, 0:512]
+    coarse = 0.5 + 0.4 * np.sin(2 * np.pi * x / 512.0) * np.cos(2 * np.pi * y / 512.0)
+    image = 0.7 * coarse + 0.3 * np.tile(tile, (8, 8))
+    assert metrics.repeat_peak(image) > 0.95
+
+
+def test_repeat_peak_agrees_with_a_direct_correlation_at_each_lag():
+    from scipy import ndimage
+
+    rng = np.random.default_rng(5)
+    image = rng.random((64, 80, 3)).astype(np.float32)
+    lum = image[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+    d = lum - ndimage.gaussian_filter(lum, 2.0, mode="wrap")
+    d -= d.mean()
+    best = -np.inf
+    for dy in range(-32, 32):
+        for dx in range(-40, 40):
+            if dy * dy + dx * dx >= 10 * 10:
+                best = max(best, np.sum(d * np.roll(d, (dy, dx), axis=(0, 1))) / np.sum(d * d))
+    assert metrics.repeat_peak(image, min_lag=10, sigma=2.0) == pytest.approx(best, rel=1e-9, abs=1e-12)
+
+
+def test_repeat_peak_flat_and_hostile_inputs():
+    assert np.isnan(metrics.repeat_peak(np.full((64, 64), 0.5)))
+    with pytest.raises(ValueError, match="min_lag"):
+        metrics.repeat_peak(np.zeros((40, 40)), min_lag=24)
+    with pytest.raises(ValueError, match="sigma"):
+        metrics.repeat_peak(np.zeros((64, 64)), sigma=0.0)
+    with pytest.raises(TypeError, match="min_lag"):
+        metrics.repeat_peak(np.zeros((64, 64)), min_lag=2.5)
+    with pytest.raises(ValueError, match="finite"):
+        metrics.repeat_peak(np.full((64, 64), np.nan))

@@ -100,8 +100,10 @@ def _validator():
 @pytest.mark.parametrize("anisotropic", [False, True])
 def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
     exe = _validator()
-    tex = SpectralTexture(make_tile(16, rng=1), [dict(size=3.0), dict(size=17.0, blend="detail")])
+    tex = SpectralTexture(make_tile(16, rng=1), [dict(size=3.0), dict(size=17.0, blend="detail"),
+                                                  dict(size=40.0, tiling="stochastic", seed=3)])
     tables = pack(tex, anisotropy=4.0 if anisotropic else 1.0)
+    assert "shade_layer_stochastic(2, SPX_BLEND_ALPHA, u_gauss[0], u_lut" in glsl.fragment_source(tables, 1)
     for name, text in (("ground.frag", glsl.fragment_source(tables, 1, target=target, anisotropic=anisotropic,
                                                             iso_lod=not anisotropic)),
                        ("sky.frag", glsl.fragment_source(tables, 1, target=target, sky_only=True)),
@@ -142,3 +144,21 @@ def test_view_params_and_tables_are_what_both_renderers_read():
     np.testing.assert_allclose(tables.lod_off, [np.log2(16 / layer.size) for layer in tex.layers], rtol=1e-15)
     with pytest.raises(TypeError, match="camera"):
         view_params("north", (9, 16))
+
+
+def test_layer_library_without_uint_leaves_out_only_the_stochastic_functions(tmp_path):
+    # a prelude that defines no SPX_UINT (an export target without unsigned ints) still gets a
+    # library that compiles, without the section 6b functions; with it, they are there
+    exe = _validator()
+    lib = glsl.layer_library()
+    prelude = glsl.prelude("330").replace("#define SPX_UINT uint\n", "")
+    assert "#define SPX_UINT" not in prelude and "#ifdef SPX_UINT" in lib
+    for head, has in ((prelude, False), (glsl.prelude("330"), True)):
+        text = head + lib + "out vec4 o;\nvoid main() { o = vec4(spectex_sky(0.5, vec3(0.1), vec3(0.9)), 1.0); }\n"
+        if has:
+            text = text.replace("void main() {", "void main() { o.x = spectex_vertex_offset(1u, 2u, 3u, vec2(8.0), "
+                                                  "vec2(0.125)).x;")
+        path = tmp_path / f"lib{int(has)}.frag"
+        path.write_text(text)
+        proc = subprocess.run([exe, str(path)], capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -3,6 +3,8 @@ and alpha coupling."""
 
 import math
 
+import re
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -153,7 +155,7 @@ def test_texture_save_load_round_trip(tmp_path, paper_tile):
     path = tex.save(tmp_path / "ground.toml")
     assert (tmp_path / "ground.tile.png").is_file()
     text = path.read_text()
-    assert FORMAT in text and "[[layers]]" in text and "version = 1" in text
+    assert FORMAT in text and "[[layers]]" in text and "version = 2" in text
     back = SpectralTexture.load(path)
     assert back == tex
     np.testing.assert_array_equal(back.bake((16, 16), pixel_size=0.3), tex.bake((16, 16), pixel_size=0.3))
@@ -185,7 +187,14 @@ size = 4.0
 
 @pytest.mark.parametrize("text, match", [
     ("format = 3\n", "missing field 'version'"),
-    (GOOD.replace("version = 1", "version = 2"), "'version' is 2"),
+    (GOOD.replace("version = 1", "version = 3"), "'version' is 3"),
+    (GOOD.replace("size = 4.0", 'size = 4.0\ntiling = "stochastic"'), r"layers\[0\]\.tiling"),
+    (GOOD.replace("version = 1", "version = 2").replace("size = 4.0", 'size = 4.0\ntiling = "stochastic"'),
+     r"no \[stochastic\] table"),
+    (GOOD.replace("version = 1", "version = 2") + '\n[stochastic]\nmethod = "histogram-preserving"\n'
+     'gauss_scale = 0.1\nlut_size = 256\n', r"stochastic\.lut_size"),
+    (GOOD.replace("version = 1", "version = 2").replace("size = 4.0", 'size = 4.0\npatch = 0.0'),
+     r"layers\[0\]\.patch"),
     (GOOD.replace('"spectex.spectral-texture"', '"other"'), "'format'"),
     (GOOD.replace("size = 4.0", "size = -1.0"), r"layers\[0\]\.size"),
     (GOOD.replace("size = 4.0", 'size = "big"'), r"layers\[0\]\.size"),
@@ -277,3 +286,21 @@ def test_pack_names_a_bad_filter_or_anisotropy():
     assert pack(tex, filter="nearest").mag_filter == C.FILTER_NEAREST  # NEAREST magnifies with NEAREST
     tri = pack(tex, filter="trilinear")
     assert (tri.min_filter, tri.mag_filter) == (C.FILTER_LINEAR_MIPMAP_LINEAR, C.FILTER_LINEAR)
+
+
+def test_texture_stochastic_round_trip_rebuilds_the_same_pictures(tmp_path, paper_tile):
+    tex = SpectralTexture.paper_preset(paper_tile, tiling="stochastic", patch=0.35)
+    path = tex.save(tmp_path / "s.toml")
+    text = path.read_text()
+    assert "version = 2" in text and "[stochastic]" in text and 'tiling = "stochastic"' in text
+    back = SpectralTexture.load(path)
+    assert back == tex and [lay.seed for lay in back.layers] == [0, 1, 2, 3, 4]
+    np.testing.assert_array_equal(back.bake((24, 24), pixel_size=0.3), tex.bake((24, 24), pixel_size=0.3))
+    # a periodic texture writes no [stochastic] table; a version-1 file still loads, as periodic layers
+    plain = SpectralTexture.paper_preset(paper_tile)
+    assert "[stochastic]" not in plain.save(tmp_path / "p.toml").read_text()
+    text = (tmp_path / "p.toml").read_text()
+    assert "seed =" not in text and "patch =" not in text
+    v1 = re.sub(r"tiling = .*\n", "", text.replace("version = 2", "version = 1"))
+    (tmp_path / "v1.toml").write_text(v1)
+    assert SpectralTexture.load(tmp_path / "v1.toml") == plain

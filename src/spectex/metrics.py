@@ -14,6 +14,8 @@ measure                      what it says                                    goo
 :func:`seam_energy`          gradient energy on block boundaries / interior  about 1
 :func:`verbatim_copy`        largest region copied with one offset           small
 :func:`repetition`           fraction of patches repeated at one period      about 0
+:func:`repeat_peak`          highest autocorrelation of fine detail at a     <= 0.1
+                             long lag, any period and direction
 :func:`tileability`          step across the wrap edge / interior steps      about 1
 ===========================  ==============================================  ==============
 
@@ -31,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import check_image, check_int
+from ._validate import check_float, check_image, check_int
 from .spectral import hann_window
 
 __all__ = [
@@ -41,6 +43,7 @@ __all__ = [
     "seam_energy",
     "verbatim_copy",
     "repetition",
+    "repeat_peak",
     "tileability",
     "compare",
 ]
@@ -514,6 +517,72 @@ def repetition(image, period, *, patch: int = 5) -> float:
     if not has.any():
         return 0.0
     return float(rep[has].mean())
+
+
+def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
+    """How strongly the image's fine detail repeats, at any period and angle.
+
+    The luminance (Rec. 709 luma for colour, alpha ignored) minus its
+    Gaussian blur of ``sigma`` pixels (wrapping at the borders) keeps the
+    fine detail, where a repeat shows; its mean is removed, and its circular
+    autocorrelation is computed by FFT and divided by its value at lag 0.
+    The result is the largest correlation over all lags ``(dy, dx)`` (each
+    wrapped into ``[-H/2, H/2) x [-W/2, W/2)``) whose length
+    ``sqrt(dy^2 + dx^2)`` is at least ``min_lag`` pixels, in any direction.
+
+    Plain tiling gives 1.0 at the tile's period (and its multiples, so any
+    period above about ``min_lag / 2`` is seen); the same tiling rotated or
+    offset keeps a high peak (about 0.8 at 30 degrees, the interpolation of
+    the rotation costs the rest); white noise gives about ``sqrt(2 ln N) /
+    sqrt(N)`` for ``N = H W`` pixels (0.005 for 1024 x 1024), good quilting
+    0.02 to 0.04. Unlike :func:`repetition` (exact copies one period away,
+    axis-aligned) it also sees a repeat that coarser variation dilutes,
+    because the blur subtraction removes that variation first.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        At least ``2 * min_lag`` pixels on its shorter side.
+    min_lag : int
+        Shortest lag counted, pixels (>= 1): shorter lags see the texture's
+        own correlation length, not a repeat.
+    sigma : float
+        Standard deviation of the blur removed, pixels (> 0).
+
+    Returns
+    -------
+    float
+        In [-1, 1]; ``nan`` for an image without fine detail (zero variance
+        after the blur is removed).
+
+    References
+    ----------
+    Heitz and Neyret, "High-performance by-example noise using a
+    histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018 (the
+    repetition that tiling-and-blending removes); Wiener-Khinchin theorem
+    (the autocorrelation as the inverse transform of the power spectrum).
+    """
+    from scipy import ndimage
+
+    image = check_image("image", image)
+    min_lag = check_int("min_lag", min_lag, minimum=1)
+    sigma = check_float("sigma", sigma, minimum=0.0, exclusive_minimum=True)
+    h, w = image.shape[:2]
+    if min(h, w) < 2 * min_lag:
+        raise ValueError(f"image must be at least {2 * min_lag} pixels on its shorter side for "
+                         f"min_lag={min_lag}, got {w}x{h}")
+    lum = _luma(image)
+    detail = lum - ndimage.gaussian_filter(lum, sigma, mode="wrap")
+    detail -= detail.mean()
+    spec = np.fft.rfft2(detail)
+    acf = np.fft.irfft2(spec.real ** 2 + spec.imag ** 2, s=(h, w))
+    zero = acf[0, 0]
+    if not zero > 1e-12 * h * w * max(float(np.max(np.abs(lum))), 1e-30) ** 2:
+        return float("nan")
+    dy = np.fft.fftfreq(h) * h
+    dx = np.fft.fftfreq(w) * w
+    far = (dy[:, None] ** 2 + dx[None, :] ** 2) >= float(min_lag) ** 2
+    return float(np.max(acf[far]) / zero)
 
 
 # --------------------------------------------------------------------------

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import check_choice, check_float, check_image, check_int, check_shape, check_tile_shape
-from .shading.constants import BLENDS, MAX_LAYERS, MAX_TILES
+from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS"]
 
@@ -72,6 +72,21 @@ class Layer:
         In [0, 1]: the layer's alpha is ``opacity * tile_alpha`` (a global
         translucency, like a constant blend factor); it sets how much of
         the finer bands shows through on average.
+    tiling : {"periodic", "stochastic"}
+        How the tile covers the plane. ``"periodic"`` (the paper's method):
+        it repeats every ``size`` metres. ``"stochastic"``: histogram-preserving
+        tiling and blending (Heitz and Neyret 2018; ``spectex.shading.stochastic``):
+        a grid of triangles of side ``patch`` tiles, every vertex a random
+        offset into the tile, three patches blended per point so that the
+        tile's histogram is kept; the layer never repeats.
+    patch : float
+        Stochastic tiling: side of the grid's triangles, in tiles (0 <
+        patch <= 4; 0.25 to 1 is useful: smaller patches repeat less and
+        blend more). Ignored for periodic tiling.
+    seed : int
+        Stochastic tiling: which random offsets the grid's vertices get, 0
+        to 2^32 - 1 (layers of one tile should differ). Ignored for
+        periodic tiling.
     """
 
     size: float
@@ -80,6 +95,9 @@ class Layer:
     rotation: float = 0.0
     blend: str = "alpha"
     opacity: float = 1.0
+    tiling: str = "periodic"
+    patch: float = DEFAULT_PATCH
+    seed: int = 0
 
     def __post_init__(self):
         object.__setattr__(self, "size", check_float("size", self.size, minimum=0.0, exclusive_minimum=True))
@@ -91,6 +109,10 @@ class Layer:
         object.__setattr__(self, "rotation", check_float("rotation", self.rotation))
         object.__setattr__(self, "blend", check_choice("blend", self.blend, BLENDS))
         object.__setattr__(self, "opacity", check_float("opacity", self.opacity, minimum=0.0, maximum=1.0))
+        object.__setattr__(self, "tiling", check_choice("tiling", self.tiling, TILINGS))
+        object.__setattr__(self, "patch", check_float("patch", self.patch, minimum=0.0, exclusive_minimum=True,
+                                                      maximum=4.0))
+        object.__setattr__(self, "seed", check_int("seed", self.seed, minimum=0, maximum=2 ** 32 - 1))
 
     def matrix(self) -> np.ndarray:
         """The 2 x 2 map from world displacement (metres) to tile coordinates (s, t).
@@ -184,10 +206,13 @@ class SpectralTexture:
         self.bits = bits
         self._levels = None
         self._stores = {}  # mipmaps -> texel store (texel_store); the tiles never change
+        self._stochastic = None  # per tile, its StochasticTables (made on first use)
+        self._stochastic_stores = {}  # mipmaps -> (gauss, lut, lut_levels)
 
     # ------------------------------------------------------------------ presets
     @classmethod
-    def paper_preset(cls, tile=None, *, seed=0, blend="alpha", opacity=0.65, tile_size=512, bits=8):
+    def paper_preset(cls, tile=None, *, seed=0, blend="alpha", opacity=0.65, tile_size=512, bits=8,
+                     tiling="periodic", patch=DEFAULT_PATCH):
         """The five-layer texture of the paper's Figure 1.
 
         Five layers of one 512 x 512 tile: the finest repeats every 1/64 km
@@ -210,13 +235,23 @@ class SpectralTexture:
             comparable weights (0.21 for the finest, 0.33 for the coarsest)
             and keeps the repetition peak of the finest tile at 0.10-0.18
             (seeds 0-4; 1.0 for plain tiling).
+        tiling : {"periodic", "stochastic"}
+            Every layer's tiling (:class:`Layer`). ``"periodic"`` is the
+            paper's method; ``"stochastic"`` makes every layer a
+            histogram-preserving tiling and blending of the tile (layer
+            ``k`` with hash seed ``k``), which never repeats: the fine
+            detail's :func:`spectex.metrics.repeat_peak` on top-down bakes
+            falls from 0.77 to 0.92 to under 0.1 (``docs/sampling.md``).
+        patch : float
+            The stochastic layers' triangle side, in tiles.
         """
         blend = check_choice("blend", blend, BLENDS)
+        tiling = check_choice("tiling", tiling, TILINGS)
         opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0)
         if tile is None:
             from .tiles import make_tile
 
-            tile = make_tile(check_int("tile_size", tile_size, minimum=2), seed=seed)
+            tile = make_tile(check_int("tile_size", tile_size, minimum=2), rng=seed)
         n = 5
         finest, coarsest = 1000.0 / 64.0, 10000.0
         ratio = (coarsest / finest) ** (1.0 / (n - 1))
@@ -227,7 +262,8 @@ class SpectralTexture:
             layers.append(Layer(size=size, tile=0,
                                 offset=(round((0.382 * k % 1.0) * size, 6), round((0.618 * k % 1.0) * size, 6)),
                                 rotation=round((golden * k) % 360.0, 6), blend=blend,
-                                opacity=1.0 if k == 0 else opacity))
+                                opacity=1.0 if k == 0 else opacity, tiling=tiling, patch=patch,
+                                seed=k if tiling == "stochastic" else 0))
         return cls(tile, layers, bits=bits)
 
     @classmethod
@@ -316,13 +352,47 @@ class SpectralTexture:
             self._stores[key] = (data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
         return self._stores[key]
 
-    def anchor_coords(self, x0: float, y0: float) -> np.ndarray:
-        """Per layer, the tile coordinates (s, t) of world point (x0, y0), reduced modulo 2.
+    def stochastic_tables(self):
+        """Per tile, the tables of its stochastic tiling (``spectex.shading.stochastic``), made once and kept.
 
-        Computed in float64 on the host (``spectex.shading.tables.anchor_coords``),
-        so that the kernels and shaders work with small coordinates relative
-        to an anchor (the camera, a bake's corner) and keep their precision
-        far from the world origin.
+        The Gaussianised tile's mip levels, the per-level inverse look-up
+        tables and the colour decorrelation: a deterministic function of the
+        tile's texels (what a file stores rebuilds them exactly).
+        """
+        if self._stochastic is None:
+            from .shading.stochastic import stochastic_tables
+
+            self._stochastic = [stochastic_tables(tile) for tile in self.tiles]
+        return self._stochastic
+
+    def stochastic_store(self, *, mipmaps=True):
+        """The stochastic layers' texels as the kernels take them, made once per texture.
+
+        Returns ``(gauss, lut, lut_rows)``: ``gauss`` holds every tile's
+        Gaussianised levels laid out exactly as :meth:`texel_store`'s
+        ``data`` (level 0 only without ``mipmaps``); ``lut`` is ``(tiles *
+        lut_rows, LUT_SIZE, 4)`` float32, tile ``i``'s expanded table
+        (``spectex.shading.stochastic.expand_lut``) from row ``i * lut_rows``.
+        """
+        key = bool(mipmaps)
+        if key not in self._stochastic_stores:
+            from .shading.sampler import MipTexture
+
+            tables = self.stochastic_tables()
+            textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]
+            gauss = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
+            rows = [tb.expanded() for tb in tables]
+            lut = np.ascontiguousarray(np.concatenate(rows), dtype=np.float32)
+            self._stochastic_stores[key] = (gauss, lut, rows[0].shape[0])
+        return self._stochastic_stores[key]
+
+    def anchor_coords(self, x0: float, y0: float) -> np.ndarray:
+        """Per layer, the tile coordinates (s, t) of world point (x0, y0), reduced modulo 2, and
+        for stochastic layers its triangle-grid position (``spectex.shading.tables.anchor_coords``).
+
+        Computed in float64 on the host, so that the kernels and shaders work
+        with small coordinates relative to an anchor (the camera, a bake's
+        corner) and keep their precision far from the world origin.
         """
         from .shading.tables import anchor_coords
 
@@ -407,7 +477,14 @@ class SpectralTexture:
             tex = MipTexture(levels[layer.tile], min_filter=filter, bits=None)
             m = layer.matrix()
             s, t = layer.coords(x, y)
-            out[k] = sample(tex, s, t, dsdx=m[0, 0] * p, dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
+            derivs = dict(dsdx=m[0, 0] * p, dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
+            if layer.tiling == "stochastic":
+                from .shading.stochastic import sample_stochastic
+
+                out[k] = sample_stochastic(self.stochastic_tables()[layer.tile], s, t, patch=layer.patch,
+                                           seed=layer.seed, filter=filter, **derivs)
+            else:
+                out[k] = sample(tex, s, t, **derivs)
         return out
 
     # ------------------------------------------------------------------- files

@@ -4,7 +4,7 @@ A texture file (``ground.toml``) names its tiles (PNG files beside it) and
 lists its layers, finest first::
 
     format = "spectex.spectral-texture"
-    version = 1
+    version = 2
     bits = 8
     tiles = ["ground.tile.png"]
 
@@ -15,10 +15,26 @@ lists its layers, finest first::
     rotation = 0.0           # degrees, counter-clockwise
     blend = "alpha"          # alpha | detail | variance
     opacity = 1.0
+    tiling = "stochastic"    # periodic | stochastic (version 2)
+    patch = 0.5              # stochastic: triangle side in tiles
+    seed = 0                 # stochastic: the grid vertices' random offsets
+
+    [stochastic]             # only with stochastic layers: how their tables are rebuilt
+    method = "histogram-preserving"
+    gauss_scale = 0.1
+    lut_size = 1024
 
 :func:`save` writes it with ``tomli-w`` (the tiles as 8-bit RGBA PNGs for
 ``bits = 8``, 16-bit for float tiles), :func:`load` reads and checks every
 field; an error names the field and the file.
+
+Version 2 adds the layer fields ``tiling``, ``patch`` and ``seed`` and the
+``[stochastic]`` table. A stochastic layer's tables (the Gaussianised tile,
+the inverse look-up tables, the decorrelation: ``spectex.shading.stochastic``)
+are a deterministic function of the tile's texels and of the constants in
+``[stochastic]``, so the file stores those, not the tables; a file whose
+constants this spectex does not build with is refused rather than shown
+differently. Version-1 files (no stochastic layers) still load.
 """
 
 from __future__ import annotations
@@ -32,33 +48,60 @@ import numpy as np
 from ._validate import check_relative_name
 from .shading.constants import MAX_TILES
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "save", "load", "to_dict", "from_dict", "dumps"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps"]
 
 #: File format name and version written to and required in texture files.
 FORMAT = "spectex.spectral-texture"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: Versions :func:`load` reads.
+READ_VERSIONS = (1, 2)
 
 _HEADER = """# spectex spectral texture: layers of one tile at different scales.
 # Layers are drawn in order (finest first); each later one is blended over the
 # ones before by its 'blend': alpha | detail | variance, with alpha = opacity * tile alpha.
-# size and offset are metres, rotation degrees counter-clockwise. Tiles are relative
-# to this file.
+# size and offset are metres, rotation degrees counter-clockwise. tiling: periodic (the
+# tile repeats) | stochastic (never repeats; patch: triangle side in tiles, seed: the random
+# offsets). Tiles are relative to this file.
 """
 
 _LAYER_FIELDS = ("tile", "size", "offset", "rotation", "blend", "opacity")
+_LAYER_FIELDS_V2 = _LAYER_FIELDS + ("tiling", "patch", "seed")
+#: The method name of the stochastic tables this spectex builds (``[stochastic] method``).
+STOCHASTIC_METHOD = "histogram-preserving"
+
+
+def _stochastic_doc() -> dict:
+    from .shading.constants import GAUSS_SCALE, LUT_SIZE
+
+    return {"method": STOCHASTIC_METHOD, "gauss_scale": GAUSS_SCALE, "lut_size": LUT_SIZE}
 
 
 def to_dict(texture, tile_names) -> dict:
     """The document of ``texture`` whose tiles are saved as ``tile_names``."""
-    return {
+    from .shading.constants import DEFAULT_PATCH
+
+    layers = []
+    for layer in texture.layers:
+        entry = {"tile": layer.tile, "size": layer.size, "offset": list(layer.offset),
+                 "rotation": layer.rotation, "blend": layer.blend, "opacity": layer.opacity,
+                 "tiling": layer.tiling}
+        # patch and seed only matter to stochastic layers; kept wherever they are set, so that a
+        # texture reads back equal to itself
+        if layer.tiling == "stochastic" or layer.patch != DEFAULT_PATCH:
+            entry["patch"] = layer.patch
+        if layer.tiling == "stochastic" or layer.seed != 0:
+            entry["seed"] = layer.seed
+        layers.append(entry)
+    doc = {
         "format": FORMAT,
         "version": FORMAT_VERSION,
         "bits": 8 if texture.bits == 8 else 32,
         "tiles": list(tile_names),
-        "layers": [{"tile": layer.tile, "size": layer.size, "offset": list(layer.offset),
-                    "rotation": layer.rotation, "blend": layer.blend, "opacity": layer.opacity}
-                   for layer in texture.layers],
+        "layers": layers,
     }
+    if any(layer.tiling == "stochastic" for layer in texture.layers):
+        doc["stochastic"] = _stochastic_doc()
+    return doc
 
 
 def dumps(doc: dict) -> str:
@@ -129,7 +172,7 @@ def from_dict(doc: dict, *, base="."):
 
     if not isinstance(doc, dict):
         raise TypeError(f"texture must be a table, got {type(doc).__name__}")
-    known = {"format", "version", "bits", "tiles", "layers"}
+    known = {"format", "version", "bits", "tiles", "layers", "stochastic"}
     extra = sorted(set(doc) - known)
     if extra:
         raise ValueError(f"unknown field {extra[0]!r} (known: {', '.join(sorted(known))})")
@@ -141,8 +184,22 @@ def from_dict(doc: dict, *, base="."):
     version = doc["version"]
     if not isinstance(version, int) or isinstance(version, bool):
         raise ValueError(f"field 'version' must be an integer, got {version!r}")
-    if version != FORMAT_VERSION:
-        raise ValueError(f"field 'version' is {version}; this spectex reads version {FORMAT_VERSION}")
+    if version not in READ_VERSIONS:
+        raise ValueError(f"field 'version' is {version}; this spectex reads versions "
+                         f"{', '.join(str(v) for v in READ_VERSIONS)}")
+    if "stochastic" in doc:
+        if version < 2:
+            raise ValueError("unknown field 'stochastic' in a version-1 file")
+        want = _stochastic_doc()
+        got = doc["stochastic"]
+        if not isinstance(got, dict):
+            raise ValueError(f"field 'stochastic' must be a table, got {got!r}")
+        for key in sorted(set(got) | set(want)):
+            if key not in want:
+                raise ValueError(f"unknown field 'stochastic.{key}' (known: {', '.join(sorted(want))})")
+            if got.get(key) != want[key]:
+                raise ValueError(f"field 'stochastic.{key}' is {got.get(key)!r}; this spectex builds the "
+                                 f"stochastic tables with {want[key]!r}")
     bits = doc.get("bits", 8)
     if bits not in (8, 32) or isinstance(bits, bool):
         raise ValueError(f"field 'bits' must be 8 or 32, got {bits!r}")
@@ -169,7 +226,7 @@ def from_dict(doc: dict, *, base="."):
     if not isinstance(raw_layers, list) or not raw_layers:
         raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
     layers = []
-    allowed = set(_LAYER_FIELDS)
+    allowed = set(_LAYER_FIELDS if version == 1 else _LAYER_FIELDS_V2)
     for i, entry in enumerate(raw_layers):
         if not isinstance(entry, dict):
             raise ValueError(f"field 'layers[{i}]' must be a table, got {entry!r}")
@@ -178,9 +235,11 @@ def from_dict(doc: dict, *, base="."):
             raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
         if "size" not in entry:
             raise ValueError(f"missing field 'layers[{i}].size'")
-        for key in ("size", "rotation", "opacity"):
+        for key in ("size", "rotation", "opacity", "patch"):
             if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
                 raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {entry[key]!r}")
+        if entry.get("tiling") == "stochastic" and "stochastic" not in doc:
+            raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
         try:
             layers.append(Layer(**entry))
         except (ValueError, TypeError) as exc:

@@ -18,12 +18,12 @@ See ``docs/fitting.md``.
 from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
 
 __all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
-           "fit", "fit_report", "FitResult", "prepare_exemplar"]
+           "fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
 
 
 def __getattr__(name):
     # the fitting module pulls in the texture and the sampler (numba): load it on first use
-    if name in ("fit", "fit_report", "FitResult", "prepare_exemplar"):
+    if name in ("fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
         from . import _fit
 
         return getattr(_fit, name)

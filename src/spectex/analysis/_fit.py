@@ -13,7 +13,8 @@ import numpy as np
 from .._validate import check_float, check_image, check_int, check_seed
 from ._stats import cross_scale
 
-__all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "MIN_SIZE", "MAX_ANALYSIS_SIZE"]
+__all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
+           "STRUCTURED_PEAK", "FIT_TILINGS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
 MIN_SIZE = 32
@@ -23,7 +24,17 @@ _GOLDEN = 137.50776405003785
 #: Most power per octave the continuation may gain towards coarser scales (dB per octave).
 MAX_COARSE_SLOPE = -1.5
 #: Far-away bake regions used by the fit, in units of the second coarse layer's size.
-_FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577))
+_FAR = ((0.618, 0.382), (-1.357, 2.113), (3.141, -0.577), (-2.718, -1.414), (1.732, -3.606))
+#: An exemplar whose fine detail repeats by itself (its :func:`spectex.metrics.repeat_peak`)
+#: at least this much is *structured* (bricks, tiles, lines): ``tiling="auto"`` keeps its
+#: finest layer periodic, because tiling and blending would blur the structure. Between the
+#: unstructured photos' highest (0.11, moon's 128 x 128 corner) and brick's lowest (0.18).
+STRUCTURED_PEAK = 0.15
+#: Band and mean steps on the stochastic texture's bakes, and the regions they are measured on.
+STOCHASTIC_ROUNDS = 2
+STOCHASTIC_REGIONS = 4
+#: The fit's tiling choices (see :func:`fit`).
+FIT_TILINGS = ("auto", "stochastic", "periodic")
 
 
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
@@ -144,6 +155,31 @@ def _alpha(z: np.ndarray, gain: float) -> np.ndarray:
     return np.clip(0.5 + 0.25 * gain * z, 0.0, 1.0)
 
 
+def structure_peak(exemplar) -> float:
+    """How much the exemplar's own fine detail repeats: :func:`spectex.metrics.repeat_peak` of it.
+
+    ``min_lag`` is 24 pixels, less for exemplars under 48 pixels (half the
+    shorter side). At least :data:`STRUCTURED_PEAK` (0.15) marks a
+    structured texture. scikit-image's pictures: brick 0.18 (whole) and
+    0.45 (128 x 128 corner); grass, gravel, moon, immunohistochemistry 0.02
+    to 0.06 whole and 0.05 to 0.11 as 128 x 128 corners (a small picture's
+    noise floor is higher: about ``sqrt(2 ln N / N)``, 0.03 for N = 128^2).
+    """
+    from ..metrics import repeat_peak
+
+    h, w = exemplar.shape[:2]
+    peak = repeat_peak(exemplar, min_lag=min(24, min(h, w) // 2))
+    return 0.0 if not np.isfinite(peak) else float(peak)
+
+
+def _with_tilings(layer_list, tilings, patch):
+    from ..texture import Layer
+
+    return [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation, opacity=lay.opacity, tiling=t,
+                  patch=patch, seed=k if t == "stochastic" else 0)
+            for k, (lay, t) in enumerate(zip(layer_list, tilings))]
+
+
 def _layers(n_layers: int, ratio: float, tile_px: int, pixel_size: float, opacity: float):
     from ..texture import Layer
 
@@ -212,10 +248,13 @@ class _Problem:
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
         self.target_cross, self.fine = target["value"], target["fine"]
-        # two regions on the pixel grid (layer 0 sampled at its texel centres): the
-        # exemplar's own place and one far away in the coarse layers
-        self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * pixel_size,
-                                          round(tile_px * ratio ** 2 * fy) * pixel_size)
+        self.set_regions(n_regions, tile_px=tile_px, ratio=ratio)
+
+    def set_regions(self, n_regions, *, tile_px, ratio):
+        """Regions on the pixel grid (layer 0 sampled at its texel centres): the exemplar's own
+        place and ``n_regions - 1`` far away in the coarse layers."""
+        self.origins = [(0.0, 0.0)] + [(round(tile_px * ratio ** 2 * fx) * self.p,
+                                          round(tile_px * ratio ** 2 * fy) * self.p)
                                          for fx, fy in _FAR[:n_regions - 1]]
 
     def texture(self, colour, alpha):
@@ -307,7 +346,7 @@ def _pick_gain(gains, values, target) -> float:
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
         iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
-        progress=None, return_result: bool = False):
+        tiling: str = "auto", patch: float | None = None, progress=None, return_result: bool = False):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -348,6 +387,19 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        takes the bake's histogram to the exemplar's, and a last band-power
        step follows (Heeger and Bergen's alternation [2]_, here through
        the layered texture).
+    5. **Never repeat** (``tiling``): the layers are made stochastic
+       (histogram-preserving tiling and blending of the tile, Heitz and
+       Neyret [6]_; :class:`spectex.texture.Layer`), and the band-power and
+       histogram steps run once more, then the last ones, on bakes of the
+       stochastic texture (the blending moves the band powers a little).
+       Steps 1-4 run on periodic bakes (the same tile, 3x faster). With
+       ``"auto"`` (default) every layer is stochastic unless the exemplar
+       is *structured*, measured: :func:`structure_peak` (its own
+       :func:`~spectex.metrics.repeat_peak`) at least
+       :data:`STRUCTURED_PEAK`; then the finest layer stays periodic
+       (tiling and blending would blur bricks or lines into ghosts; the
+       coarser layers are stochastic still). ``docs/fitting.md`` has the
+       numbers.
 
     Bakes are regions of the exemplar's size (at most 256 x 256; twice the
     size for exemplars of 128 or less) on the pixel grid: the exemplar's
@@ -389,6 +441,14 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         Larger exemplars are analysed on a central crop of this size.
     seed : int
         Seed of the quilting (equal inputs and seed give equal textures).
+    tiling : {"auto", "stochastic", "periodic"}
+        ``"periodic"``: every layer periodic (the fit before stochastic
+        layers; the texture repeats the tile). ``"stochastic"``: every layer
+        stochastic. ``"auto"``: stochastic, but a periodic finest layer for
+        a structured exemplar (step 5).
+    patch : float, optional
+        The stochastic layers' triangle side in tiles; default
+        ``DEFAULT_PATCH`` (0.5).
     progress : callable, optional
         ``progress(done, total)`` after each step.
     return_result : bool
@@ -413,6 +473,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        2011 (the seamless tile).
     .. [5] A. A. Efros and W. T. Freeman, "Image quilting for texture
        synthesis and transfer", SIGGRAPH 2001 (the larger tile).
+    .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
+       a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
     """
     import time
 
@@ -425,11 +487,25 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
     seed = check_seed("seed", seed)
+    from .._validate import check_choice
+    from ..shading.constants import DEFAULT_PATCH
+
+    tiling = check_choice("tiling", tiling, FIT_TILINGS)
+    patch = DEFAULT_PATCH if patch is None else check_float("patch", patch, minimum=0.0, exclusive_minimum=True,
+                                                             maximum=4.0)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     h, w = exemplar.shape[:2]
-    total = 2 + 4 + 1 + 2 * (iterations + 1)
+    structure = structure_peak(exemplar)
+    if tiling == "periodic":
+        tilings = ["periodic"] * layers
+    elif tiling == "stochastic" or structure < STRUCTURED_PEAK:
+        tilings = ["stochastic"] * layers
+    else:
+        tilings = ["periodic"] + ["stochastic"] * (layers - 1)
+    stochastic = "stochastic" in tilings
+    total = 2 + 4 + 1 + 2 * (iterations + 1) + (2 * STOCHASTIC_ROUNDS if stochastic else 0)
     done = 0
 
     def tick():
@@ -448,7 +524,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         from ..synthesis import quilt
 
         block = int(np.clip(min(h, w) // 4, 16, 64))
-        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, seed=seed).astype(np.float64)
+        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=seed).astype(np.float64)
         tile_method = f"tileable quilt (block {block})"
     tick()
     region = (min(h, 256), min(w, 256))
@@ -504,6 +580,13 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     else:
         tick()
         tick()
+    if stochastic:
+        # step 5: the final layers; more regions (a stochastic texture's regions differ more than a
+        # periodic one's) and STOCHASTIC_ROUNDS band and mean steps on their bakes
+        problem.layers = layer_list = _with_tilings(layer_list, tilings, patch)
+        problem.set_regions(STOCHASTIC_REGIONS, tile_px=n, ratio=ratio)
+        for _ in range(STOCHASTIC_ROUNDS):
+            colour = spectral_and_histogram(colour, alpha)
     # the exact histograms (a monotone map per channel), then a last band-power step
     colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
     err = problem.band_error(problem.bakes(colour, alpha))
@@ -517,7 +600,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
               "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
               "band_error_history_db": history, "alpha_near": dict(zip(near, near_values)),
-              "target_cross_scale": problem.target_cross}
+              "target_cross_scale": problem.target_cross, "tilings": list(tilings),
+              "structure_peak": structure, "patch": patch}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)
 

@@ -127,8 +127,12 @@ class GLRenderer:
         self.program = self.vao = None
         self._fbos = {}
         self._filter = None
+        self.gauss_textures = []
+        self.lut_texture = None
         try:
             self.textures = [self._upload(levels) for levels in texture.mip_levels()]
+            if any(layer.tiling == "stochastic" for layer in texture.layers):
+                self._upload_stochastic()
         except Exception:
             self.release()
             raise
@@ -141,7 +145,7 @@ class GLRenderer:
         """
         from ..shading.glsl import fragment_source, vertex_source
 
-        key = (anisotropic, sky_only, () if sky_only else tuple(int(v) for v in tables.on))
+        key = (anisotropic, sky_only, int(tables.min_filter), () if sky_only else tuple(int(v) for v in tables.on))
         if key not in self._programs:
             texture = self.texture
             program = self.ctx.program(
@@ -157,6 +161,18 @@ class GLRenderer:
     def _set_static_uniforms(self, tables):
         """The per-texture uniforms, from the core's :class:`~spectex.shading.tables.ShadingTables`."""
         self._set_uniform("u_tile", list(range(len(self.textures))))
+        if self.lut_texture is not None:
+            n = len(self.textures)
+            self._set_uniform("u_gauss", list(range(n, 2 * n)))
+            self._set_uniform("u_lut", 2 * n)
+            self._set_uniform("u_lut_rows", float(tables.lut.shape[0]))
+            self._set_uniform("u_lut_q", float(len(self.texture.mip_levels()[0]) - 1))
+            self._set_uniform("u_grid", [tuple(float(v) for v in g.reshape(-1)) for g in tables.grid])
+            self._set_uniform("u_key", [int(v) for v in tables.key])
+            self._set_uniform("u_lut_row", [float(t * tables.lut_rows) for t in tables.tile])
+            # GLSL's mat3 is column-major: the columns of basis, one after the other
+            self._set_uniform("u_basis", [tuple(float(v) for v in b.T.reshape(-1)) for b in tables.basis])
+            self._set_uniform("u_origin", [tuple(float(v) for v in o) for o in tables.origin])
         h, w = self.texture.tile_shape
         self._set_uniform("u_tex_size", (float(w), float(h)))
         self._set_uniform("u_mat", [tuple(float(v) for v in m.reshape(-1)) for m in tables.mats])
@@ -193,6 +209,39 @@ class GLRenderer:
         if self._own_ctx:
             self.ctx.__enter__()
 
+    def _upload_stochastic(self):
+        """The stochastic layers' textures (section 6b): per tile its Gaussianised levels, and the tables.
+
+        Both hold half floats (``RGBA16F``; the CPU holds the same values as
+        float32): the Gaussian tiles mip-mapped and filtered like the tiles,
+        the tables (expanded) as one channel, ``SPX_LUT_SIZE`` x ``4 rows``
+        (channel ``c``'s rows in the ``c``-th quarter), point-sampled, clamped.
+        """
+        from ..shading.constants import MAX_TILES
+
+        n = len(self.textures)
+        if 2 * n + 1 > 2 * MAX_TILES:
+            raise ValueError(f"stochastic layers on the GPU allow at most {MAX_TILES - 1} tiles, got {n}")
+        for tb in self.texture.stochastic_tables():
+            levels = tb.gaussian
+            h, w = levels[0].shape[:2]
+            tex = self.ctx.texture((w, h), 4, levels[0].astype(np.float16).tobytes(), dtype="f2", alignment=1)
+            if len(levels) > 1:
+                tex.build_mipmaps(0, len(levels) - 1)
+                for d, level in enumerate(levels[1:], start=1):
+                    tex.write(np.ascontiguousarray(level.astype(np.float16)).tobytes(), level=d, alignment=1)
+            tex.repeat_x = True
+            tex.repeat_y = True
+            self.gauss_textures.append(tex)
+        _, lut, _ = self.texture.stochastic_store()
+        rows, size = lut.shape[:2]
+        planar = np.concatenate([lut[:, :, c] for c in range(4)], axis=0).astype(np.float16)  # channel c: rows c*rows..
+        self.lut_texture = self.ctx.texture((size, 4 * rows), 1, np.ascontiguousarray(planar).tobytes(), dtype="f2",
+                                            alignment=1)
+        self.lut_texture.filter = (self._mgl.NEAREST, self._mgl.NEAREST)
+        self.lut_texture.repeat_x = False
+        self.lut_texture.repeat_y = False
+
     def _set_uniform(self, name, value):
         if name not in self.program:  # optimised away
             return
@@ -228,9 +277,13 @@ class GLRenderer:
             fbo.color_attachments[0].release()
             fbo.release()
         self._fbos = {}
-        for tex in getattr(self, "textures", []):
+        for tex in getattr(self, "textures", []) + getattr(self, "gauss_textures", []):
             tex.release()
         self.textures = []
+        self.gauss_textures = []
+        if getattr(self, "lut_texture", None) is not None:
+            self.lut_texture.release()
+            self.lut_texture = None
         for program, vao in getattr(self, "_programs", {}).values():
             vao.release()
             program.release()
@@ -260,7 +313,7 @@ class GLRenderer:
         if name != self._filter:
             min_f = getattr(self._mgl, _GL_FILTERS[name])
             mag_f = self._mgl.NEAREST if tables.mag_filter == FILTER_NEAREST else self._mgl.LINEAR
-            for tex in self.textures:
+            for tex in self.textures + self.gauss_textures:
                 tex.filter = (min_f, mag_f)
             self._filter = name
         self._use_program(tables, anisotropic=tables.max_aniso > 1.0 and "mipmap" in name, sky_only=sky_only)
@@ -279,7 +332,10 @@ class GLRenderer:
         self._set_uniform("u_haze", view.haze_distance)
         self._set_uniform("u_far", view.far)
         self._set_uniform("u_max_aniso", tables.max_aniso)
-        self._set_uniform("u_anchor", [tuple(float(v) for v in a) for a in anchor])
+        self._set_uniform("u_anchor", [(float(a[0]), float(a[1])) for a in anchor])
+        if self.lut_texture is not None:
+            self._set_uniform("u_ganchor", [(float(a[2]), float(a[3])) for a in anchor])
+            self._set_uniform("u_gbase", [(int(a[4]), int(a[5])) for a in anchor])
 
     def draw(self, camera, size, **kwargs):
         """Draw one frame into the currently bound framebuffer (the viewer's window).
@@ -291,8 +347,10 @@ class GLRenderer:
         """
         h, w = size
         sky_rows = sky_row_count(camera, h, w)
-        for unit, tex in enumerate(self.textures):
+        for unit, tex in enumerate(self.textures + self.gauss_textures):
             tex.use(location=unit)
+        if self.lut_texture is not None:
+            self.lut_texture.use(location=2 * len(self.textures))
         try:
             if sky_rows > 0:
                 self.ctx.scissor = (0, h - sky_rows, w, sky_rows)  # GL's y counts from the bottom

@@ -13,6 +13,7 @@ module                    what lives there
 ``shading.tables``          a texture as one typed structure for the kernels
                           and the shader (:class:`ShadingTables`)
 ``shading.layers``        a layer's sample and blend, per point and per row (6)
+``shading.stochastic``    stochastic tiling: its tables and per-point sample (6b)
 ``shading.camera``        camera, atmosphere, :class:`ViewParams` (7)
 ``shading.view``          ground footprint, haze, sky; bake and render kernels (7-8)
 ``shading.glsl``          the GLSL of the renderer and the exports, generated

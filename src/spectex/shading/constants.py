@@ -15,7 +15,8 @@ from __future__ import annotations
 
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
-    "TILINGS", "TILING_PERIODIC",
+    "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
+    "HASH_MUL1", "HASH_MUL2",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -31,8 +32,22 @@ BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE = 0, 1, 2
 BLEND_FIRST = -1
 
 #: How a layer repeats its tile over the plane; the code is the index.
-TILINGS = ("periodic",)
-TILING_PERIODIC = 0
+TILINGS = ("periodic", "stochastic")
+TILING_PERIODIC, TILING_STOCHASTIC = 0, 1
+
+# Stochastic tiling (histogram-preserving tiling and blending, ``shading.stochastic``).
+#: Default side of the triangle grid's triangles, in tiles.
+DEFAULT_PATCH = 0.5
+#: The Gaussianised tile: mean and standard deviation of its values at level 0.
+GAUSS_MEAN = 0.5
+GAUSS_SCALE = 0.1
+#: Entries of each row of the inverse look-up table (Gaussian value 0 .. 1).
+LUT_SIZE = 1024
+#: Rows of the sampled table per mip level step (``stochastic.expand_lut``).
+LUT_SUBROWS = 8
+#: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
+HASH_MUL1 = 0x7FEB352D
+HASH_MUL2 = 0x846CA68B
 
 #: Most layers in a texture (and per-layer uniform arrays in the shader).
 MAX_LAYERS = 8
@@ -90,6 +105,13 @@ def glsl_defines() -> str:
         lines.append(f"#define SPX_BLEND_{name} {code}")
     for i, t in enumerate(TILINGS):
         lines.append(f"#define SPX_TILING_{t.upper()} {i}")
+    for i, f in enumerate(FILTERS):
+        lines.append(f"#define SPX_FILTER_{f.upper()} {i}")
+    lines.append(f"#define SPX_GAUSS_MEAN {_glsl_number(GAUSS_MEAN)}")
+    lines.append(f"#define SPX_LUT_SIZE {LUT_SIZE}")
+    lines.append(f"#define SPX_LUT_SUBROWS {LUT_SUBROWS}")
+    lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
+    lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_LOD_FLOOR {_glsl_number(LOD_FLOOR)}")
     lines.append(f"#define SPX_SKY_FALLOFF {_glsl_number(SKY_FALLOFF)}")

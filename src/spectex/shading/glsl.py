@@ -22,7 +22,9 @@ from __future__ import annotations
 
 from importlib import resources
 
-from .constants import BLEND_FIRST, BLENDS, glsl_defines
+import numpy as np
+
+from .constants import BLEND_FIRST, BLENDS, TILING_STOCHASTIC, glsl_defines
 
 __all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file"]
 
@@ -32,6 +34,7 @@ TARGETS = ("330", "es300")
 _TEXTURE_MACROS = """#define SPX_TEX_ARG(name) sampler2D name
 #define SPX_TEX(name) name
 #define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
+#define SPX_UINT uint
 """
 
 
@@ -81,13 +84,27 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     layer" flag cost a quarter of the frame. ``iso_lod`` (square tiles, no
     anisotropy) derives each layer's level of detail from one per-pixel
     world level (``docs/sampling.md``, section 3). ``sky_only`` compiles
-    the ground branch out, for the rows that see only sky.
+    the ground branch out, for the rows that see only sky. The
+    minification filter's code is written in (``MIN_FILTER``), so that the
+    stochastic layers' choice of table row folds to one formula.
     """
-    calls = [f"        shade_layer({k}, {_blend_name(int(tables.blend[k]))}, u_tile[{int(tables.tile[k])}], "
-             "c, p, jx, jy, lam_w);" for k in range(len(tables.tile)) if tables.on[k]]
+    calls = []
+    for k in range(len(tables.tile)):
+        if not tables.on[k]:
+            continue
+        tile = int(tables.tile[k])
+        if int(tables.tiling[k]) == TILING_STOCHASTIC:
+            calls.append(f"        shade_layer_stochastic({k}, {_blend_name(int(tables.blend[k]))}, u_gauss[{tile}], "
+                         "u_lut, c, p, jx, jy, lam_w);")
+        else:
+            calls.append(f"        shade_layer({k}, {_blend_name(int(tables.blend[k]))}, u_tile[{tile}], "
+                         "c, p, jx, jy, lam_w);")
+    stochastic = bool(np.any(np.asarray(tables.tiling)[np.asarray(tables.on) != 0] == TILING_STOCHASTIC))
     switches = (f"#define N_LAYERS {len(tables.tile)}\n#define N_TILES {int(n_tiles)}\n"
                 f"#define ISO_LOD {1 if iso_lod and not anisotropic else 0}\n"
-                f"#define SKY_ONLY {1 if sky_only else 0}\n")
+                f"#define SKY_ONLY {1 if sky_only else 0}\n"
+                f"#define STOCHASTIC {1 if stochastic else 0}\n"
+                f"#define MIN_FILTER {int(tables.min_filter)}\n")
     main = shader_file("ground.frag.glsl").replace("//@LAYERS@", "\n".join(calls))
     return prelude(target) + layer_library(anisotropic=anisotropic) + switches + main
 

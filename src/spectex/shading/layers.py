@@ -5,8 +5,9 @@ The one home of a layer's maths on the CPU:
 * :func:`layer_coords`: a ground point and its footprint in a layer's tile
   coordinates, relative to the per-layer anchor;
 * :func:`sample_layer`: one layer's RGBA at a point, by its tiling mode
-  (periodic: the OpenGL-exact sampler of ``shading.sampler``); a new
-  tiling mode is a new branch here and in ``shaders/spectex_layers.glsl``;
+  (periodic: the OpenGL-exact sampler of ``shading.sampler``; stochastic:
+  ``shading.stochastic``); a new tiling mode is a new branch here and in
+  ``shaders/spectex_layers.glsl``;
 * :func:`blend_alpha`, :func:`blend_detail`, :func:`blend_variance` and
   :func:`blend`: how a layer goes over the colour of the layers before it;
 * :func:`shade_ground` (one point, any sampler state) and :func:`shade_row`
@@ -24,8 +25,9 @@ import math
 import numba
 import numpy as np
 
-from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST
+from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST, TILING_STOCHASTIC
 from .sampler import sample_grad
+from .stochastic import sample_stochastic_grad
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
@@ -41,12 +43,32 @@ def layer_coords(mats, anchor, k, dx, dy):
 
 
 @_jit_inline
-def sample_layer(T, k, s, t, dsdx, dtdx, dsdy, dtdy):
-    """Layer ``k``'s RGBA at tile coordinates ``(s, t)`` with footprint derivatives (sections 3-5).
+def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
+    """Layer ``k``'s RGBA at tile coordinates ``(s, t)`` with footprint derivatives (sections 3-6b).
 
-    ``T``: :class:`~spectex.shading.tables.ShadingTables`. Periodic tiling:
-    the tile repeats (``REPEAT``), sampled by the OpenGL-exact sampler.
+    ``T``: :class:`~spectex.shading.tables.ShadingTables`; ``anchor``: per
+    layer, :func:`~spectex.shading.tables.anchor_coords` of the point that
+    ``(s, t)`` are relative to. By the layer's tiling:
+
+    * periodic: the tile repeats (``REPEAT``), sampled by the OpenGL-exact
+      sampler;
+    * stochastic (section 6b): histogram-preserving tiling and blending of
+      the tile's Gaussianised texels (``T.gauss``) through its inverse
+      tables (``T.lut``), the grid position from the anchor's
+      (``anchor[k, 2:6]``) plus ``T.grid[k]`` times the displacement in
+      tile coordinates.
     """
+    if T.tiling[k] == TILING_STOCHASTIC:
+        sr = s - anchor[k, 0]
+        tr = t - anchor[k, 1]
+        g = T.grid
+        kx = anchor[k, 2] + (g[k, 0, 0] * sr + g[k, 0, 1] * tr)
+        ky = anchor[k, 3] + (g[k, 1, 0] * sr + g[k, 1, 1] * tr)
+        return sample_stochastic_grad(T.gauss, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s,
+                                      T.wrap_t, T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod,
+                                      T.max_lod, T.lut, T.tile[k] * T.lut_rows, T.basis[k], T.origin[k],
+                                      T.grid[k], np.int64(anchor[k, 4]), np.int64(anchor[k, 5]), T.key[k],
+                                      s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
     return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,
                        T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod, T.max_lod,
                        s, t, dsdx, dtdx, dsdy, dtdy)
@@ -110,7 +132,7 @@ def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
         dtdx = mats[k, 1, 0] * jxx + mats[k, 1, 1] * jyx
         dsdy = mats[k, 0, 0] * jxy + mats[k, 0, 1] * jyy
         dtdy = mats[k, 1, 0] * jxy + mats[k, 1, 1] * jyy
-        r, g, b, a = sample_layer(T, k, s, t, dsdx, dtdx, dsdy, dtdy)
+        r, g, b, a = sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy)
         cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a * T.opacity[k], T.mean[k, 0], T.mean[k, 1],
                            T.mean[k, 2])
     return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validate import check_float
 from .constants import (ANCHOR_PERIOD, BLEND_FIRST, BLENDS, DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_LINEAR,
-                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_NEAREST, TILINGS, WRAP_REPEAT)
+                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_NEAREST, TILING_STOCHASTIC, TILINGS, WRAP_REPEAT)
 from .sampler import filter_code
 
 __all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
@@ -56,6 +56,14 @@ class ShadingTables(NamedTuple):
     lod_off: np.ndarray    #: (L,) float64: log2(tile width / layer size), texels per metre (section 3)
     size0: int             #: width of level 0
     fast: bool             #: the fast path's sampler state (docs/sampling.md, section 10)
+    # stochastic tiling (section 6b; ``shading.stochastic``); 1-row placeholders when no layer is stochastic
+    gauss: np.ndarray      #: (N, 4) float32: every tile's Gaussianised levels, laid out as ``data``
+    lut: np.ndarray        #: (tiles * lut_rows, LUT_SIZE, 4) float32: expanded inverse tables, tile ``i`` from row ``i * lut_rows``
+    lut_rows: int          #: table rows per tile (``stochastic.expand_lut``)
+    grid: np.ndarray       #: (L, 2, 2) float64: tile coordinates -> skewed triangle-grid coordinates
+    key: np.ndarray        #: (L,) int64: the layer's hash key (``stochastic.layer_key(seed)``)
+    basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
+    origin: np.ndarray     #: (L, 3) float64
 
 
 def layer_matrix(size: float, rotation: float) -> np.ndarray:
@@ -69,18 +77,35 @@ def layer_matrix(size: float, rotation: float) -> np.ndarray:
 
 
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
-    """Per layer, the tile coordinates of world point ``(x0, y0)`` modulo ``ANCHOR_PERIOD``, ``(L, 2)``.
+    """Per layer, where world point ``(x0, y0)`` is in the layer's tile and grid, ``(L, 6)``.
 
-    Computed in float64 on the host, so that the kernels and shaders work
-    with small coordinates relative to an anchor (the camera, a bake's
-    corner) and keep their precision far from the world origin.
+    Columns 0-1: the tile coordinates modulo ``ANCHOR_PERIOD``. Columns 2-5,
+    for a stochastic layer (zero otherwise): the point in the skewed
+    triangle-grid coordinates ``k = grid @ (s, t)`` split into its fraction
+    ``k - floor(k)`` (2-3) and the grid vertex ``floor(k)`` modulo 2^32
+    (4-5, whole numbers): the grid's vertices are hashed by their index, so
+    it must be known exactly, not modulo a small period. Computed in
+    float64 on the host, so that the kernels and shaders work with small
+    coordinates relative to an anchor (the camera, a bake's corner) and keep
+    their precision far from the world origin.
     """
-    out = np.empty((len(layers), 2), dtype=np.float64)
+    out = np.zeros((len(layers), 6), dtype=np.float64)
     for k, layer in enumerate(layers):
         m = layer_matrix(layer.size, layer.rotation)
         dx = float(x0) - layer.offset[0]
         dy = float(y0) - layer.offset[1]
-        out[k] = ((m[0, 0] * dx + m[0, 1] * dy) % ANCHOR_PERIOD, (m[1, 0] * dx + m[1, 1] * dy) % ANCHOR_PERIOD)
+        s = m[0, 0] * dx + m[0, 1] * dy
+        t = m[1, 0] * dx + m[1, 1] * dy
+        out[k, 0] = s % ANCHOR_PERIOD
+        out[k, 1] = t % ANCHOR_PERIOD
+        if getattr(layer, "tiling", "periodic") == "stochastic":
+            from .stochastic import triangle_grid_matrix
+
+            g = triangle_grid_matrix(layer.patch)
+            kx = g[0, 0] * s + g[0, 1] * t
+            ky = g[1, 0] * s + g[1, 1] * t
+            bx, by = math.floor(kx), math.floor(ky)
+            out[k, 2:] = (kx - bx, ky - by, bx % 2 ** 32, by % 2 ** 32)
     return out
 
 
@@ -120,6 +145,25 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     size0 = int(widths[0])
     fast = bool(code == FILTER_LINEAR_MIPMAP_LINEAR and aniso == 1.0 and h0 == w0 and size0 & (size0 - 1) == 0
                 and widths.shape[0] == size0.bit_length() and all(t == 0 for t in tiling))
+    grid = np.zeros((n, 2, 2), dtype=np.float64)
+    key = np.zeros(n, dtype=np.int64)
+    basis = np.zeros((n, 3, 3), dtype=np.float64)
+    origin = np.zeros((n, 3), dtype=np.float64)
+    if np.any(tiling == TILING_STOCHASTIC):
+        from .stochastic import layer_key, triangle_grid_matrix
+
+        gauss, lut, lut_rows = texture.stochastic_store(mipmaps=mipmaps)
+        stoch = texture.stochastic_tables()
+        for k, layer in enumerate(layers):
+            if tiling[k] == TILING_STOCHASTIC:
+                grid[k] = triangle_grid_matrix(layer.patch)
+                key[k] = layer_key(layer.seed)
+                basis[k] = stoch[layer.tile].basis
+                origin[k] = stoch[layer.tile].origin
+    else:
+        gauss = np.zeros((1, 4), dtype=np.float32)
+        lut = np.zeros((1, 2, 4), dtype=np.float32)
+        lut_rows = 1
     return ShadingTables(
         data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
         wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
@@ -129,4 +173,5 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
         on=np.array(enabled, dtype=np.int64),
         lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),
-        size0=size0, fast=fast)
+        size0=size0, fast=fast, gauss=gauss, lut=lut, lut_rows=int(lut_rows), grid=grid, key=key,
+        basis=basis, origin=origin)

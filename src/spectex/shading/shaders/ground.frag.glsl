@@ -5,6 +5,8 @@
 //   N_LAYERS, N_TILES  array sizes
 //   ISO_LOD   1: each layer's lambda from the pixel's world lambda (section 3)
 //   SKY_ONLY  1: the ground branch compiled out (rows that see only sky)
+//   STOCHASTIC 1: some drawn layer is stochastic (section 6b): its textures and uniforms
+//   MIN_FILTER the minification filter's code (SPX_FILTER_*)
 // and the unrolled layer calls in place of the LAYERS marker below (only
 // the drawn layers', each with its tile and blend code written in).
 
@@ -31,6 +33,20 @@ uniform vec3 u_mean[N_LAYERS];     // per layer: its tile's mean colour (1 x 1 l
 uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
 uniform float u_lod_off[N_LAYERS]; // per layer: log2(tile width / layer size), texels per metre
 
+#if STOCHASTIC
+uniform sampler2D u_gauss[N_TILES]; // per tile: its Gaussianised levels (RGBA16F)
+uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x 4 u_lut_rows (R16F, NEAREST)
+uniform float u_lut_rows;          // rows of u_lut per channel
+uniform float u_lut_q;             // the last mip level (rows per tile - 1 with mip-maps, else 0)
+uniform vec4 u_grid[N_LAYERS];     // per layer: tile coords -> skewed grid coords (m00, m01, m10, m11)
+uniform vec2 u_ganchor[N_LAYERS];  // per layer: the anchor's grid position minus its vertex
+uniform uvec2 u_gbase[N_LAYERS];   // per layer: that grid vertex, mod 2^32
+uniform uint u_key[N_LAYERS];      // per layer: the hash key of its seed
+uniform float u_lut_row[N_LAYERS]; // per layer: first table row of its tile
+uniform mat3 u_basis[N_LAYERS];    // per layer: its tile's decorrelation, RGB = origin + basis v
+uniform vec3 u_origin[N_LAYERS];
+#endif
+
 out vec4 frag_colour;
 
 // One layer over c (section 6). With ISO_LOD, its lambda is the pixel's
@@ -47,6 +63,30 @@ void shade_layer(int k, int blend, SPX_TEX_ARG(tile), inout vec3 c, vec2 p, vec2
 #endif
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);
 }
+
+#if STOCHASTIC
+// A stochastic layer over c (sections 6 and 6b); lambda as in shade_layer,
+// from the un-offset coordinates.
+void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), inout vec3 c, vec2 p, vec2 jx,
+                            vec2 jy, float lam_w) {
+    vec4 m = u_mat[k];
+    vec4 gm = u_grid[k];
+    vec2 rel = spectex_layer_deriv(m, p);  // tile coordinates relative to the anchor
+    vec2 st = u_anchor[k] + rel;
+    vec2 g = u_ganchor[k] + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);
+#if ISO_LOD
+    vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
+                                       u_tex_size, lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
+                                       u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
+#else
+    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,
+                                            u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
+                                            u_tex_size, u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
+                                            u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
+#endif
+    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);
+}
+#endif
 
 void main() {
     // Pixel centres at half-integers, row 0 at the top; gl_FragCoord.y

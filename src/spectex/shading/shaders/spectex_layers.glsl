@@ -6,10 +6,13 @@
 //   SPX_TEX_ARG(name)       a texture parameter      (GLSL: sampler2D name)
 //   SPX_TEX(name)           passing it on            (GLSL: name)
 //   SPX_LOD(name, uv, lod)  a sample at a given lod  (GLSL: textureLod(name, uv, lod))
+//   SPX_UINT                an unsigned 32-bit int   (GLSL: uint); the stochastic
+//                           tiling's functions (section 6b) are compiled only where it is defined
 //   SPX_ANISO               1 to compile the anisotropic path (section 5)
 // and the constants of spectex/shading/constants.py (SPX_BLEND_*, ...).
-// Only vec2/vec3/vec4, float, int and functions common to GLSL and HLSL
-// (floor, ceil, log2, exp, sqrt, length, dot, min, max, clamp) are used.
+// Only vec2/vec3/vec4, float, int, SPX_UINT and functions common to
+// GLSL and HLSL (floor, ceil, log2, exp, sqrt, length, dot, min, max, clamp)
+// are used.
 
 // Section 6: a ground point p (metres from the anchor) in a layer's tile
 // coordinates; m = (m00, m01, m10, m11) is the layer's map, anchor its
@@ -56,6 +59,126 @@ vec4 spectex_sample_grad(SPX_TEX_ARG(tile), vec2 st, vec2 dx, vec2 dy, vec2 tex_
 vec4 spectex_sample_layer(SPX_TEX_ARG(tile), vec2 st, float lod) {
     return SPX_LOD(tile, st, lod);
 }
+
+// Section 6b: stochastic tiling (SPX_TILING_STOCHASTIC), histogram-preserving
+// tiling and blending (Heitz and Neyret 2018; spectex/shading/stochastic.py is
+// the CPU side and the numbers' home). Compiled where the prelude defines SPX_UINT.
+#ifdef SPX_UINT
+
+// Wellons' lowbias32 hash.
+SPX_UINT spectex_hash(SPX_UINT x) {
+    x ^= x >> 16u;
+    x *= SPX_HASH_MUL1;
+    x ^= x >> 15u;
+    x *= SPX_HASH_MUL2;
+    x ^= x >> 16u;
+    return x;
+}
+
+// The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under
+// a layer's key, snapped down to whole texels of level 0 (tex_size texels,
+// inv_size = 1 / tex_size).
+vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size, vec2 inv_size) {
+    SPX_UINT h = spectex_hash(i ^ spectex_hash(j ^ key));
+    return floor(vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0) * tex_size) * inv_size;
+}
+
+// The table row (fractional: row d1 + beta) that goes with the levels a
+// sample at lambda reads (section 4), for the minification filter's code.
+float spectex_lut_level(float lam, int min_filter, float q) {
+    if (lam <= 0.0 || min_filter < SPX_FILTER_NEAREST_MIPMAP_NEAREST) {
+        return 0.0;
+    }
+    if (min_filter <= SPX_FILTER_LINEAR_MIPMAP_NEAREST) {
+        return (lam > 0.5) ? min(ceil(lam + 0.5) - 1.0, q) : 0.0;
+    }
+    return min(lam, q);
+}
+
+// The inverse tables at Gaussian values g (one per channel), at a
+// (fractional) level: the nearest of the SPX_LUT_SUBROWS rows per level step
+// from row `row0` and the nearest of the SPX_LUT_SIZE entries. The table
+// texture is one channel (R16F, NEAREST-filtered; stochastic.expand_lut),
+// SPX_LUT_SIZE wide and 4 `rows` high: channel c's rows are the c-th quarter
+// (a one-channel fetch costs llvmpipe less than an RGBA one).
+vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) {
+    float v = (row0 + floor(level * float(SPX_LUT_SUBROWS) + 0.5) + 0.5) / (4.0 * rows);
+    vec4 u = (floor(clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) + 0.5) / float(SPX_LUT_SIZE);
+    return vec4(SPX_LOD(lut, vec2(u.x, v), 0.0).x, SPX_LOD(lut, vec2(u.y, v + 0.25), 0.0).x,
+                SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
+}
+
+// One stochastic sample at lambda: st the tile coordinates, g the same point
+// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
+// tex_size the level-0 width and height;
+// three patches of the Gaussianised tile `gauss`, each offset by its
+// vertex's hash, blended with the barycentric weights preserving the
+// variance, then the layer's row `lut_row0` (+ level) of the tables and the
+// inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2, b0..b2 the
+// basis's columns). RGBA in [0, 1].
+vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
+                               SPX_UINT base_j, SPX_UINT key, vec2 tex_size, float lam, int min_filter, float q,
+                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
+    vec2 c = floor(g);
+    vec2 f = g - c;
+    int ci = int(c.x);
+    int cj = int(c.y);
+    bool lower = f.x + f.y < 1.0;
+    int i1 = lower ? ci : ci + 1;
+    int j1 = lower ? cj : cj + 1;
+    int i2 = lower ? ci + 1 : ci;
+    int j2 = lower ? cj : cj + 1;
+    int i3 = lower ? ci : ci + 1;
+    int j3 = lower ? cj + 1 : cj;
+    vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
+    vec2 inv_size = 1.0 / tex_size;
+    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key, tex_size, inv_size), lam);
+    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key, tex_size, inv_size), lam);
+    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key, tex_size, inv_size), lam);
+    vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
+    vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
+    vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
+    return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
+}
+
+// Sections 3, 5 and 6b: lambda from the un-offset derivatives of (s, t),
+// then stochastic samples at that lambda (with SPX_ANISO, N of them along
+// the major axis, each with its own grid position, averaged). grid: the
+// tile -> skewed grid map (m00, m01, m10, m11).
+vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
+                                    SPX_UINT base_j, SPX_UINT key, vec2 dx, vec2 dy, vec2 tex_size,
+                                    float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
+                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
+    vec2 ux = dx * tex_size;
+    vec2 uy = dy * tex_size;
+    float px = length(ux);
+    float py = length(uy);
+    float pmax = max(px, py);
+#if SPX_ANISO
+    if (max_aniso > 1.0) {
+        float pmin = min(px, py);
+        float n_max = floor(max_aniso);
+        float n = (pmin * n_max <= pmax) ? n_max : min(ceil(pmax / pmin), n_max);
+        if (n > 1.0) {
+            float lam = log2(max(pmax / n, SPX_LOD_FLOOR));
+            vec2 d = (px >= py) ? dx : dy;
+            vec2 dg = vec2(grid.x * d.x + grid.y * d.y, grid.z * d.x + grid.w * d.y);
+            vec4 acc = vec4(0.0, 0.0, 0.0, 0.0);
+            for (float i = 1.0; i <= n; i += 1.0) {
+                float fi = i / (n + 1.0) - 0.5;
+                acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
+                                                 base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
+                                                 b0, b1, b2, origin);
+            }
+            return acc / n;
+        }
+    }
+#endif
+    return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, tex_size,
+                                     log2(max(pmax, SPX_LOD_FLOOR)), min_filter, q, lut_row0, lut_rows, b0, b1,
+                                     b2, origin);
+}
+#endif
 
 // Section 6: the colour after a layer's sample x (RGBA) goes over c.
 // blend: SPX_BLEND_FIRST (the first drawn layer: sets the colour),

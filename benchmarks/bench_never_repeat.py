@@ -1,0 +1,218 @@
+"""Benchmark: textures that never repeat (issue 12), side by side in one run.
+
+For each photograph (scikit-image's brick, grass and gravel, plus moon and
+immunohistochemistry; whole 512 x 512 pictures, or ``--crop N`` pixels from
+the top-left corner), these textures, all at the photo's pixel size (1):
+
+* ``plain``: the photo made seamless (``spectex.tiles.make_seamless``) and
+  tiled, one layer;
+* ``t&b``: tiling and blending alone, single scale, in NumPy
+  (:func:`tiling_and_blending`: Heitz and Neyret's triangle grid, three
+  randomly offset patches per pixel, variance-preserving blend of the
+  colours, no Gaussianisation): the issue's 60-line baseline;
+* ``hp t&b``: one stochastic layer of the same seamless photo (the shading
+  core's histogram-preserving tiling and blending, ``Layer(tiling=
+  "stochastic")``, patch 0.5): tiling and blending alone, renderable;
+* ``fit periodic``: ``spectex.fit(photo, tiling="periodic")``, the fit as it
+  was (every layer periodic);
+* ``fit``: ``spectex.fit(photo)``, the default (stochastic layers; a periodic
+  finest layer for a structured photo, chosen by measurement).
+
+Columns:
+
+* ``near``: :func:`spectex.metrics.repeat_peak` of a 2048 x 2048 bake at the
+  photo's pixel size; ``far``: of a 1024 x 1024 bake at 8 times the pixel
+  size (target for the fit: <= 0.1 both);
+* ``band dB``: :func:`spectex.metrics.band_power_distance` between the near
+  bake and the photo (target <= 1.5);
+* ``slope 8x``: dB per octave (towards coarser scales) of the far bake's
+  power over its three coarsest bands (scales of 1/8 to 1/2 of the far
+  bake: 8 to 32 times the photo's side), beside ``photo``: the photo's own
+  slope over its three coarsest bands. Plain tiling has no power at scales
+  above the tile, so its slope falls steeply;
+* ``W1``: the largest per-channel histogram distance between the near bake
+  and the photo (target <= 0.03);
+* ``fit s``: seconds the fit took;
+* ``fps``: OpenGL frames per second at 1920 x 1080 (offscreen, best of 2
+  runs of 5 frames; llvmpipe here), the camera 300 photo pixels up, looking
+  20 degrees down; and below the table, five stochastic layers against
+  five periodic ones (the fits), as CPU time per frame.
+
+Run from the repository root::
+
+    python benchmarks/bench_never_repeat.py [--crop 128] [--patch 0.25]
+
+The machine's load is printed with the numbers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import time
+
+import numpy as np
+
+PHOTOS = ("brick", "grass", "gravel", "moon", "immunohistochemistry")
+
+
+def _bilinear_repeat(level: np.ndarray, s: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Bilinear sample of ``level`` (h, w, C) at tile coordinates (s, t), wrapping (texel centres at halves)."""
+    h, w = level.shape[:2]
+    u = s * w - 0.5
+    v = t * h - 0.5
+    i0 = np.floor(u).astype(np.int64)
+    j0 = np.floor(v).astype(np.int64)
+    a = (u - i0)[..., None].astype(np.float32)
+    b = (v - j0)[..., None].astype(np.float32)
+    i1, j1 = (i0 + 1) % w, (j0 + 1) % h
+    i0, j0 = i0 % w, j0 % h
+    return ((1 - a) * (1 - b) * level[j0, i0] + a * (1 - b) * level[j0, i1]
+            + (1 - a) * b * level[j1, i0] + a * b * level[j1, i1])
+
+
+def _hash_offsets(i: np.ndarray, j: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per grid vertex a random offset in [0, 1)^2 (a splitmix-style integer hash)."""
+    x = (i.astype(np.int64).astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)
+         ^ j.astype(np.int64).astype(np.uint64) * np.uint64(0xC2B2AE3D27D4EB4F)
+         ^ np.uint64(seed) * np.uint64(0x165667B19E3779F9))
+    x ^= x >> np.uint64(31)
+    x *= np.uint64(0xBF58476D1CE4E5B9)
+    x ^= x >> np.uint64(29)
+    return ((x & np.uint64(0xFFFFFFFF)).astype(np.float64) / 2.0 ** 32,
+            (x >> np.uint64(32)).astype(np.float64) / 2.0 ** 32)
+
+
+def tiling_and_blending(tile: np.ndarray, shape, *, pixel_size: float = 1.0, patch: float = 0.25,
+                        seed: int = 0) -> np.ndarray:
+    """Single-scale tiling and blending of a seamless tile, in NumPy (the baseline).
+
+    Output pixel ``(r, c)`` is at tile coordinates ``((c + 1/2) p / w, (r +
+    1/2) p / h)`` for a pixel size ``p`` in tile texels. The plane is cut
+    into equilateral triangles of side ``patch`` tiles (a skewed grid);
+    each vertex gets a random offset; a pixel blends the three patches of
+    its triangle's vertices with its barycentric weights ``w_i`` as
+    ``mu + sum w_i (T_i - mu) / sqrt(sum w_i^2)`` (``mu`` the tile's mean),
+    which keeps the variance but not the histogram's shape. Coarser pixels
+    (``p > 1``) sample the tile's mip level ``round(log2 p)`` bilinearly.
+    """
+    from spectex.tiles import mip_chain
+
+    h, w = tile.shape[:2]
+    rows, cols = shape
+    level = mip_chain(tile)[max(0, int(round(math.log2(pixel_size))))] if pixel_size > 1 else tile
+    mu = tile.reshape(-1, tile.shape[2]).mean(axis=0)
+    r, c = np.mgrid[0:rows, 0:cols]
+    s = (c + 0.5) * pixel_size / w
+    t = (r + 0.5) * pixel_size / h
+    kx = (s - t / math.sqrt(3.0)) / patch
+    ky = (2.0 * t / math.sqrt(3.0)) / patch
+    ci, cj = np.floor(kx), np.floor(ky)
+    fx, fy = kx - ci, ky - cj
+    lower = fx + fy < 1.0
+    verts = ((np.where(lower, ci, ci + 1), np.where(lower, cj, cj + 1), np.where(lower, 1 - fx - fy, fx + fy - 1)),
+             (np.where(lower, ci + 1, ci), np.where(lower, cj, cj + 1), np.where(lower, fx, 1 - fx)),
+             (np.where(lower, ci, ci + 1), np.where(lower, cj + 1, cj), np.where(lower, fy, 1 - fy)))
+    acc = np.zeros((rows, cols, tile.shape[2]), dtype=np.float64)
+    norm = np.zeros((rows, cols), dtype=np.float64)
+    for vi, vj, wt in verts:
+        ox, oy = _hash_offsets(vi, vj, seed)
+        acc += wt[..., None] * (_bilinear_repeat(level, s + ox, t + oy) - mu)
+        norm += wt * wt
+    return np.clip(mu + acc / np.sqrt(norm)[..., None], 0.0, 1.0).astype(np.float32)
+
+
+def _slope(power_db: np.ndarray) -> float:
+    tail = power_db[-3:]
+    return float(np.polyfit(np.arange(len(tail), dtype=np.float64), tail, 1)[0])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--crop", type=int, default=512, help="photo side in pixels (default 512, whole)")
+    ap.add_argument("--patch", type=float, default=0.25, help="t&b triangle side in tiles (default 0.25)")
+    ap.add_argument("--photos", default=",".join(PHOTOS))
+    args = ap.parse_args(argv)
+
+    import skimage.data
+
+    from spectex.analysis import fit, prepare_exemplar
+    from spectex.metrics import band_power, band_power_distance, histogram_w1, repeat_peak
+    from spectex.render.gl import gl_available
+    from spectex.texture import Layer, SpectralTexture
+    from spectex.tiles import make_seamless
+
+    gl = gl_available()
+    frame_cpu: dict = {}
+
+    load = os.getloadavg()
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
+          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+    print(f"photos cropped to {args.crop} x {args.crop}; near: 2048^2 at the photo's pixel size, "
+          f"far: 1024^2 at 8x; t&b patch {args.patch} tiles")
+    head = (f"{'photo':<22}{'texture':<14}{'near':>7}{'far':>7}{'band dB':>8}{'slope 8x':>9}{'photo':>7}{'W1':>7}"
+            f"{'fit s':>7}{'fps':>7}")
+    print(head)
+    print("-" * len(head))
+    for name in args.photos.split(","):
+        photo, _ = prepare_exemplar(getattr(skimage.data, name)()[:args.crop, :args.crop])
+        h, w = photo.shape[:2]
+        photo_slope = _slope(band_power(photo)[1])
+        tile = make_seamless(photo)[:, :, :3]
+        rows = []
+        plain = SpectralTexture.plain(tile, float(w))
+        rows.append(("plain", plain.bake((2048, 2048)), plain.bake((1024, 1024), pixel_size=8.0), "", plain))
+        rows.append(("t&b", tiling_and_blending(tile, (2048, 2048), patch=args.patch),
+                     tiling_and_blending(tile, (1024, 1024), pixel_size=8.0, patch=args.patch), "", None))
+        hp = SpectralTexture(tile, [Layer(size=float(w), tiling="stochastic")])
+        rows.append(("hp t&b", hp.bake((2048, 2048)), hp.bake((1024, 1024), pixel_size=8.0), "", hp))
+        for label, kwargs in (("fit periodic", {"tiling": "periodic"}), ("fit", {})):
+            try:
+                t0 = time.perf_counter()
+                tex = fit(photo, **kwargs)
+                secs = f"{time.perf_counter() - t0:7.1f}"
+            except TypeError as exc:  # a spectex without the tiling option
+                print(f"{name:<22}{label:<14}skipped: {exc}")
+                continue
+            rows.append((label, tex.bake((2048, 2048)), tex.bake((1024, 1024), pixel_size=8.0), secs, tex))
+        for label, near, far, secs, tex in rows:
+            fps = ""
+            if tex is not None and gl:
+                seconds, cpu = _gl_frame(tex)
+                fps = f"{1.0 / seconds:7.1f}"
+                if label.startswith("fit"):
+                    frame_cpu.setdefault(label, []).append(cpu)
+            print(f"{name:<22}{label:<14}{repeat_peak(near):7.3f}{repeat_peak(far):7.3f}"
+                  f"{band_power_distance(near, photo):8.2f}{_slope(band_power(far)[1]):9.2f}{photo_slope:7.2f}"
+                  f"{float(np.max(histogram_w1(near, photo))):7.3f}{secs:>7}{fps:>7}", flush=True)
+    if frame_cpu.get("fit") and frame_cpu.get("fit periodic"):
+        ratios = [a / b for a, b in zip(frame_cpu["fit"], frame_cpu["fit periodic"])]
+        print(f"\nGL CPU time per frame, fit (stochastic layers) / fit periodic: "
+              + ", ".join(f"{r:.2f}" for r in ratios) + f" (target <= 3; brick keeps a periodic finest layer)")
+    load = os.getloadavg()
+    print(f"load average at the end {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+    return 0
+
+
+def _gl_frame(texture):
+    """(wall seconds, CPU seconds) per 1920 x 1080 frame, best of 2 runs of 5 frames."""
+    from spectex.render import Camera
+    from spectex.render.gl import GLRenderer
+
+    size = float(texture.layers[0].size) / texture.tile_shape[1]  # metres per tile texel
+    camera = Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0)
+    best = (float("inf"), float("inf"))
+    with GLRenderer(texture) as r:
+        r.time_frames(camera, (1080, 1920), frames=1)
+        for _ in range(2):
+            c0 = time.process_time()
+            wall = r.time_frames(camera, (1080, 1920), frames=5)
+            cpu = (time.process_time() - c0) / 6.0  # time_frames draws one warm-up frame
+            best = min(best, (wall, cpu))
+    return best
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,610 @@
+"""Histogram-preserving tiling and blending: a tile that never repeats.
+
+Heitz and Neyret's by-example noise [1]_: the plane is covered by a grid of
+equilateral triangles; every grid vertex gets a random offset into the
+tile, and a point inside a triangle is the blend of the three patches its
+vertices point to, weighted by its barycentric coordinates. A plain linear
+blend would wash out the contrast and change the histogram where patches
+overlap; here the blend is made on a *Gaussianised* tile, where a
+variance-preserving blend keeps the distribution, and a look-up table maps
+the result back to the tile's own values:
+
+1. **Decorrelate** the colour: the principal axes of the tile's RGB values
+   (a 3 x 3 orthogonal ``basis`` and the mean ``origin``), so that the
+   three channels can be Gaussianised one by one (Deliot and Heitz [2]_
+   replace the paper's optimal transport by exactly this).
+2. **Gaussianise** each decorrelated channel and the alpha: a texel of rank
+   ``r`` among ``N`` (ties share their mean rank) becomes ``0.5 +
+   GAUSS_SCALE * Phi^-1((r + 0.5) / N)``: a normal distribution of mean 0.5
+   and standard deviation ``GAUSS_SCALE`` (0.1: five standard deviations
+   fit in [0, 1]), stored as half floats (an ``RGBA16F`` texture on the
+   GPU; the CPU holds the same values).
+3. **Blend** the three patches ``G_i`` with the barycentric weights ``w_i``:
+   ``G = 0.5 + sum w_i (G_i - 0.5) / sqrt(sum w_i^2)``. For independent
+   Gaussian patches this has the tile's own mean and variance everywhere,
+   inside triangles as on their vertices.
+4. **Invert**: a look-up table per channel takes ``G`` back to the
+   decorrelated colour (and alpha); ``origin + basis @ v`` is the RGB.
+
+**Mip-mapping** ([1]_, section 5; [2]_). The Gaussian tile is mip-mapped
+like any tile, and the three patches are sampled at the level of detail of
+the *un-offset* coordinates (their derivatives are the same; a seam-free
+lambda). A level-``d`` texel of the Gaussian tile is the mean of many
+Gaussian texels, not a Gaussian texel, and the colour it stands for is the
+mean of their colours, not the look-up of their mean. So the table is made
+per level: row ``d`` is the least-squares *monotone* regression of the
+level-``d`` colour texels (the mip chain of the decorrelated tile) on the
+level-``d`` Gaussian texels (isotonic regression, pool-adjacent-violators),
+sampled at ``LUT_SIZE`` points of [0, 1]. Row 0 is the exact inverse of the
+Gaussianisation; the last row maps everything to the tile's mean. A lookup
+at a fractional level interpolates the two rows the Gaussian samples came
+from, with the same ``beta`` (section 4 of ``docs/sampling.md``).
+
+Everything here is a deterministic function of the tile: a texture file
+stores the tile and the layer's ``patch``, and the tables are rebuilt.
+
+References
+----------
+.. [1] E. Heitz and F. Neyret, "High-performance by-example noise using a
+   histogram-preserving blending operator", Proc. ACM Comput. Graph.
+   Interact. Tech. 1(2), article 31, 2018.
+.. [2] T. Deliot and E. Heitz, "Procedural stochastic textures by tiling
+   and blending", GPU Zen 2, 2019.
+.. [3] B. Burley, "On histogram-preserving blending for randomized texture
+   tiling", JCGT 8(4), 2019.
+.. [4] C. Wellons, "Prospecting for hash functions", 2018 (``lowbias32``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from .._validate import check_float, check_image, check_seed
+from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS
+from .sampler import MipTexture, clamp_lod, filter_code, sample_at_lod
+
+__all__ = [
+    "GAUSS_SCALE",
+    "LUT_SIZE",
+    "StochasticTables",
+    "stochastic_tables",
+    "gaussianize",
+    "decorrelation",
+    "sample_stochastic",
+    "triangle_grid_matrix",
+    "lowbias32",
+    "layer_key",
+    "expand_lut",
+    "sample_stochastic_grad",
+    "sample_stochastic_at_lod",
+]
+
+#: ``sqrt(3)``: the height of an equilateral triangle of side 2.
+_SQRT3 = math.sqrt(3.0)
+
+
+def triangle_grid_matrix(patch: float) -> np.ndarray:
+    """The 2 x 2 map from tile coordinates ``(s, t)`` to skewed grid coordinates.
+
+    The triangle grid's vertices are the integer points of the skewed
+    coordinates ``k = A (s, t)``; in tile coordinates they are the lattice
+    spanned by ``patch (1, 0)`` and ``patch (1/2, sqrt(3)/2)``, equilateral
+    triangles of side ``patch`` tiles. ``A = [[1, -1/sqrt(3)], [0,
+    2/sqrt(3)]] / patch``.
+    """
+    patch = check_float("patch", patch, minimum=0.0, exclusive_minimum=True)
+    return np.array([[1.0, -1.0 / _SQRT3], [0.0, 2.0 / _SQRT3]], dtype=np.float64) / patch
+
+
+def lowbias32(x):
+    """Wellons' ``lowbias32`` integer hash on uint32 values (NumPy; the kernels' twin)."""
+    x = np.asarray(x, dtype=np.uint32).copy()
+    with np.errstate(over="ignore"):
+        x ^= x >> np.uint32(16)
+        x *= np.uint32(HASH_MUL1)
+        x ^= x >> np.uint32(15)
+        x *= np.uint32(HASH_MUL2)
+        x ^= x >> np.uint32(16)
+    return x
+
+
+# --------------------------------------------------------------------------
+# The tables (NumPy, once per tile)
+# --------------------------------------------------------------------------
+
+def decorrelation(rgb) -> tuple[np.ndarray, np.ndarray]:
+    """The principal axes of an image's colours: ``(basis, origin)``.
+
+    ``origin`` is the mean RGB, ``basis`` the eigenvectors of the colour
+    covariance as columns (largest variance first), each with its largest
+    component positive (so the result does not depend on the eigensolver's
+    sign choice). ``v = basis.T @ (c - origin)`` are the decorrelated
+    channels and ``c = origin + basis @ v``.
+
+    Parameters
+    ----------
+    rgb : ndarray, shape (H, W, 3) or (H, W, 4)
+        Alpha, if present, is ignored.
+
+    Returns
+    -------
+    basis : ndarray, shape (3, 3), float64
+    origin : ndarray, shape (3,), float64
+    """
+    rgb = check_image("rgb", rgb, channels=(3, 4))
+    c = rgb[:, :, :3].reshape(-1, 3).astype(np.float64)
+    origin = c.mean(axis=0)
+    cov = np.cov((c - origin).T, bias=True)
+    values, vectors = np.linalg.eigh(cov)
+    order = np.argsort(values)[::-1]
+    basis = vectors[:, order]
+    for k in range(3):
+        if basis[np.argmax(np.abs(basis[:, k])), k] < 0:
+            basis[:, k] = -basis[:, k]
+    return basis, origin
+
+
+def gaussianize(values) -> np.ndarray:
+    """Values mapped by rank to a normal distribution of mean 0.5 and std ``GAUSS_SCALE``.
+
+    A value of (mean) rank ``r`` (0-based; tied values share the mean of
+    their ranks, so equal values stay equal) among ``N`` becomes ``0.5 +
+    GAUSS_SCALE * Phi^-1((r + 0.5) / N)``, clipped to [0, 1].
+
+    Parameters
+    ----------
+    values : ndarray
+        Any shape, finite.
+
+    Returns
+    -------
+    ndarray of float64, the same shape
+    """
+    from scipy.special import ndtri
+    from scipy.stats import rankdata
+
+    values = np.asarray(values, dtype=np.float64)
+    if values.size == 0:
+        raise ValueError("values must not be empty")
+    if not np.all(np.isfinite(values)):
+        raise ValueError("values must be finite, got NaN or infinity")
+    ranks = rankdata(values.ravel(), method="average") - 1.0
+    g = GAUSS_MEAN + GAUSS_SCALE * ndtri((ranks + 0.5) / values.size)
+    return np.clip(g, 0.0, 1.0).reshape(values.shape)
+
+
+def _monotone_table(g: np.ndarray, v: np.ndarray, grid: np.ndarray) -> np.ndarray:
+    """Least-squares non-decreasing regression of ``v`` on ``g``, sampled at ``grid``.
+
+    Pairs with equal ``g`` are pooled first (their mean, weighted by their
+    count); the isotonic fit on the pooled points is interpolated linearly
+    between them and held constant beyond the first and the last.
+    """
+    from scipy.optimize import isotonic_regression
+
+    keys, inverse, counts = np.unique(g, return_inverse=True, return_counts=True)
+    means = np.bincount(inverse, weights=v, minlength=keys.size) / counts
+    if keys.size == 1:
+        return np.full(grid.shape, means[0])
+    fitted = isotonic_regression(means, weights=counts.astype(np.float64), increasing=True).x
+    return np.interp(grid, keys, fitted)
+
+
+@dataclass(frozen=True)
+class StochasticTables:
+    """What the stochastic sampling of one tile needs (see :func:`stochastic_tables`).
+
+    Attributes
+    ----------
+    gaussian : list of ndarray, each (h_d, w_d, 4), float32
+        The Gaussianised tile's mip levels: decorrelated channels 0-2 and
+        alpha, each with mean 0.5 and std ``GAUSS_SCALE`` at level 0; the
+        values are exactly representable as half floats.
+    lut : ndarray, shape (levels, LUT_SIZE, 4), float32
+        Row ``d``, entry ``i``: the decorrelated colour (0-2) and alpha (3)
+        for a level-``d`` Gaussian value ``i / (LUT_SIZE - 1)``; half-float
+        values (an ``RGBA16F`` texture, linearly filtered, on the GPU).
+    basis : ndarray, shape (3, 3), float64
+        RGB = ``origin + basis @ v`` for decorrelated ``v``.
+    origin : ndarray, shape (3,), float64
+    """
+
+    gaussian: list
+    lut: np.ndarray
+    basis: np.ndarray
+    origin: np.ndarray
+
+    @property
+    def levels(self) -> int:
+        return len(self.gaussian)
+
+    def expanded(self) -> np.ndarray:
+        """The table as the samplers read it: :func:`expand_lut` of :attr:`lut`."""
+        return expand_lut(self.lut)
+
+    def texture(self, **kwargs) -> MipTexture:
+        """The Gaussian tile as a float :class:`spectex.sampling.MipTexture` (its sampler state from ``kwargs``)."""
+        return MipTexture(self.gaussian, bits=None, **kwargs)
+
+
+def expand_lut(lut: np.ndarray) -> np.ndarray:
+    """Per-level tables ``(levels, LUT_SIZE, 4)`` with ``LUT_SUBROWS`` rows per level step, as sampled.
+
+    Row ``r`` is the table at the fractional level ``r / LUT_SUBROWS``:
+    ``(1 - f) lut[d] + f lut[d + 1]`` for ``d = r // LUT_SUBROWS``, ``f = (r
+    mod LUT_SUBROWS) / LUT_SUBROWS``; ``(levels - 1) LUT_SUBROWS + 1`` rows,
+    half floats. The samplers take the nearest row and the nearest entry
+    (one texel fetch per channel on the GPU, instead of a bilinear sample
+    blending two levels: a third less time per frame on llvmpipe); the
+    sub-rows keep the step between neighbouring levels' tables under
+    1/16 of their difference, and 1024 entries keep the step along a row
+    under 1/2048 of the Gaussian's range.
+    """
+    lut = np.asarray(lut, dtype=np.float64)
+    levels = lut.shape[0]
+    rows = (levels - 1) * LUT_SUBROWS + 1
+    out = np.empty((rows,) + lut.shape[1:], dtype=np.float64)
+    for r in range(rows):
+        d, k = divmod(r, LUT_SUBROWS)
+        if k == 0:
+            out[r] = lut[d]
+        else:
+            f = k / LUT_SUBROWS
+            out[r] = (1.0 - f) * lut[d] + f * lut[d + 1]
+    return np.ascontiguousarray(_half(out))
+
+
+def _half(values: np.ndarray) -> np.ndarray:
+    """Round to the nearest half float, back as float32 (what an RGBA16F texture holds)."""
+    return np.asarray(values, dtype=np.float32).astype(np.float16).astype(np.float32)
+
+
+def stochastic_tables(tile) -> StochasticTables:
+    """Build the Gaussian tile, its mip chain and the per-level inverse tables of a tile.
+
+    Parameters
+    ----------
+    tile : ndarray, shape (H, W, 4) or (H, W, 3)
+        A tile in [0, 1] (RGB gets alpha 1): the texels the periodic
+        sampling would show (already quantised, for an 8-bit texture).
+
+    Returns
+    -------
+    StochasticTables
+
+    Notes
+    -----
+    Per level ``d`` of ``spectex.tiles.mip_chain``: the Gaussian tile's
+    level ``d`` (rounded to half floats) and, per channel, the monotone
+    least-squares regression of the decorrelated colour's level ``d`` on
+    it (see the module's text). Deterministic: the same tile gives the same
+    tables.
+
+    References
+    ----------
+    Heitz and Neyret 2018, section 5 (prefiltering); Deliot and Heitz 2019
+    (decorrelated 1-D histogram transformations, prefiltered table).
+    """
+    from ..tiles import mip_chain
+
+    tile = check_image("tile", tile, channels=(3, 4))
+    if tile.shape[2] == 3:
+        tile = np.concatenate([tile, np.ones(tile.shape[:2] + (1,), np.float32)], axis=2)
+    basis, origin = decorrelation(tile)
+    h, w = tile.shape[:2]
+    values = np.empty((h, w, 4), dtype=np.float64)
+    values[:, :, :3] = (tile[:, :, :3].astype(np.float64) - origin) @ basis
+    values[:, :, 3] = tile[:, :, 3]
+    gauss0 = np.empty((h, w, 4), dtype=np.float64)
+    for c in range(4):
+        gauss0[:, :, c] = gaussianize(values[:, :, c])
+    gauss_levels = [_half(level) for level in mip_chain(_half(gauss0))]
+    value_levels = mip_chain(values.astype(np.float32))
+    grid = np.linspace(0.0, 1.0, LUT_SIZE)
+    lut = np.empty((len(gauss_levels), LUT_SIZE, 4), dtype=np.float32)
+    for d, (gl, vl) in enumerate(zip(gauss_levels, value_levels)):
+        for c in range(4):
+            lut[d, :, c] = _monotone_table(gl[:, :, c].ravel().astype(np.float64),
+                                           vl[:, :, c].ravel().astype(np.float64), grid)
+    return StochasticTables(gaussian=gauss_levels, lut=np.ascontiguousarray(_half(lut)), basis=basis, origin=origin)
+
+
+# --------------------------------------------------------------------------
+# The per-pixel part (numba), in the shape of sampling.sample_grad
+# --------------------------------------------------------------------------
+
+_jit = numba.njit(cache=True, nogil=True, fastmath=True)
+_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
+
+_M32 = 0xFFFFFFFF
+
+
+@_jit_inline
+def _mul32(a, c):
+    """``(a * c) mod 2^32`` for ``a``, ``c`` in [0, 2^32), in int64 without overflow."""
+    lo = a * (c & 0xFFFF)
+    hi = ((a * (c >> 16)) & 0xFFFF) << 16
+    return (lo + hi) & _M32
+
+
+@_jit_inline
+def hash32(x):
+    """``lowbias32`` on an int64 holding a uint32."""
+    x ^= x >> 16
+    x = _mul32(x, HASH_MUL1)
+    x ^= x >> 15
+    x = _mul32(x, HASH_MUL2)
+    x ^= x >> 16
+    return x
+
+
+@_jit_inline
+def vertex_offset(i, j, key, w0, h0):
+    """The random offset (tile units) of grid vertex ``(i, j)`` under a layer's ``key``.
+
+    ``h = lowbias32(i ^ lowbias32(j ^ key))`` on the vertex's coordinates
+    as uint32 (two's complement, so the grid's vertices repeat only after
+    2^32 of them); ``(h & 0xFFFF, h >> 16) / 65536`` in [0, 1)^2, snapped
+    down to whole texels of the ``w0 x h0`` level 0 (``floor(u w0) / w0``),
+    so that a patch's texels fall where the un-offset tile's would: a bake
+    on the texel grid samples texel centres, unblurred.
+    """
+    h = hash32((i & _M32) ^ hash32((j & _M32) ^ key))
+    return (math.floor((h & 0xFFFF) * (1.0 / 65536.0) * w0) / w0,
+            math.floor((h >> 16) * (1.0 / 65536.0) * h0) / h0)
+
+
+@_jit_inline
+def triangle_vertices(kx, ky):
+    """The triangle of the skewed grid holding ``(kx, ky)``: its three vertices and barycentric weights.
+
+    Returns ``i1, j1, w1, i2, j2, w2, i3, j3, w3`` (vertices relative to
+    the skewed grid's origin). The lower triangle of a cell (``fx + fy <
+    1``) has vertices (0, 0), (1, 0), (0, 1); the upper (1, 1), (0, 1),
+    (1, 0).
+    """
+    fi = math.floor(kx)
+    fj = math.floor(ky)
+    fx = kx - fi
+    fy = ky - fj
+    i0 = np.int64(fi)
+    j0 = np.int64(fj)
+    if fx + fy < 1.0:
+        return i0, j0, 1.0 - fx - fy, i0 + 1, j0, fx, i0, j0 + 1, fy
+    return i0 + 1, j0 + 1, fx + fy - 1.0, i0, j0 + 1, 1.0 - fx, i0 + 1, j0, 1.0 - fy
+
+
+@_jit_inline
+def lut_level(lam, min_filter, q):
+    """The (fractional) level whose table goes with the levels :func:`sampling.sample_at_lod` reads.
+
+    0 in magnification and without mip-maps; the level ``*_MIPMAP_NEAREST``
+    picks; ``min(lambda, q)`` for the ``*_MIPMAP_LINEAR`` filters, whose
+    samples blend levels ``floor(lambda)`` and ``floor(lambda) + 1``.
+    """
+    if lam <= 0.0 or min_filter < 2:
+        return 0.0
+    if min_filter <= 3:
+        return min(math.ceil(lam + 0.5) - 1.0, q) if lam > 0.5 else 0.0
+    return min(lam, q)
+
+
+@_jit_inline
+def lut_lookup(lut, row0, level, g, c):
+    """Channel ``c`` of the expanded table (:func:`expand_lut`) at level ``level`` and Gaussian value ``g``.
+
+    The nearest sub-row, ``row0 + floor(level * LUT_SUBROWS + 1/2)``, and
+    the nearest entry, ``floor(clamp(g, 0, 1) (LUT_SIZE - 1) + 1/2)``: what a
+    ``NEAREST``-filtered table texture returns.
+    """
+    n = lut.shape[1]
+    i = np.int64(math.floor(min(max(g, 0.0), 1.0) * (n - 1) + 0.5))
+    r = row0 + np.int64(math.floor(level * LUT_SUBROWS + 0.5))
+    return lut[r, i, c]
+
+
+@_jit_inline
+def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin, s, t, kx, ky,
+                             bi, bj, key, lam, min_filter, mag_filter, wrap_s, wrap_t):
+    """One histogram-preserving sample at a clamped level of detail; returns RGBA in [0, 1].
+
+    ``(s, t)``: the un-offset tile coordinates; ``(kx, ky)``: the same
+    point in skewed grid coordinates relative to the grid vertex ``(bi,
+    bj)`` (integers; the host splits a far-away position into this vertex
+    and a small remainder); ``key``: the layer's hash key. ``data, base,
+    offsets, widths, heights``: the Gaussian tile's levels in a texel store
+    (as in :func:`sampling.sample_at_lod`); ``lut[row0:]``: the tile's
+    expanded table (:func:`expand_lut`); ``basis``, ``origin``: the
+    decorrelation.
+    """
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+    w0 = np.float64(widths[0])
+    h0 = np.float64(heights[0])
+    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0)
+    r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
+                                   mag_filter, wrap_s, wrap_t)
+    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, h0)
+    r2, g2, b2, a2 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
+                                   mag_filter, wrap_s, wrap_t)
+    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, h0)
+    r3, g3, b3, a3 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
+                                   mag_filter, wrap_s, wrap_t)
+    inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
+    m = GAUSS_MEAN
+    v0 = m + (w1 * (r1 - m) + w2 * (r2 - m) + w3 * (r3 - m)) * inv
+    v1 = m + (w1 * (g1 - m) + w2 * (g2 - m) + w3 * (g3 - m)) * inv
+    v2 = m + (w1 * (b1 - m) + w2 * (b2 - m) + w3 * (b3 - m)) * inv
+    v3 = m + (w1 * (a1 - m) + w2 * (a2 - m) + w3 * (a3 - m)) * inv
+    level = lut_level(lam, min_filter, np.float64(widths.shape[0] - 1))
+    x0 = lut_lookup(lut, row0, level, v0, 0)
+    x1 = lut_lookup(lut, row0, level, v1, 1)
+    x2 = lut_lookup(lut, row0, level, v2, 2)
+    al = lut_lookup(lut, row0, level, v3, 3)
+    r = origin[0] + basis[0, 0] * x0 + basis[0, 1] * x1 + basis[0, 2] * x2
+    g = origin[1] + basis[1, 0] * x0 + basis[1, 1] * x1 + basis[1, 2] * x2
+    b = origin[2] + basis[2, 0] * x0 + basis[2, 1] * x1 + basis[2, 2] * x2
+    return (min(max(r, 0.0), 1.0), min(max(g, 0.0), 1.0), min(max(b, 0.0), 1.0), min(max(al, 0.0), 1.0))
+
+
+@_jit_inline
+def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter,
+                           max_aniso, bias, min_lod, max_lod, lut, row0, basis, origin, grid, bi, bj, key,
+                           s, t, kx, ky, dsdx, dtdx, dsdy, dtdy):
+    """:func:`sampling.sample_grad` for a stochastic layer: lambda from the un-offset derivatives.
+
+    The level of detail (and the anisotropic recipe's ``N`` samples along
+    the major axis) come from the derivatives of ``(s, t)``, exactly as for
+    a periodic layer; each of the ``N`` samples is a full
+    :func:`sample_stochastic_at_lod` at its own point (its grid position
+    moved by ``grid`` (2 x 2, tile -> skewed grid coordinates) times the
+    step), and the ``N`` RGBA results are averaged.
+    """
+    w0 = widths[0]
+    h0 = heights[0]
+    dudx = dsdx * w0
+    dvdx = dtdx * h0
+    dudy = dsdy * w0
+    dvdy = dtdy * h0
+    px = math.sqrt(dudx * dudx + dvdx * dvdx)
+    py = math.sqrt(dudy * dudy + dvdy * dvdy)
+    pmax = max(px, py)
+    n = 1
+    if max_aniso > 1.0 and min_filter >= 2:
+        pmin = min(px, py)
+        n_max = np.int64(math.floor(max_aniso))
+        if pmin * n_max <= pmax:
+            n = n_max
+        else:
+            n = min(np.int64(math.ceil(pmax / pmin)), n_max)
+    lam = clamp_lod(math.log2(max(pmax / n, 1e-300)), bias, min_lod, max_lod)
+    if px >= py:
+        ds = dsdx
+        dt = dtdx
+    else:
+        ds = dsdy
+        dt = dtdy
+    dkx = grid[0, 0] * ds + grid[0, 1] * dt
+    dky = grid[1, 0] * ds + grid[1, 1] * dt
+    r = 0.0
+    g = 0.0
+    b = 0.0
+    a = 0.0
+    for i in range(1, n + 1):
+        f = i / (n + 1.0) - 0.5 if n > 1 else 0.0
+        r1, g1, b1, a1 = sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin,
+                                                  s + f * ds, t + f * dt, kx + f * dkx, ky + f * dky, bi, bj, key,
+                                                  lam, min_filter, mag_filter, wrap_s, wrap_t)
+        r += r1
+        g += g1
+        b += b1
+        a += a1
+    inv = 1.0 / n
+    return r * inv, g * inv, b * inv, a * inv
+
+
+@numba.njit(cache=True, parallel=True, nogil=True)
+def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
+                       min_lod, max_lod, lut, basis, origin, grid, key, mode, s, t, dsdx, dtdx, dsdy, dtdy, lod,
+                       out):
+    n = s.shape[0]
+    for k in numba.prange(n):
+        kx = grid[0, 0] * s[k] + grid[0, 1] * t[k]
+        ky = grid[1, 0] * s[k] + grid[1, 1] * t[k]
+        if mode == 1:
+            r, g, b, a = sample_stochastic_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
+                                                mag_filter, max_aniso, bias, min_lod, max_lod, lut, 0, basis,
+                                                origin, grid, 0, 0, key, s[k], t[k], kx, ky, dsdx[k], dtdx[k],
+                                                dsdy[k], dtdy[k])
+        else:
+            lam = clamp_lod(lod[k], bias, min_lod, max_lod)
+            r, g, b, a = sample_stochastic_at_lod(data, 0, offsets, widths, heights, lut, 0, basis, origin,
+                                                  s[k], t[k], kx, ky, 0, 0, key, lam, min_filter, mag_filter,
+                                                  wrap_s, wrap_t)
+        out[k, 0] = r
+        out[k, 1] = g
+        out[k, 2] = b
+        out[k, 3] = a
+
+
+def layer_key(seed) -> int:
+    """A layer's hash key from its seed: ``lowbias32(seed mod 2^32)`` (the kernels' ``key``)."""
+    seed = check_seed("seed", seed, allow_none=False)
+    return int(lowbias32(np.uint32(seed & 0xFFFFFFFF)))
+
+
+def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mipmaps=True, anisotropy=1.0,
+                      dsdx=None, dtdx=None, dsdy=None, dtdy=None, lod=None):
+    """Sample a tile by histogram-preserving tiling and blending at ``(s, t)``.
+
+    Like :func:`spectex.sampling.sample` with ``REPEAT`` wrapping, for the
+    stochastic tiling of the tile behind ``tables``: the triangle grid of
+    side ``patch`` (tile units) starts at ``(s, t) = (0, 0)``.
+
+    Parameters
+    ----------
+    tables : StochasticTables
+        From :func:`stochastic_tables`.
+    s, t : array_like
+        Tile coordinates (broadcast with the derivatives).
+    patch : float
+        Side of the grid's triangles in tiles (> 0; 0.25 to 1 is useful).
+    seed : int
+        Which random offsets the vertices get (>= 0).
+    filter : str
+        Minification filter (``spectex.sampling.FILTERS`` or "trilinear");
+        magnification is ``NEAREST`` under ``NEAREST``, else ``LINEAR``.
+    mipmaps : bool
+        False: level 0 only (the no-mip control).
+    anisotropy : float
+        Maximum anisotropy, 1 to 16.
+    dsdx, dtdx, dsdy, dtdy : array_like, optional
+        Screen-space derivatives of ``(s, t)``; all four or none.
+    lod : array_like, optional
+        An explicit level of detail instead of derivatives.
+
+    Returns
+    -------
+    ndarray, shape ``broadcast_shape + (4,)``, float32
+        RGBA in [0, 1].
+    """
+    if not isinstance(tables, StochasticTables):
+        raise TypeError(f"tables must be StochasticTables, got {type(tables).__name__}")
+    grid = triangle_grid_matrix(patch)
+    key = layer_key(seed)
+    code = filter_code("filter", filter)
+    anisotropy = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
+    levels = tables.gaussian if mipmaps else tables.gaussian[:1]
+    tex = MipTexture(levels, bits=None)
+    derivs = (dsdx, dtdx, dsdy, dtdy)
+    given = [d is not None for d in derivs]
+    if any(given) and not all(given):
+        raise ValueError("give all four derivatives dsdx, dtdx, dsdy, dtdy or none")
+    if all(given) and lod is not None:
+        raise ValueError("give derivatives or lod, not both")
+    arrays = [np.asarray(s, dtype=np.float64), np.asarray(t, dtype=np.float64)]
+    mode = 1 if all(given) else 0
+    if mode:
+        arrays += [np.asarray(d, dtype=np.float64) for d in derivs]
+    else:
+        arrays.append(np.asarray(0.0 if lod is None else lod, dtype=np.float64))
+    for name, a in zip(("s", "t", "dsdx" if mode else "lod"), arrays):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must be finite, got NaN or infinity")
+    b = np.broadcast_arrays(*arrays)
+    shape = b[0].shape
+    flat = [np.ascontiguousarray(x.reshape(-1)) for x in b]
+    out = np.empty((flat[0].size, 4), dtype=np.float32)
+    if mode:
+        s_, t_, a_, b_, c_, d_ = flat
+        lod_ = np.zeros(1)
+    else:
+        s_, t_, lod_ = flat
+        a_ = b_ = c_ = d_ = np.zeros(1)
+    _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
+                       anisotropy, 0.0, -1000.0, 1000.0, tables.expanded(), tables.basis, tables.origin, grid, key, mode,
+                       s_, t_, a_, b_, c_, d_, lod_, out)
+    return out.reshape(shape + (4,))
