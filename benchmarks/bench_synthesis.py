@@ -228,7 +228,7 @@ def main(argv=None) -> int:
 
     ex128 = colour_exemplar(128)
     t_fast, q_fast = best_time(lambda: quilt(ex128, (512, 512), block=32, overlap=6, rng=0), args.repeat)
-    t_np, q_np = best_time(lambda: numpy_quilt(ex128, 512, 32, 6, seed=0), max(1, args.repeat - 2))
+    t_np, q_np = best_time(lambda: numpy_quilt(ex128, 512, 32, 6, rng=0), max(1, args.repeat - 2))
     rows.append(("quilting 512x512 RGB from 128x128, block 32, overlap 6", [
         ("spectex quilt", t_fast, quality(ex128, q_fast), "target <= 0.5 s"),
         ("plain NumPy FFT quilting (baseline)", t_np, quality(ex128, q_np), ""),

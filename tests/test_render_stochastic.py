@@ -15,7 +15,7 @@ from test_render import SIZE, VIEWS, psnr
 @pytest.fixture(scope="module")
 def stochastic():
     """The paper's texture, every layer stochastic, on a tile whose colour channels span [0, 1]."""
-    tile = make_tile(256, seed=2)
+    tile = make_tile(256, rng=2)
     lo = tile[..., :3].min(axis=(0, 1))
     hi = tile[..., :3].max(axis=(0, 1))
     tile[..., :3] = (tile[..., :3] - lo) / (hi - lo)
@@ -37,7 +37,7 @@ def test_stochastic_gl_matches_cpu(gl, stochastic, name):
 @pytest.mark.gl
 def test_stochastic_gl_matches_cpu_mixed_anisotropy_toggles(gl):
     # periodic and stochastic layers mixed, variance blend, anisotropy, a layer off
-    base = SpectralTexture.paper_preset(make_tile(128, seed=4), blend="variance", tiling="stochastic")
+    base = SpectralTexture.paper_preset(make_tile(128, rng=4), blend="variance", tiling="stochastic")
     layers = [Layer(**{**lay.__dict__, "tiling": "periodic"}) if k in (1, 3) else lay
               for k, lay in enumerate(base.layers)]
     tex = SpectralTexture(base.tiles, layers)

@@ -15,7 +15,7 @@ from spectex.tiles import make_tile
 
 @pytest.fixture(scope="module")
 def tile():
-    return quantize(make_tile(128, seed=3), 8)
+    return quantize(make_tile(128, rng=3), 8)
 
 
 @pytest.fixture(scope="module")
@@ -186,7 +186,7 @@ def _bake(tables, n, px, patch=0.5, seed=0):
 
 
 def test_no_repeat_where_plain_tiling_repeats():
-    tile = quantize(make_tile(512, seed=1), 8)
+    tile = quantize(make_tile(512, rng=1), 8)
     tables = stochastic_tables(tile)
     stochastic = _bake(tables, 1024, 64)
     assert metrics.repeat_peak(stochastic) <= 0.1

@@ -225,7 +225,7 @@ class SpectralTexture:
         Parameters
         ----------
         tile : ndarray, optional
-            The RGBA tile; by default ``spectex.tiles.make_tile(tile_size, seed=seed)``.
+            The RGBA tile; by default ``spectex.tiles.make_tile(tile_size, rng=seed)``.
         blend : {"alpha", "detail", "variance"}
             The blend of layers 2..5 (``"detail"`` gives detail texturing for comparison).
         opacity : float
