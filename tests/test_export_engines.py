@@ -287,7 +287,7 @@ def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
             ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
             program["spectex_anchored"].value = True
             program["spectex_anchor_point"].value = (ax, ay)
-            anchors = [tuple(a) for a in texture.anchor_coords(ax, ay)]
+            anchors = [tuple(a[:2]) for a in texture.anchor_coords(ax, ay)]
             program["spectex_anchor"].value = anchors if len(anchors) > 1 else anchors[0]
 
     x0, y0, _ = camera.position

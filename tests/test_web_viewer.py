@@ -206,7 +206,8 @@ def test_fragment_is_written_back_when_flying(browser, exports):
     page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
     try:
         page.keyboard.down("KeyW")
-        wait_drawn(page, "d.camera[1] > -2000 + 2")
+        # fly past 3 m so that the fragment, rounded to millimetres, is clearly past 2 m
+        wait_drawn(page, "d.camera[1] > -2000 + 3")
         page.keyboard.up("KeyW")
         # the frame after the key is let go writes the final fragment
         page.wait_for_function("location.hash.split(',')[1] === String(window.spectexDrawn.camera[1].toFixed(3))"

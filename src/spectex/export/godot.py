@@ -50,7 +50,7 @@ def godot_shader(texture, tile_names) -> str:
     """The ``.gdshader`` text for ``texture`` (``tile_names``: per tile, its PNG)."""
     n = len(texture.layers)
     means = texture.mean_colours()
-    origin = texture.anchor_coords(0.0, 0.0)
+    origin = texture.anchor_coords(0.0, 0.0)[:, :2]
     h, w = texture.tile_shape
     lines = [
         "shader_type spatial;",

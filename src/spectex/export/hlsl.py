@@ -67,7 +67,7 @@ def hlsl_include(texture, tile_names) -> str:
     n = len(texture.layers)
     h, w = texture.tile_shape
     means = texture.mean_colours()
-    origin = texture.anchor_coords(0.0, 0.0)
+    origin = texture.anchor_coords(0.0, 0.0)[:, :2]
     tiles = range(len(texture.tiles))
     mats = [layer.matrix() for layer in texture.layers]
     tile_of = [layer.tile for layer in texture.layers]
