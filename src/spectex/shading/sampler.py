@@ -438,14 +438,18 @@ def clamp_lod(lam, bias, min_lod, max_lod):
 
 
 @_jit_inline
-def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso,
-                bias, min_lod, max_lod, s, t, dsdx, dtdx, dsdy, dtdy):
-    """Level of detail from derivatives (8.14.1), then :func:`sample_at_lod`.
+def anisotropic_footprint(widths, heights, min_filter, max_aniso, bias, min_lod, max_lod, dsdx, dtdx, dsdy, dtdy):
+    """Level of detail and sample count from derivatives (8.14.1 and the anisotropic recipe).
 
-    With ``max_aniso > 1`` and a mip-map minification filter, the
-    EXT_texture_filter_anisotropic recommendation: ``N`` samples along the
-    major axis at ``lambda = log2(Pmax / N)``. (One call site of
-    :func:`sample_at_lod`, so that it inlines compactly.)
+    Returns ``(lam, n, ds, dt)``: the clamped level of detail, the number of
+    samples ``n`` along the footprint's major axis and that axis's
+    derivative ``(ds, dt)``. With ``max_aniso > 1`` and a mip-map
+    minification filter, the EXT_texture_filter_anisotropic recommendation:
+    ``N`` samples along the major axis at ``lambda = log2(Pmax / N)``;
+    otherwise ``n = 1`` and ``lambda = log2(Pmax)``. Sample ``i`` of ``n``
+    (1-based) lies at ``f = i / (n + 1) - 1/2`` times ``(ds, dt)`` from the
+    centre (``f = 0`` for ``n = 1``). The one home of the recipe: the
+    periodic and the stochastic samplers both call it.
     """
     w0 = widths[0]
     h0 = heights[0]
@@ -456,7 +460,7 @@ def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter
     px = math.sqrt(dudx * dudx + dvdx * dvdx)
     py = math.sqrt(dudy * dudy + dvdy * dvdy)
     pmax = max(px, py)
-    n = 1
+    n = np.int64(1)
     if max_aniso > 1.0 and min_filter >= FILTER_NEAREST_MIPMAP_NEAREST:
         pmin = min(px, py)
         n_max = np.int64(math.floor(max_aniso))
@@ -466,11 +470,21 @@ def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter
             n = min(np.int64(math.ceil(pmax / pmin)), n_max)
     lam = clamp_lod(math.log2(max(pmax / n, LOD_FLOOR)), bias, min_lod, max_lod)
     if px >= py:
-        ds = dsdx
-        dt = dtdx
-    else:
-        ds = dsdy
-        dt = dtdy
+        return lam, n, dsdx, dtdx
+    return lam, n, dsdy, dtdy
+
+
+@_jit_inline
+def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso,
+                bias, min_lod, max_lod, s, t, dsdx, dtdx, dsdy, dtdy):
+    """Level of detail from derivatives (8.14.1), then :func:`sample_at_lod`.
+
+    :func:`anisotropic_footprint` gives the level and the ``n`` sample
+    points along the major axis; their RGBA results are averaged. (One call
+    site of :func:`sample_at_lod`, so that it inlines compactly.)
+    """
+    lam, n, ds, dt = anisotropic_footprint(widths, heights, min_filter, max_aniso, bias, min_lod, max_lod,
+                                           dsdx, dtdx, dsdy, dtdy)
     r = 0.0
     g = 0.0
     b = 0.0

@@ -65,7 +65,7 @@ import numpy as np
 
 from .._validate import check_float, check_image, check_seed
 from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS
-from .sampler import MipTexture, clamp_lod, filter_code, sample_at_lod
+from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [
     "GAUSS_SCALE",
@@ -463,30 +463,8 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
     moved by ``grid`` (2 x 2, tile -> skewed grid coordinates) times the
     step), and the ``N`` RGBA results are averaged.
     """
-    w0 = widths[0]
-    h0 = heights[0]
-    dudx = dsdx * w0
-    dvdx = dtdx * h0
-    dudy = dsdy * w0
-    dvdy = dtdy * h0
-    px = math.sqrt(dudx * dudx + dvdx * dvdx)
-    py = math.sqrt(dudy * dudy + dvdy * dvdy)
-    pmax = max(px, py)
-    n = 1
-    if max_aniso > 1.0 and min_filter >= 2:
-        pmin = min(px, py)
-        n_max = np.int64(math.floor(max_aniso))
-        if pmin * n_max <= pmax:
-            n = n_max
-        else:
-            n = min(np.int64(math.ceil(pmax / pmin)), n_max)
-    lam = clamp_lod(math.log2(max(pmax / n, 1e-300)), bias, min_lod, max_lod)
-    if px >= py:
-        ds = dsdx
-        dt = dtdx
-    else:
-        ds = dsdy
-        dt = dtdy
+    lam, n, ds, dt = anisotropic_footprint(widths, heights, min_filter, max_aniso, bias, min_lod, max_lod,
+                                           dsdx, dtdx, dsdy, dtdy)
     dkx = grid[0, 0] * ds + grid[0, 1] * dt
     dky = grid[1, 0] * ds + grid[1, 1] * dt
     r = 0.0
