@@ -34,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._validate import check_float, check_image, check_int
+from .color import luma
 from .spectral import hann_window
 
 __all__ = [
@@ -48,10 +49,6 @@ __all__ = [
     "compare",
 ]
 
-# Rec. 709 luma weights: how colour images are reduced to one channel for the
-# spectral measures.
-_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float64)
-
 
 def _channels(image: np.ndarray) -> np.ndarray:
     """``(H, W, C)`` view of an image (grey gets C = 1)."""
@@ -59,13 +56,8 @@ def _channels(image: np.ndarray) -> np.ndarray:
 
 
 def _luma(image: np.ndarray) -> np.ndarray:
-    """One float64 channel: grey as is, RGB(A) by Rec. 709 luma, alpha ignored."""
-    if image.ndim == 2:
-        return image.astype(np.float64)
-    c = image.shape[2]
-    if c in (1, 2):
-        return image[:, :, 0].astype(np.float64)
-    return image[:, :, :3].astype(np.float64) @ _LUMA
+    """One float64 channel: grey as is, RGB(A) by Rec. 709 luma (:func:`spectex.color.luma`), alpha ignored."""
+    return luma(image, dtype=np.float64)
 
 
 # --------------------------------------------------------------------------

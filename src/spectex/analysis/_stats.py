@@ -34,18 +34,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import check_image, check_int
+from ..color import luma
 
 __all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
 
-_LUMA = np.array([0.2126, 0.7152, 0.0722])
-
-
 def _luma64(image: np.ndarray) -> np.ndarray:
-    if image.ndim == 2:
-        return image.astype(np.float64)
-    if image.shape[2] in (1, 2):
-        return image[:, :, 0].astype(np.float64)
-    return image[:, :, :3].astype(np.float64) @ _LUMA
+    return luma(image, dtype=np.float64)
 
 
 # --------------------------------------------------------------------------
