@@ -15,6 +15,7 @@ __version__ = "0.1.0"
 _SUBMODULES = (
     "analysis",
     "color",
+    "fitting",
     "io",
     "metrics",
     "noise",
@@ -30,7 +31,7 @@ _SUBMODULES = (
 # Public names that live in a submodule: name -> module.
 _LAZY_NAMES = {
     "SpectralTexture": "texture",
-    "fit": "analysis",
+    "fit": "fitting",
 }
 
 __all__ = ["__version__", *_SUBMODULES, *_LAZY_NAMES]
