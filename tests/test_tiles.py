@@ -344,8 +344,6 @@ def test_preview_layout():
 def test_colour_helpers_have_one_home():
     # tiles re-exports the colour helpers of spectex.color (their home): the same objects.
     from spectex import color, tiles
-    from spectex.spectral import _synthesis
 
     assert tiles.luma is color.luma
     assert tiles.srgb_to_linear is color.srgb_to_linear and tiles.linear_to_srgb is color.linear_to_srgb
-    np.testing.assert_array_equal(_synthesis.LUMA, color.LUMA_REC709)

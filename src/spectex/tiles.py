@@ -61,12 +61,12 @@ D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
 
 from __future__ import annotations
 
-import contextlib
 import math
 
 import numba
 import numpy as np
 
+from ._parallel import threads_for as _threads_for
 from ._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
 from .color import LUMA_REC709, linear_to_srgb, luma, srgb_to_linear  # re-exported: their home is color
 
@@ -98,23 +98,6 @@ _LUMA_R, _LUMA_G, _LUMA_B = LUMA_REC709
 # --------------------------------------------------------------------------
 # Pixel kernels (numba; compiled on first use, cached on disk)
 # --------------------------------------------------------------------------
-
-@contextlib.contextmanager
-def _threads_for(n: int):
-    """Run numba's parallel kernels on one thread for small arrays (see
-    :data:`spectex.spectral._synthesis.PARALLEL_MIN`)."""
-    from .spectral._synthesis import PARALLEL_MIN
-
-    if n >= PARALLEL_MIN:
-        yield
-        return
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
-        yield
-    finally:
-        numba.set_num_threads(before)
-
 
 @numba.njit(cache=True, parallel=True)
 def _ramp_kernel(field, pos, col, out):  # pragma: no cover - compiled
@@ -374,7 +357,7 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
         Straight (not premultiplied) RGBA.
     """
     from .color import get_ramp
-    from .spectral._synthesis import _band_limit_planes
+    from .spectral import band_limit_planes
 
     h, w = check_shape("size", size)
     if min(h, w) < 8 or max(h, w) > MAX_SIZE:
@@ -416,7 +399,7 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
         _ramp_kernel(_standardise(field), pos.astype(np.float32), col[:, :3].astype(np.float32), planes)
     if alpha == "noise":
         planes[3] = _to_unit(_field(method, small, m, rng_alpha, **kw))
-    planes = _band_limit_planes(planes, None, cutoff, (h, w))
+    planes = band_limit_planes(planes, high=cutoff, shape=(h, w))
     # fit_range per channel, fused with the interleaving.
     lo = np.zeros(4, dtype=np.float32)
     scale = np.ones(4, dtype=np.float32)
@@ -432,7 +415,7 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     if alpha == "emboss":
         a = _emboss(lum, azimuth, strength)
         if strength > 1.0:  # clipped: band-limit again
-            a = fit_range(_band_limit_planes(a[None], None, cutoff, (h, w))[0])
+            a = fit_range(band_limit_planes(a[None], high=cutoff, shape=(h, w))[0])
         out[:, :, 3] = a
     elif alpha == "luminance":
         out[:, :, 3] = lum
@@ -474,18 +457,18 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
     where Moisan's seam is already as rough as its neighbourhood, lambda
     is 0.
     """
-    from .spectral._synthesis import _edge_source, _solve_periodic_poisson
+    from .periodic import solve_periodic_poisson, wrap_step_source
 
     u = u.astype(np.float64)
-    p = u - _solve_periodic_poisson(_edge_source(u, u[0] - u[-1], u[:, 0] - u[:, -1]))
+    p = u - solve_periodic_poisson(wrap_step_source(u.shape, u[0] - u[-1], u[:, 0] - u[:, -1]))
     h, w = u.shape[:2]
     if seam == "moisan" or min(h, w) < 2 * band + 2:
         return p
     zero_r, zero_c = np.zeros((w, u.shape[2])), np.zeros((h, u.shape[2]))
     d_row = 0.5 * ((u[1] - u[0]) + (u[-1] - u[-2]))
     d_col = 0.5 * ((u[:, 1] - u[:, 0]) + (u[:, -1] - u[:, -2]))
-    p_row = -_solve_periodic_poisson(_edge_source(u, d_row, zero_c))
-    p_col = -_solve_periodic_poisson(_edge_source(u, zero_r, d_col))
+    p_row = -solve_periodic_poisson(wrap_step_source(u.shape, d_row, zero_c))
+    p_col = -solve_periodic_poisson(wrap_step_source(u.shape, zero_r, d_col))
     for c in range(u.shape[2]):
         gains = [0.0, 0.0]  # rows (top/bottom edge), columns (left/right edge)
         for _sweep in range(2):
@@ -523,7 +506,7 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     replaced by a periodic image that keeps its interior detail and changes
     only by a smooth image, the harmonic image that takes up the jumps
     across the wrap edges: Moisan's periodic-plus-smooth decomposition
-    (:func:`spectex.spectral.periodic_smooth_decomposition`).
+    (:func:`spectex.periodic.periodic_smooth_decomposition`).
 
     ``seam='moisan'`` is that periodic component. It removes the step, but
     it also removes the pixel-scale detail across the edge: the seam becomes
