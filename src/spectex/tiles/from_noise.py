@@ -1,10 +1,8 @@
-"""Seamless RGBA tiles, their alpha channels and their mip-map chains.
+"""Tiles from noise: :func:`make_tile`, the seamless low-pass RGBA tile of Berger (2006).
 
 The spectral texture of Berger (2006) is built from one tile: low-pass
 filtered random noise, coloured through a ramp, seamless, with an alpha
-channel derived from the colour by an emboss filter. :func:`make_tile` makes
-it; :func:`make_seamless` makes a user's photograph into such a tile;
-:func:`mip_chain` reduces a tile to the mip-map levels the renderer uploads.
+channel derived from the colour by an emboss filter (:func:`spectex.tiles.emboss`).
 
 How a tile is made (:func:`make_tile`)
 --------------------------------------
@@ -55,8 +53,7 @@ clipping.
 References
 ----------
 D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
-2006 sketch. L. Moisan, "Periodic plus smooth image decomposition", JMIV
-39(2), 2011. L. Williams, "Pyramidal parametrics", SIGGRAPH 1983 (mip-maps).
+2006 sketch.
 """
 
 from __future__ import annotations
@@ -66,23 +63,12 @@ import math
 import numba
 import numpy as np
 
-from ._parallel import threads_for as _threads_for
-from ._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
-from .color import LUMA_REC709, linear_to_srgb, luma, srgb_to_linear  # re-exported: their home is color
+from .._parallel import threads_for as _threads_for
+from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng, check_shape
+from ..color import LUMA_REC709
+from .ops import _emboss, fit_range
 
-__all__ = [
-    "METHODS",
-    "ALPHAS",
-    "make_tile",
-    "make_seamless",
-    "emboss",
-    "luma",
-    "fit_range",
-    "mip_chain",
-    "preview",
-    "srgb_to_linear",
-    "linear_to_srgb",
-]
+__all__ = ["METHODS", "ALPHAS", "MAX_SIZE", "make_tile"]
 
 METHODS = ("spectral", "octaves", "noise")
 ALPHAS = ("emboss", "luminance", "noise", "none")
@@ -136,100 +122,6 @@ def _interleave_kernel(planes, lo, scale, out, lum):  # pragma: no cover - compi
             lum[i, j] = _LUMA_R * out[i, j, 0] + _LUMA_G * out[i, j, 1] + _LUMA_B * out[i, j, 2]
 
 
-@numba.njit(cache=True, parallel=True)
-def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
-    """g = cx (h[i, j+1] - h[i, j-1]) + cy (h[i-1, j] - h[i+1, j]), wrapping."""
-    n0, n1 = h.shape
-    for i in numba.prange(n0):
-        up = i - 1 if i > 0 else n0 - 1
-        dn = i + 1 if i < n0 - 1 else 0
-        for j in range(n1):
-            lf = j - 1 if j > 0 else n1 - 1
-            rt = j + 1 if j < n1 - 1 else 0
-            g[i, j] = cx * (h[i, rt] - h[i, lf]) + cy * (h[up, j] - h[dn, j])
-
-
-# --------------------------------------------------------------------------
-# Channel helpers
-# --------------------------------------------------------------------------
-
-def fit_range(values) -> np.ndarray:
-    """Map values into [0, 1] by an affine map, only if they leave it.
-
-    ``(v - lo) / (hi - lo)`` with ``lo = min(0, v.min())`` and
-    ``hi = max(1, v.max())``: values already in [0, 1] are returned
-    unchanged (as float32); otherwise the range is compressed just enough.
-    An affine map adds no frequencies (except at zero), so a band-limited
-    channel stays band-limited, which clipping would not.
-    """
-    v = np.asarray(values, dtype=np.float32)
-    if v.size == 0:
-        return v
-    lo, hi = float(v.min()), float(v.max())
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise ValueError(f"values must be finite to be fitted into [0, 1], got a range of {lo} to {hi}")
-    if lo >= 0.0 and hi <= 1.0:
-        return v
-    lo, hi = min(lo, 0.0), max(hi, 1.0)
-    out = (v - np.float32(lo)) * np.float32(1.0 / (hi - lo))
-    np.clip(out, 0.0, 1.0, out=out)  # rounding only
-    return out
-
-
-def emboss(image, *, azimuth: float = 135.0, strength: float = 1.0) -> np.ndarray:
-    """Emboss filter: the image lit as a relief from direction ``azimuth``.
-
-    The image (its luma for colour) is taken as a height field ``h``. With
-    the light at ``L = (cos a, sin a)`` (``a`` in degrees counter-clockwise
-    from the +x axis, y pointing up, so the default 135 lights from the top
-    left), the shading of a gently sloping relief is ``g = -(L . grad h)``,
-    with the gradient by central differences that wrap around (so a
-    seamless image gives a seamless result)::
-
-        d/dx h[i, j] = (h[i, j+1] - h[i, j-1]) / 2
-        d/dy h[i, j] = (h[i-1, j] - h[i+1, j]) / 2      (row 0 is the top)
-
-    and ``alpha = 0.5 + 0.5 strength g / max|g|``, clipped to [0, 1]: slopes
-    facing the light are above 0.5. With ``strength <= 1`` nothing is
-    clipped and the map is linear, so a band-limited image gives a
-    band-limited result; ``strength = 1`` reaches 0 or 1 at the steepest
-    slope.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C)
-        At least 3 x 3.
-    azimuth : float
-        Direction of the light, degrees.
-    strength : float
-        Contrast, >= 0 (0 gives a constant 0.5).
-
-    Returns
-    -------
-    ndarray, shape (H, W), float32 in [0, 1]
-    """
-    image = check_image("image", image, min_size=3)
-    azimuth = check_float("azimuth", azimuth)
-    strength = check_float("strength", strength, minimum=0.0, maximum=1e6)
-    return _emboss(luma(image), azimuth, strength)
-
-
-def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
-    a = math.radians(azimuth)
-    g = np.empty(h.shape, dtype=np.float32)
-    with _threads_for(h.size):
-        _gradient_kernel(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
-                         np.float32(-0.5 * math.sin(a)), g)
-    top = max(float(g.max()), -float(g.min()))
-    if top == 0.0 or strength == 0.0:
-        return np.full(h.shape, 0.5, dtype=np.float32)
-    g *= np.float32(0.5 * strength / top)
-    g += np.float32(0.5)
-    if strength > 1.0:
-        np.clip(g, 0.0, 1.0, out=g)
-    return g.astype(np.float32, copy=False)
-
-
 # --------------------------------------------------------------------------
 # Tiles from noise
 # --------------------------------------------------------------------------
@@ -266,14 +158,14 @@ def _to_unit(field: np.ndarray) -> np.ndarray:
 
 def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
     """The scalar field on the working grid ``shape``; frequencies per tile pixel."""
-    from .spectral import octave_sum, spectral_noise
+    from ..spectral import octave_sum, spectral_noise
 
     if method == "spectral":
         return spectral_noise(shape, beta=beta, low=None if low is None else low * m, rng=rng)
     if method == "octaves":
         return octave_sum(shape, amplitudes=beta, octaves=octaves, filter=filter, rng=rng)
     try:
-        from .procedural import noise_image
+        from ..procedural import noise_image
     except ImportError as exc:
         raise ValueError(f"method='noise' needs spectex.procedural, which is not available ({exc})") from None
     seed = int(rng.integers(0, 2**31 - 1))
@@ -356,8 +248,8 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     ndarray, shape (H, W, 4), float32 in [0, 1]
         Straight (not premultiplied) RGBA.
     """
-    from .color import get_ramp
-    from .spectral import band_limit_planes
+    from ..color import get_ramp
+    from ..spectral import band_limit_planes
 
     h, w = check_shape("size", size)
     if min(h, w) < 8 or max(h, w) > MAX_SIZE:
@@ -365,7 +257,7 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     rng = check_rng(rng, seed=seed, where="make_tile")
     method = check_choice("method", method, METHODS)
     alpha = check_choice("alpha", alpha, ALPHAS)
-    from .spectral import FILTERS
+    from ..spectral import FILTERS
 
     filter = check_choice("filter", filter, FILTERS)
     cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
@@ -422,349 +314,3 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     elif alpha == "none":
         out[:, :, 3] = alpha_value
     return out
-
-
-# --------------------------------------------------------------------------
-# Tiles from photographs
-# --------------------------------------------------------------------------
-
-#: Pixels on each side of a wrap edge that make the seam's local reference.
-SEAM_BAND = 8
-_MAX_GAIN = 3.0
-
-
-def _edge_ratio(q: np.ndarray, band: int) -> float:
-    """Mean |step| across the wrap of (H, W) ``q``'s columns over the mean
-    |step| within ``band`` columns on either side."""
-    w = q.shape[1]
-    idx = np.r_[w - band - 1:w, 0:band + 1]
-    steps = np.abs(np.diff(q[:, idx], axis=1))
-    inner = np.delete(steps, band, axis=1).mean()
-    return float(steps[:, band].mean() / inner) if inner > 0 else 1.0
-
-
-def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
-    """Periodic version of (H, W, C) ``u``: Moisan's, or with matched seams.
-
-    ``'moisan'``: the periodic component. ``'matched'``: the periodic image
-    whose steps across the wrap edges are ``lambda`` times the natural
-    step there (the mean of the two steps beside the edge) and otherwise
-    as close to the image's as Moisan's, which is Moisan's periodic
-    component plus ``lambda`` times the solution for that step alone
-    (linear). ``lambda`` in [0, 3], per channel and edge, is set by
-    bisection so that the mean step across the edge equals the mean step
-    within ``band`` pixels of it (the seam looks like its neighbourhood);
-    where Moisan's seam is already as rough as its neighbourhood, lambda
-    is 0.
-    """
-    from .periodic import solve_periodic_poisson, wrap_step_source
-
-    u = u.astype(np.float64)
-    p = u - solve_periodic_poisson(wrap_step_source(u.shape, u[0] - u[-1], u[:, 0] - u[:, -1]))
-    h, w = u.shape[:2]
-    if seam == "moisan" or min(h, w) < 2 * band + 2:
-        return p
-    zero_r, zero_c = np.zeros((w, u.shape[2])), np.zeros((h, u.shape[2]))
-    d_row = 0.5 * ((u[1] - u[0]) + (u[-1] - u[-2]))
-    d_col = 0.5 * ((u[:, 1] - u[:, 0]) + (u[:, -1] - u[:, -2]))
-    p_row = -solve_periodic_poisson(wrap_step_source(u.shape, d_row, zero_c))
-    p_col = -solve_periodic_poisson(wrap_step_source(u.shape, zero_r, d_col))
-    for c in range(u.shape[2]):
-        gains = [0.0, 0.0]  # rows (top/bottom edge), columns (left/right edge)
-        for _sweep in range(2):
-            for axis in (1, 0):
-                other = gains[1 - axis] * (p_row if axis == 1 else p_col)[:, :, c]
-                base = p[:, :, c] + other
-                extra = (p_col if axis == 1 else p_row)[:, :, c]
-                if axis == 0:
-                    base, extra = base.T, extra.T
-
-                def ratio(g):
-                    return _edge_ratio(base + g * extra, band)
-
-                if ratio(0.0) >= 1.0:
-                    g = 0.0
-                elif ratio(_MAX_GAIN) <= 1.0:
-                    g = _MAX_GAIN
-                else:
-                    lo, hi = 0.0, _MAX_GAIN
-                    for _ in range(24):
-                        mid = 0.5 * (lo + hi)
-                        lo, hi = (mid, hi) if ratio(mid) < 1.0 else (lo, mid)
-                    g = 0.5 * (lo + hi)
-                gains[axis] = g
-        p[:, :, c] += gains[0] * p_row[:, :, c] + gains[1] * p_col[:, :, c]
-    return p
-
-
-def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None = None, rng=0,
-                  seam: str = "matched", azimuth: float = 135.0, strength: float = 1.0,
-                  alpha_value: float = 1.0, seed=DEPRECATED) -> np.ndarray:
-    """Make a photograph into a seamless RGBA tile.
-
-    The photograph (cropped about its centre to ``size`` if given) is
-    replaced by a periodic image that keeps its interior detail and changes
-    only by a smooth image, the harmonic image that takes up the jumps
-    across the wrap edges: Moisan's periodic-plus-smooth decomposition
-    (:func:`spectex.periodic.periodic_smooth_decomposition`).
-
-    ``seam='moisan'`` is that periodic component. It removes the step, but
-    it also removes the pixel-scale detail across the edge: the seam becomes
-    a soft line, its mean step 0.4 to 0.76 of the steps beside it on
-    scikit-image's pictures. ``seam='matched'`` (default) puts the detail
-    back: it asks for ``lambda`` times the natural step at the edge (the
-    mean of the two steps beside it) instead of no step, which by linearity
-    adds ``lambda`` times one more smooth solution, and sets ``lambda`` in
-    [0, 3] per channel and edge by bisection so that the mean step across
-    the edge equals the mean step within 8 pixels of it (the seam looks like
-    its neighbourhood; ``lambda = 0`` where Moisan's seam is already as
-    rough). Measured (see ``docs/tiles.md``): edge-to-neighbourhood ratios
-    of 1.00 instead of 0.41 to 0.76, and the issue's global metric (wrap
-    step over all interior steps) 0.99 and 1.06 instead of 0.65 and 0.67 on
-    the stationary textures grass and gravel.
-
-    Conversions: grey is repeated into R, G and B; a photograph's own alpha
-    channel (grey + alpha, RGBA) is dropped unless ``alpha='keep'``; integer
-    images are scaled by their dtype's maximum (so 16-bit images keep their
-    precision). Values that the decomposition pushes out of [0, 1] are
-    clipped, or, when ``cutoff`` is given, compressed by :func:`fit_range`
-    so that the band limit holds. ``alpha='emboss'`` embosses the
-    photograph (see :func:`emboss`; one-sided differences at its edges) and
-    makes that seamless the same way; ``'luminance'`` is the luma of the
-    seamless colour.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C), C in 1..4
-        At least 8 x 8.
-    size : None, int or (int, int)
-        Tile ``(height, width)`` cropped from the centre; the photograph
-        must be at least that large (it is never upsampled).
-    alpha : {'none', 'emboss', 'luminance', 'noise', 'keep'}
-        As in :func:`make_tile`; ``'keep'`` makes the photograph's own alpha
-        channel seamless too (and needs one). ``'none'`` gives
-        ``alpha_value`` (default 1, opaque).
-    cutoff : float or None
-        Optional low-pass, cycles per pixel (see :func:`make_tile`).
-    rng : int, numpy.random.Generator or None
-        For ``alpha='noise'``.
-        Randomness (scikit-image's SPEC 7): an int gives
-        ``numpy.random.default_rng(rng)``, the same int the same result; a
-        Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
-    seam : {'matched', 'moisan'}
-        How the wrap edges are joined (see above).
-    azimuth, strength, alpha_value
-        As in :func:`make_tile`.
-
-    Returns
-    -------
-    ndarray, shape (h, w, 4), float32 in [0, 1]
-    """
-    from .spectral import band_limit, spectral_noise
-
-    image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8)
-    alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
-    seam = check_choice("seam", seam, ("matched", "moisan"))
-    rng = check_rng(rng, seed=seed, where="make_seamless")
-    if cutoff is not None:
-        cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
-    azimuth = check_float("azimuth", azimuth)
-    strength = check_float("strength", strength, minimum=0.0, maximum=1e6)
-    alpha_value = check_float("alpha_value", alpha_value, minimum=0.0, maximum=1.0)
-    img = image[:, :, None] if image.ndim == 2 else image
-    nch = img.shape[2]
-    own_alpha = img[:, :, nch - 1] if nch in (2, 4) else None
-    colour = img[:, :, :3] if nch >= 3 else np.repeat(img[:, :, :1], 3, axis=2)
-    if alpha == "keep" and own_alpha is None:
-        raise ValueError(f"alpha='keep' needs an image with an alpha channel, got {nch} channel(s)")
-    H, W = img.shape[:2]
-    if size is not None:
-        th, tw = check_shape("size", size)
-        if th > H or tw > W:
-            raise ValueError(f"image of {W}x{H} is smaller than the tile size {tw}x{th}; "
-                             f"choose a smaller size (the image is never upsampled)")
-        if min(th, tw) < 8:
-            raise ValueError(f"size must be at least 8x8, got {tw}x{th}")
-        y0, x0 = (H - th) // 2, (W - tw) // 2
-        colour = colour[y0:y0 + th, x0:x0 + tw]
-        if own_alpha is not None:
-            own_alpha = own_alpha[y0:y0 + th, x0:x0 + tw]
-        H, W = th, tw
-    if max(H, W) > MAX_SIZE:
-        raise ValueError(f"image of {W}x{H} is larger than {MAX_SIZE} on a side; pass size= "
-                         f"(--size) to crop a tile from it")
-
-    def finish(channel_stack):
-        p = _seamless(channel_stack[:, :, None] if channel_stack.ndim == 2 else channel_stack, seam)
-        p = (p[:, :, 0] if channel_stack.ndim == 2 else p).astype(np.float32)
-        if cutoff is None:
-            return np.clip(p, 0.0, 1.0)
-        p = band_limit(p, high=cutoff)
-        if p.ndim == 2:
-            return fit_range(p)
-        return np.stack([fit_range(p[:, :, c]) for c in range(p.shape[2])], axis=2)
-
-    out = np.empty((H, W, 4), dtype=np.float32)
-    out[:, :, :3] = finish(colour)
-    if alpha == "keep":
-        out[:, :, 3] = finish(own_alpha)
-    elif alpha == "emboss":
-        # Emboss the photograph itself (one-sided differences at its edges,
-        # no wrap), then make the result seamless like the colour: the
-        # gradient of the periodic component jumps at the wrap edge.
-        lum = luma(colour)
-        a = math.radians(azimuth)
-        gy, gx = np.gradient(lum.astype(np.float64))
-        g = -(math.cos(a) * gx - math.sin(a) * gy)  # y up: d/dy = -d/d(row)
-        top = float(np.abs(g).max())
-        g = 0.5 + (0.5 * strength / top) * g if top > 0 and strength > 0 else np.full(g.shape, 0.5)
-        out[:, :, 3] = finish(g.astype(np.float32))
-    elif alpha == "luminance":
-        out[:, :, 3] = luma(out[:, :, :3])
-    elif alpha == "noise":
-        field = spectral_noise((H, W), beta=2.0, rng=rng, high=cutoff)
-        a = _to_unit(field)
-        out[:, :, 3] = a if cutoff is None else fit_range(band_limit(a, high=cutoff))
-    else:
-        out[:, :, 3] = alpha_value
-    return out
-
-
-# --------------------------------------------------------------------------
-# Mip-map chains
-# --------------------------------------------------------------------------
-
-def _reduce_matrix(n: int) -> np.ndarray:
-    """(floor(n/2) or 1) x n area weights: output texel i averages [i r, (i+1) r)."""
-    m = max(1, n // 2)
-    r = n / m
-    a = np.zeros((m, n))
-    for i in range(m):
-        lo, hi = i * r, (i + 1) * r
-        for k in range(int(math.floor(lo)), min(n, int(math.ceil(hi)))):
-            a[i, k] = (min(hi, k + 1) - max(lo, k)) / r
-    return a
-
-
-def _reduce(level: np.ndarray) -> np.ndarray:
-    """One mip reduction of an (h, w, C) float32 level."""
-    h, w, c = level.shape
-    if h % 2 == 0 and w % 2 == 0:
-        out = np.empty((h // 2, w // 2, c), dtype=np.float32)
-        step = max(1, (1 << 22) // max(1, w * c))  # output rows per block: bounded float64 work space
-        for r0 in range(0, h // 2, step):
-            r1 = min(h // 2, r0 + step)
-            x = level[2 * r0:2 * r1].reshape(r1 - r0, 2, w // 2, 2, c).astype(np.float64)
-            out[r0:r1] = (x[:, 0, :, 0] + x[:, 0, :, 1] + x[:, 1, :, 0] + x[:, 1, :, 1]) * 0.25
-        return out
-    x = level.astype(np.float64)
-    if h > 1:
-        x = np.einsum("ik,kjc->ijc", _reduce_matrix(h), x)
-    if w > 1:
-        x = np.einsum("jk,ikc->ijc", _reduce_matrix(w), x)
-    return x.astype(np.float32)
-
-
-def mip_chain(tile, *, space: str = "stored") -> list[np.ndarray]:
-    """The mip-map chain of a tile: box reductions down to 1 x 1.
-
-    Level 0 is the tile itself (as float32); level ``k + 1`` has
-    ``max(1, floor(n / 2))`` texels along each side of ``n`` texels
-    (OpenGL's rule for the sizes of mip levels), and is computed from level
-    ``k`` (not from the tile), as ``glGenerateMipmap`` does.
-
-    Filtering. For even sides, each texel of the next level is the mean of a
-    2 x 2 block (exactly). For an odd side ``n``, texel ``i`` of the next
-    level averages the interval ``[i r, (i + 1) r)`` of the level, with
-    ``r = n / floor(n / 2)``, weighting the texels it covers partly by the
-    part covered: the footprints of a level's texels partition one period
-    of the tile exactly, so every level tiles with the same world period and
-    keeps the tile's mean (no row or column is dropped, as a plain 2 x 2 box
-    on an odd side would drop one; OpenGL leaves the filter for
-    non-power-of-two sides to the implementation, so the renderer uploads
-    these levels rather than calling ``glGenerateMipmap``). Because the
-    footprints never cross the wrap edge, the chain is exact for a
-    repeating texture: a texel straddling the edge would mix the last and
-    the first texels, which is the same thing for a seamless tile.
-
-    Averaging space. ``'stored'`` (default) averages the stored values, as
-    ``glGenerateMipmap`` does for non-sRGB formats such as ``GL_RGBA8``: use
-    it when the tile is uploaded as a plain (linear-format) texture, so that
-    these levels are exactly what the GPU would make. ``'linear'`` decodes
-    the colour channels from sRGB, averages in linear light and encodes
-    again, as GL does for ``GL_SRGB8_ALPHA8`` textures; use it with sRGB
-    textures. Alpha is always averaged as stored. Averaging in linear light
-    keeps the perceived brightness of fine contrast at a distance (a
-    black-and-white checkerboard becomes sRGB 0.735, not 0.5); averaging
-    stored values darkens high-contrast detail in the distance but matches
-    the plain-texture pipeline.
-
-    Parameters
-    ----------
-    tile : ndarray, shape (H, W) or (H, W, C)
-    space : {'stored', 'linear'}
-        Averaging space (see above). ``'linear'`` treats channels 0-2 of an
-        RGB(A) tile, or channel 0 of a grey(+alpha) tile, as sRGB.
-
-    Returns
-    -------
-    list of ndarray, each float32 of shape (h_k, w_k, C)
-        ``1 + floor(log2(max(H, W)))`` levels, the last 1 x 1. A 2-D tile
-        gives levels of shape (h_k, w_k, 1).
-    """
-    tile = check_image("tile", tile)
-    space = check_choice("space", space, ("stored", "linear"))
-    level = tile[:, :, None] if tile.ndim == 2 else tile
-    c = level.shape[2]
-    colour = slice(0, 3) if c >= 3 else slice(0, 1)
-    chain = [level]
-    while level.shape[0] > 1 or level.shape[1] > 1:
-        if space == "linear":
-            lin = level.copy()
-            lin[:, :, colour] = srgb_to_linear(level[:, :, colour])
-            nxt = _reduce(lin)
-            nxt[:, :, colour] = linear_to_srgb(nxt[:, :, colour])
-        else:
-            nxt = _reduce(level)
-        chain.append(nxt)
-        level = nxt
-    return chain
-
-
-def preview(tile, *, repeat: int = 3, max_side: int = 1024) -> np.ndarray:
-    """A picture that shows whether a tile is seamless.
-
-    The colour repeated ``repeat x repeat`` times, a white gap, and the
-    alpha channel (as grey) repeated the same way, side by side. Tiles with
-    a side above ``max_side`` are shown by the first level of
-    :func:`mip_chain` that fits.
-
-    Parameters
-    ----------
-    tile : ndarray, shape (H, W, 4), (H, W, 3) or (H, W)
-        Without alpha, only the colour part is drawn.
-    repeat : int
-        Repetitions along each axis, 1 to 8.
-    max_side : int
-        Largest tile side drawn at full resolution.
-
-    Returns
-    -------
-    ndarray, float32, shape (repeat h, repeat w [+ gap + repeat w], 3)
-    """
-    tile = check_image("tile", tile)
-    repeat = check_int("repeat", repeat, minimum=1, maximum=8)
-    max_side = check_int("max_side", max_side, minimum=1)
-    if tile.ndim == 2:
-        tile = tile[:, :, None]
-    if max(tile.shape[:2]) > max_side:
-        tile = next(level for level in mip_chain(tile) if max(level.shape[:2]) <= max_side)
-    c = tile.shape[2]
-    colour = tile[:, :, :3] if c >= 3 else np.repeat(tile[:, :, :1], 3, axis=2)
-    parts = [np.tile(colour, (repeat, repeat, 1))]
-    if c in (2, 4):
-        gap = np.ones((parts[0].shape[0], max(4, tile.shape[1] // 16), 3), dtype=np.float32)
-        parts += [gap, np.repeat(np.tile(tile[:, :, c - 1:c], (repeat, repeat, 1)), 3, axis=2)]
-    return np.concatenate(parts, axis=1).astype(np.float32, copy=False)
