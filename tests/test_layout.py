@@ -51,3 +51,146 @@ def test_layer_placement_is_the_one_rule_of_the_preset_and_the_fit():
     assert layer_placement(1, 1.0)[0] != layer_placement(1, 2.0)[0]
     with pytest.raises(ValueError, match="k"):
         layer_placement(-1, 1.0)
+
+
+# --------------------------------------------------------------------------
+# No private imports across packages
+# --------------------------------------------------------------------------
+
+import ast  # noqa: E402
+import pathlib  # noqa: E402
+
+SRC = pathlib.Path(spectex.__file__).parent
+ROOT = SRC.parent
+
+
+def _private(part: str) -> bool:
+    return part.startswith("_") and not part.startswith("__")
+
+
+def _modules():
+    """(dotted name, package the module belongs to, path) of every module of spectex."""
+    for path in sorted(SRC.rglob("*.py")):
+        parts = list(path.relative_to(ROOT).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            yield ".".join(parts[:-1]), ".".join(parts[:-1]), path
+        else:
+            yield ".".join(parts), ".".join(parts[:-1]), path
+
+
+def _inside(package: str, owner: str) -> bool:
+    return package == owner or package.startswith(owner + ".")
+
+
+def private_imports():
+    """Imports of a private module or name that belongs to another package.
+
+    A private module ``a.b._m`` (or anything below it) may be imported from
+    inside package ``a.b``, its subpackages included (so ``spectex._validate``
+    serves all of spectex). A private name ``_x`` of a module ``a.b.m`` may be
+    imported only by modules of the same package ``a.b``; a private name of a
+    package ``a.b`` (from its ``__init__``) from inside ``a.b``.
+    """
+    found = []
+    for name, package, path in _modules():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                targets = [(alias.name, None) for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package.split(".")[:len(package.split(".")) - (node.level - 1)]
+                    target = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    target = node.module or ""
+                targets = [(target, alias.name) for alias in node.names]
+            else:
+                continue
+            for target, imported in targets:
+                if not target.split(".")[0] == "spectex":
+                    continue
+                parts = target.split(".")
+                bad = None
+                for i, part in enumerate(parts):
+                    if _private(part):
+                        if not _inside(package, ".".join(parts[:i])):
+                            bad = target
+                        break
+                else:
+                    if imported is not None and _private(imported):
+                        if (ROOT / pathlib.Path(*parts)).is_dir():  # a package's private module or name
+                            ok = _inside(package, target)
+                        else:  # a private name of a module: its own package only
+                            ok = package == target.rpartition(".")[0]
+                        if not ok:
+                            bad = f"{target}.{imported}"
+                if bad:
+                    found.append(f"{name}:{node.lineno} imports {bad}")
+    return found
+
+
+def test_no_module_imports_another_packages_private_names():
+    assert private_imports() == []
+
+
+def test_the_private_import_check_sees_a_private_import(tmp_path, monkeypatch):
+    # a control: a module that reaches into another package's private module is found
+    fake = tmp_path / "spectex"
+    (fake / "tiles").mkdir(parents=True)
+    (fake / "spectral").mkdir()
+    (fake / "__init__.py").write_text("from ._validate import check_int\n")
+    (fake / "tiles" / "__init__.py").write_text("from ..spectral._synthesis import PARALLEL_MIN\n"
+                                                "from ..spectral import _helper\n"
+                                                "from ..metrics import _luma\n")
+    (fake / "spectral" / "__init__.py").write_text("from ._synthesis import band_limit, _private_ok\n")
+    import sys
+
+    monkeypatch.setattr(sys.modules[__name__], "SRC", fake)
+    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
+    found = private_imports()
+    assert found == ["spectex.tiles:1 imports spectex.spectral._synthesis",
+                     "spectex.tiles:2 imports spectex.spectral._helper",
+                     "spectex.tiles:3 imports spectex.metrics._luma"]
+
+
+# --------------------------------------------------------------------------
+# __all__ everywhere, and the public names at the top level
+# --------------------------------------------------------------------------
+
+def _public_modules():
+    for name, _package, path in _modules():
+        if not any(_private(part) for part in name.split(".")) and not name.endswith("__main__"):
+            yield name, path
+
+
+def test_every_public_module_has_an_all_whose_names_exist():
+    missing = []
+    for name, path in _public_modules():
+        tree = ast.parse(path.read_text())
+        has_all = any(isinstance(node, (ast.Assign, ast.AnnAssign)) and any(
+            isinstance(t, ast.Name) and t.id == "__all__"
+            for t in (node.targets if isinstance(node, ast.Assign) else [node.target]))
+            for node in tree.body)
+        if not has_all:
+            missing.append(name)
+            continue
+        module = importlib.import_module(name)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no deprecated name in an __all__
+            for item in module.__all__:
+                assert getattr(module, item, None) is not None, f"{name}.__all__ names {item!r}, which is not there"
+    assert missing == []
+
+
+def test_help_lists_the_public_names():
+    import pydoc
+
+    text = pydoc.render_doc(spectex, renderer=pydoc.plaintext)
+    for entry in ("class SpectralTexture", "class Layer", "class Camera", "class Atmosphere", "fit(image",
+                  "make_tile(size", "make_seamless(image", "read_image(path", "render (package)",
+                  "spectrum\n", "fitting\n", "periodic\n"):
+        assert entry in text, entry
+    assert spectex.Layer is importlib.import_module("spectex.texture").Layer
+    assert spectex.Camera is importlib.import_module("spectex.shading.camera").Camera
+    assert callable(spectex.render.render)
+    with pytest.raises(AttributeError, match="no_such_name"):
+        spectex.no_such_name
