@@ -50,7 +50,7 @@ def main(argv=None) -> int:
 
     import skimage.data
 
-    from spectex.analysis import fit, fit_report
+    from spectex.fitting import fit, fit_report
     from spectex.cli import main as cli_main
     from spectex.io import write_image
     from spectex.metrics import band_power, repetition

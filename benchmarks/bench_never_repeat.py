@@ -138,7 +138,7 @@ def main(argv=None) -> int:
 
     import skimage.data
 
-    from spectex.analysis import fit, prepare_exemplar
+    from spectex.fitting import fit, prepare_exemplar
     from spectex.metrics import band_power, band_power_distance, histogram_w1, repeat_peak
     from spectex.render.gl import gl_available
     from spectex.texture import Layer, SpectralTexture

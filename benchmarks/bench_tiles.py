@@ -70,7 +70,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from spectex.spectral import magnify, spectral_noise
-    from spectex.spectral._synthesis import _band_limit_planes
+    from spectex.spectral import band_limit_planes
     from spectex.tiles import make_tile
 
     rows = []
@@ -91,7 +91,7 @@ def main(argv=None):
             best_of(lambda: spectral_noise(half, rng=0), repeat))
         planes = np.random.default_rng(0).random((3, half, half), dtype=np.float32)
         add(f"  part: band limit 3 x {half} -> {size}",
-            best_of(lambda: _band_limit_planes(planes, None, 0.25, (size, size)), repeat))
+            best_of(lambda: band_limit_planes(planes, high=0.25, shape=(size, size)), repeat))
         cells = np.random.default_rng(0).standard_normal((128, 128)).astype(np.float32)
         m = size // 128
         add(f"magnify 128 -> {size} bspline (polyphase)", best_of(lambda: magnify(cells, m), repeat))

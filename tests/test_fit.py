@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import spectex
-from spectex.analysis import fit, fit_report, prepare_exemplar
+from spectex.fitting import fit, fit_report, prepare_exemplar
 from spectex.texture import SpectralTexture
 
 skdata = pytest.importorskip("skimage.data")
@@ -164,7 +164,7 @@ def test_fit_continues_the_spectrum_at_coarser_scales(fitted, name):
 def test_fit_never_repeats_by_default(fitted):
     # gravel (not structured): every layer stochastic; the repeat peak of the fine detail stays low
     # at the exemplar's scale and at 8 times it; the control, the same fit with periodic layers, repeats
-    from spectex.analysis import STRUCTURED_PEAK
+    from spectex.fitting import STRUCTURED_PEAK
     from spectex.metrics import repeat_peak
 
     res = fitted["gravel"]
@@ -182,7 +182,7 @@ def test_fit_never_repeats_by_default(fitted):
 def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
     # brick's own fine detail repeats (its structure_peak is over the threshold): tiling and
     # blending would blur the bricks, so the finest layer stays periodic, by measurement
-    from spectex.analysis import STRUCTURED_PEAK, structure_peak
+    from spectex.fitting import STRUCTURED_PEAK, structure_peak
 
     res = fitted["brick"]
     assert res.params["structure_peak"] >= STRUCTURED_PEAK

@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from spectex import color, procedural, spectral, tiles
+from spectex import color, periodic, procedural, spectral, spectrum, tiles
 
 # ----------------------------------------------------------------- references
 
@@ -56,15 +56,15 @@ REFERENCES = [
     ("fit_range inside", lambda: tiles.fit_range([0.2, 0.7]), [0.2, 0.7]),
     ("fit_range outside", lambda: tiles.fit_range([-1.0, 0.0, 1.0]), [0.0, 0.5, 1.0]),
     # the Hann window as sin^2 of the (n + 2)-point window without its zeros
-    ("hann_window 1x3", lambda: spectral.hann_window((1, 3))[0], [0.5, 1.0, 0.5]),
+    ("hann_window 1x3", lambda: spectrum.hann_window((1, 3))[0], [0.5, 1.0, 0.5]),
     ("octave_amplitudes 1/f", lambda: spectral.octave_amplitudes([4, 8, 16]), [1.0, 0.5, 0.25]),
-    ("spectral_slope of 3 f^-2.5", lambda: spectral.spectral_slope(
+    ("spectral_slope of 3 f^-2.5", lambda: spectrum.spectral_slope(
         np.array([0.1, 0.2, 0.4]), 3.0 * np.array([0.1, 0.2, 0.4]) ** -2.5).slope, -2.5),
     # a constant image is its own periodic component (Moisan): the smooth part is zero
     ("smooth component of a constant", lambda: float(np.abs(
-        spectral.periodic_smooth_decomposition(np.full((16, 24), 0.3))[1]).max()), 0.0),
+        periodic.periodic_smooth_decomposition(np.full((16, 24), 0.3))[1]).max()), 0.0),
     ("periodic + smooth is the image", lambda: float(np.abs(
-        np.sum(spectral.periodic_smooth_decomposition(_periodic()), axis=0) - _periodic()).max()), 0.0),
+        np.sum(periodic.periodic_smooth_decomposition(_periodic()), axis=0) - _periodic()).max()), 0.0),
     # a constant stays constant under band limiting and magnification
     ("band_limit of a constant", lambda: spectral.band_limit(np.full((8, 8), 0.25), high=0.2)[3, 5], 0.25),
     ("magnify of a constant", lambda: spectral.magnify(np.full((4, 4), 0.75), 2)[5, 2], 0.75),
@@ -82,7 +82,7 @@ def _periodic():
 
 def _sinusoid_peak():
     y, x = np.mgrid[0:32, 0:32]
-    freqs, power = spectral.radial_power_spectrum(np.sin(2 * np.pi * (3 * x + 4 * y) / 32))
+    freqs, power = spectrum.radial_power_spectrum(np.sin(2 * np.pi * (3 * x + 4 * y) / 32))
     return freqs[np.argmax(power)]
 
 
@@ -129,12 +129,12 @@ def test_nd_luma_is_per_pixel():
 
 def test_nd_power_spectrum_channels_are_independent():
     x = np.random.default_rng(2).random((16, 20, 3))
-    freqs, power = spectral.radial_power_spectrum(x)
+    freqs, power = spectrum.radial_power_spectrum(x)
     for c in range(3):
-        np.testing.assert_array_equal(spectral.radial_power_spectrum(x[:, :, c])[1], power[:, c])
-    fit = spectral.spectral_slope(freqs, power)
+        np.testing.assert_array_equal(spectrum.radial_power_spectrum(x[:, :, c])[1], power[:, c])
+    fit = spectrum.spectral_slope(freqs, power)
     for c in range(3):
-        assert fit.slope[c] == spectral.spectral_slope(freqs, power[:, c]).slope
+        assert fit.slope[c] == spectrum.spectral_slope(freqs, power[:, c]).slope
 
 
 # ------------------------------------------------------ the hostile sweep
@@ -214,14 +214,14 @@ SWEEP = [
     ("magnify sigma", "sigma", lambda v: spectral.magnify(_img(0.5, (8, 8)), 2, filter="gaussian", sigma=v)),
     ("filter_passes sigma", "sigma", lambda v: spectral.filter_passes("gaussian", sigma=v)),
     ("discrete_filter factor", "factor", lambda v: spectral.discrete_filter("bspline", v)),
-    ("hann_window shape", "shape", lambda v: spectral.hann_window((4, v))),
-    ("periodic_smooth_decomposition", "image", lambda v: spectral.periodic_smooth_decomposition(_img(v))),
-    ("radial_power_spectrum", "image", lambda v: spectral.radial_power_spectrum(_img(v))),
-    ("spectral_slope power", None, lambda v: spectral.spectral_slope(_F, np.array([1.0, 0.5, v, 0.1]))),
-    ("spectral_slope freqs", None, lambda v: spectral.spectral_slope(np.array([0.1, v, 0.3, 0.4]),
+    ("hann_window shape", "shape", lambda v: spectrum.hann_window((4, v))),
+    ("periodic_smooth_decomposition", "image", lambda v: periodic.periodic_smooth_decomposition(_img(v))),
+    ("radial_power_spectrum", "image", lambda v: spectrum.radial_power_spectrum(_img(v))),
+    ("spectral_slope power", None, lambda v: spectrum.spectral_slope(_F, np.array([1.0, 0.5, v, 0.1]))),
+    ("spectral_slope freqs", None, lambda v: spectrum.spectral_slope(np.array([0.1, v, 0.3, 0.4]),
                                                                       np.array([1.0, 0.5, 0.3, 0.1]))),
-    ("spectral_slope fmin", "fmin", lambda v: spectral.spectral_slope(_F, 1.0 / _F, fmin=v)),
-    ("spectral_slope fmax", "fmax", lambda v: spectral.spectral_slope(_F, 1.0 / _F, fmax=v)),
+    ("spectral_slope fmin", "fmin", lambda v: spectrum.spectral_slope(_F, 1.0 / _F, fmin=v)),
+    ("spectral_slope fmax", "fmax", lambda v: spectrum.spectral_slope(_F, 1.0 / _F, fmax=v)),
     # procedural
     ("noise_image scale", "scale", lambda v: procedural.noise_image(16, scale=v)),
     ("noise_image octaves", "octaves", lambda v: procedural.noise_image(16, octaves=v)),

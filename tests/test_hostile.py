@@ -572,7 +572,8 @@ def test_tile_sides_are_bounded_before_any_work():
 
 
 def test_cutoff_cost_is_bounded_by_the_tile():
-    from spectex.tiles import _working_factor, make_tile
+    from spectex.tiles import make_tile
+    from spectex.tiles.from_noise import _working_factor
 
     start = time.perf_counter()
     assert _working_factor(512, 512, 1e-12) == 128  # the grid keeps 4 cells a side

@@ -1,4 +1,4 @@
-"""Tests for spectex.spectral: octaves by magnification, spectral synthesis, analysis."""
+"""Tests for spectex.spectral: octaves by magnification, spectral synthesis, and their spectra."""
 
 import numpy as np
 import pytest
@@ -8,16 +8,14 @@ from spectex.spectral import (
     band_limit,
     discrete_filter,
     filter_passes,
-    hann_window,
     magnify,
     octave,
     octave_amplitudes,
     octave_sum,
-    periodic_smooth_decomposition,
-    radial_power_spectrum,
     spectral_noise,
-    spectral_slope,
 )
+from spectex.periodic import periodic_smooth_decomposition
+from spectex.spectrum import hann_window, radial_power_spectrum, spectral_slope
 
 # Independent formulas for the continuous filters (input-texel units).
 REFERENCE = {

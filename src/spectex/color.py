@@ -131,8 +131,8 @@ def apply_colormap(values, cmap="grey", *, vmin: float = -1.0, vmax: float = 1.0
 # Luma and the sRGB transfer functions
 # --------------------------------------------------------------------------
 
-def luma(image) -> np.ndarray:
-    """Rec. 709 luma of the stored values: ``(H, W)`` float32.
+def luma(image, *, dtype=np.float32) -> np.ndarray:
+    """Rec. 709 luma of the stored values: ``(H, W)``, float32 by default.
 
     Grey images are returned as they are; grey with alpha gives its grey;
     RGB and RGBA give ``0.2126 R + 0.7152 G + 0.0722 B`` (alpha ignored). The
@@ -142,18 +142,37 @@ def luma(image) -> np.ndarray:
     Parameters
     ----------
     image : ndarray, shape (H, W) or (H, W, C), C in 1..4
-        Finite values.
+        Finite values; integers are scaled by their dtype's maximum.
+    dtype : float32 or float64
+        The result's type and the precision of the sum. With float64, a
+        float64 image is used at full precision (the measures of
+        :mod:`spectex.metrics` and :mod:`spectex.analysis` work so).
 
     Returns
     -------
-    ndarray, shape (H, W), float32
+    ndarray, shape (H, W)
 
     References
     ----------
     ITU-R Recommendation BT.709-6, "Parameter values for the HDTV standards for
     production and international programme exchange", 2015, item 3.2.
     """
-    image = check_image("image", image)
+    dtype = np.dtype(dtype)
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(f"dtype must be float32 or float64, got {dtype}")
+    if dtype == np.float64 and isinstance(image, np.ndarray) and image.dtype == np.float64:
+        if image.ndim not in (2, 3) or (image.ndim == 3 and image.shape[2] not in (1, 2, 3, 4)):
+            raise ValueError(f"image must have shape (H, W) or (H, W, C), C in 1..4, got shape {image.shape}")
+        if not np.all(np.isfinite(image)):
+            raise ValueError("image must hold finite values, got NaN or infinity")
+    else:
+        image = check_image("image", image)
+    if dtype == np.float64:
+        if image.ndim == 2:
+            return image.astype(np.float64)
+        if image.shape[2] in (1, 2):
+            return image[:, :, 0].astype(np.float64)
+        return image[:, :, :3].astype(np.float64) @ np.array(LUMA_REC709, dtype=np.float64)
     if image.ndim == 2:
         return image
     if image.shape[2] in (1, 2):

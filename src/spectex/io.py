@@ -30,6 +30,9 @@ import numpy as np
 from ._output import atomic_path, check_input_file, note_input, plan_output
 from ._validate import check_choice, check_float, check_int
 
+__all__ = ["IMAGE_SUFFIXES", "ARRAY_SUFFIXES", "ANIMATION_SUFFIXES", "MAX_IMAGE_PIXELS", "PNG_COMPRESS_LEVEL",
+           "read_image", "write_image", "write_animation", "to_uint", "check_output_path", "check_mp4_size"]
+
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp")
 ARRAY_SUFFIXES = (".npy",)
 ANIMATION_SUFFIXES = (".gif", ".mp4")

@@ -19,6 +19,9 @@ measure                      what it says                                    goo
 :func:`tileability`          step across the wrap edge / interior steps      about 1
 ===========================  ==============================================  ==============
 
+:func:`band_power` is estimated in :mod:`spectex.spectrum`, the home of power
+spectra, and listed here as the measure it is (the same function).
+
 References
 ----------
 .. [1] Y. Rubner, C. Tomasi, L. J. Guibas, "The Earth Mover's Distance as a
@@ -34,7 +37,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._validate import check_float, check_image, check_int
-from .spectral import hann_window
+from .color import luma
+from .spectrum import band_power  # the estimator's home is spectex.spectrum; a measure of this table
 
 __all__ = [
     "histogram_w1",
@@ -48,10 +52,6 @@ __all__ = [
     "compare",
 ]
 
-# Rec. 709 luma weights: how colour images are reduced to one channel for the
-# spectral measures.
-_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float64)
-
 
 def _channels(image: np.ndarray) -> np.ndarray:
     """``(H, W, C)`` view of an image (grey gets C = 1)."""
@@ -59,13 +59,8 @@ def _channels(image: np.ndarray) -> np.ndarray:
 
 
 def _luma(image: np.ndarray) -> np.ndarray:
-    """One float64 channel: grey as is, RGB(A) by Rec. 709 luma, alpha ignored."""
-    if image.ndim == 2:
-        return image.astype(np.float64)
-    c = image.shape[2]
-    if c in (1, 2):
-        return image[:, :, 0].astype(np.float64)
-    return image[:, :, :3].astype(np.float64) @ _LUMA
+    """One float64 channel: grey as is, RGB(A) by Rec. 709 luma (:func:`spectex.color.luma`), alpha ignored."""
+    return luma(image, dtype=np.float64)
 
 
 # --------------------------------------------------------------------------
@@ -118,114 +113,6 @@ def histogram_w1(a, b) -> np.ndarray:
 # --------------------------------------------------------------------------
 # Power per octave band
 # --------------------------------------------------------------------------
-
-def band_power(image, *, min_cycles: int = 4, segment=None):
-    """Windowed, radially averaged power per octave band.
-
-    The image (its Rec. 709 luma for colour; alpha is ignored) has its mean
-    removed and is multiplied by a separable 2-D Hann window
-    (:func:`spectex.spectral.hann_window`), so that a
-    non-periodic photograph does not leak its edges into the high
-    frequencies. The power spectrum ``|F|^2 / (H W)^2`` (so that the sum over
-    all frequencies is the variance) is divided by the window's mean square
-    (which makes the estimate unbiased for a stationary texture) and summed
-    over octave bands of radial frequency ``r`` in cycles per pixel::
-
-        band 0: 1/4  <= r          (up to the corners of the spectrum)
-        band k: 2^-(k+2) <= r < 2^-(k+1)
-
-    Band ``k`` is kept while its lower edge holds at least ``min_cycles``
-    cycles across the analysed size's shorter side. The band power is the
-    variance the band contributes, so it does not depend on the image size.
-
-    With ``segment``, the image is cut into ``segment``-sized crops that
-    overlap by half (Welch's method), each analysed as above, and their
-    spectra averaged. Comparing two images of different sizes this way, at
-    the smaller one's size, gives both estimates the same frequency
-    resolution: the window smears about 2 frequency bins, so a spectral peak
-    near a band edge leaks differently at different sizes (2 to 4 dB for the
-    brick period at 4 cycles across); :func:`band_power_distance` does this.
-
-    Like any spectral estimate it scatters: for white noise the standard
-    deviation is about ``4.3 sqrt(2 / (0.27 N))`` dB for a band holding
-    ``N`` frequency bins (the Hann window keeps about 27% of the pixels'
-    information), so about 0.1 dB for the finest band of a 128 x 128 image
-    but 0.7 to 0.9 dB for a lowest band with 4 cycles across (less when
-    several segments are averaged). Raise ``min_cycles`` for steadier (fewer)
-    bands.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C)
-        At least ``8 * min_cycles`` pixels on its (or the segment's) shorter
-        side, for two bands.
-    min_cycles : int
-        Cycles across the shorter side that the lowest band must hold.
-    segment : (int, int), optional
-        ``(height, width)`` of the Welch segments, at most the image's size.
-
-    Returns
-    -------
-    bands : ndarray, shape (K, 2)
-        Lower and upper edge of each band in cycles per pixel, finest first
-        (the upper edge of band 0 is reported as 0.5).
-    power_db : ndarray, shape (K,)
-        ``10 log10`` of each band's power (floored at 1e-20, -200 dB, for a
-        flat image).
-
-    References
-    ----------
-    Harris, Proc. IEEE 1978 (windowing); P. D. Welch, IEEE Trans. Audio
-    Electroacoustics 15(2), 1967 (averaged segments); Portilla and
-    Simoncelli, IJCV 2000 (texture statistics per scale).
-    """
-    image = check_image("image", image)
-    min_cycles = check_int("min_cycles", min_cycles, minimum=1)
-    h, w = image.shape[:2]
-    if segment is None:
-        sh, sw = h, w
-    else:
-        if np.ndim(segment) != 1 or len(segment) != 2:
-            raise ValueError(f"segment must be a (height, width) pair, got {segment!r}")
-        sh = check_int("segment[0]", segment[0], minimum=1, maximum=h)
-        sw = check_int("segment[1]", segment[1], minimum=1, maximum=w)
-    n = min(sh, sw)
-    k_count = 0
-    while 2.0 ** -(k_count + 2) >= min_cycles / n:
-        k_count += 1
-    if k_count < 2:
-        raise ValueError(f"image must be at least {8 * min_cycles} pixels on its shorter side for "
-                         f"two octave bands, got {sw}x{sh}")
-    lum = _luma(image)
-    win = hann_window((sh, sw))
-    norm = float(sh * sw) ** 2 * float(np.mean(win ** 2))
-
-    def starts(size, seg):
-        pos = list(range(0, size - seg + 1, max(1, seg // 2)))
-        if pos[-1] != size - seg:
-            pos.append(size - seg)
-        return pos
-
-    spec = np.zeros((sh, sw))
-    count = 0
-    for y in starts(h, sh):
-        for x in starts(w, sw):
-            crop = lum[y:y + sh, x:x + sw]
-            spec += np.abs(np.fft.fft2((crop - crop.mean()) * win)) ** 2
-            count += 1
-    spec /= norm * count
-    fy = np.fft.fftfreq(sh)[:, None]
-    fx = np.fft.fftfreq(sw)[None, :]
-    r = np.sqrt(fy * fy + fx * fx)
-    bands = np.empty((k_count, 2))
-    power = np.empty(k_count)
-    for k in range(k_count):
-        lo, hi = 2.0 ** -(k + 2), 2.0 ** -(k + 1)
-        sel = (r >= lo) if k == 0 else ((r >= lo) & (r < hi))
-        bands[k] = lo, hi
-        power[k] = spec[sel].sum()
-    return bands, 10.0 * np.log10(np.maximum(power, 1e-20))
-
 
 def _common_bands(a, b, min_cycles):
     """Band powers of two images at the same resolution (the smaller size)."""

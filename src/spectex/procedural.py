@@ -23,6 +23,9 @@ import numpy as np
 from . import noise
 from ._validate import check_choice, check_float, check_int, check_seed, check_shape
 
+__all__ = ["KINDS", "noise_image", "marble", "wood", "stripes", "clouds", "ring_profile", "texture",
+           "value_range", "contrast_range", "colorize", "animate"]
+
 KINDS = ("perlin", "value", "fbm", "turbulence", "marble", "wood", "stripes", "clouds")
 _TIME_PERIOD = 1 << 16  # period of the time axis of tileable animations (lattice cells)
 

@@ -45,10 +45,49 @@ import numpy as np
 from ._validate import check_choice, check_float, check_image, check_int, check_shape, check_tile_shape
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
-__all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS"]
+__all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "layer_placement"]
 
 #: Largest bake, in pixels (times supersample squared): 64 Mpx, about 1 GiB of float32 work arrays.
 MAX_BAKE_PIXELS = 1 << 26
+
+
+#: The golden angle in degrees, ``180 (3 - sqrt 5)``: successive multiples never line up.
+GOLDEN_ANGLE = 137.50776405003785
+
+
+def layer_placement(k: int, size: float, *, decimals: int = 6) -> tuple[tuple[float, float], float]:
+    """Offset and rotation of layer ``k`` of a stack, so that the layers' grids do not line up.
+
+    The one rule for the layers of :meth:`SpectralTexture.paper_preset` and of
+    :func:`spectex.fit`: layer ``k`` is rotated by ``k`` times the golden
+    angle (modulo 360 degrees) and offset by ``((0.382 k mod 1) size,
+    (0.618 k mod 1) size)`` metres, fractions of its own repetition size
+    (0.382 and 0.618 are the golden ratio's fractions, so the offsets of
+    successive layers spread evenly). Layer 0 is neither offset nor rotated.
+
+    Parameters
+    ----------
+    k : int
+        The layer's index, finest first (>= 0).
+    size : float
+        The layer's repetition size (:attr:`Layer.size`), metres.
+    decimals : int
+        Decimals the offset is rounded to (short, readable numbers in a
+        saved texture); the rotation is rounded to 6 decimals (a
+        micro-degree).
+
+    Returns
+    -------
+    offset : (float, float)
+        Metres.
+    rotation : float
+        Degrees in [0, 360).
+    """
+    k = check_int("k", k, minimum=0)
+    size = check_float("size", size)
+    decimals = check_int("decimals", decimals, minimum=0, maximum=15)
+    offset = (round((0.382 * k % 1.0) * size, decimals), round((0.618 * k % 1.0) * size, decimals))
+    return offset, round((GOLDEN_ANGLE * k) % 360.0, 6)
 
 
 @dataclass(frozen=True)
@@ -255,13 +294,11 @@ class SpectralTexture:
         n = 5
         finest, coarsest = 1000.0 / 64.0, 10000.0
         ratio = (coarsest / finest) ** (1.0 / (n - 1))
-        golden = 137.50776405003785
         layers = []
         for k in range(n):
             size = finest * ratio ** k if k < n - 1 else coarsest
-            layers.append(Layer(size=size, tile=0,
-                                offset=(round((0.382 * k % 1.0) * size, 6), round((0.618 * k % 1.0) * size, 6)),
-                                rotation=round((golden * k) % 360.0, 6), blend=blend,
+            offset, rotation = layer_placement(k, size)
+            layers.append(Layer(size=size, tile=0, offset=offset, rotation=rotation, blend=blend,
                                 opacity=1.0 if k == 0 else opacity, tiling=tiling, patch=patch,
                                 seed=k if tiling == "stochastic" else 0))
         return cls(tile, layers, bits=bits)

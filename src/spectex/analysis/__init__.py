@@ -1,4 +1,4 @@
-"""Analysis of texture exemplars and fitting spectral textures to them.
+"""Analysis of texture exemplars: the statistics a fit matches.
 
 The future work of Berger's sketch (seed 000): "analyze a given image for
 its statistical properties, and use these properties to generate texture
@@ -8,23 +8,29 @@ Analysis
     :func:`analyse` (an :class:`ExemplarStats`), :func:`octave_power`,
     :func:`colour_stats`, :func:`cross_scale`, :func:`dog_bands`.
 Fitting
-    :func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
-    out; :func:`fit_report` for the numbers of a fit; :func:`prepare_exemplar`
-    for the input conversions (grey, alpha, 16-bit, crop of huge images).
+    has its own module, :mod:`spectex.fitting` (:func:`spectex.fit`). The
+    names ``spectex.analysis.fit``, ``fit_report``, ``FitResult``,
+    ``prepare_exemplar``, ``structure_peak`` and ``STRUCTURED_PEAK`` still
+    work for one release, with a ``DeprecationWarning`` naming their home.
 
 See ``docs/fitting.md``.
 """
 
 from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
 
-__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
-           "fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
+__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
+
+# Names that moved to spectex.fitting: still found here for one release, with a warning.
+_MOVED_TO_FITTING = ("fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK")
 
 
 def __getattr__(name):
-    # the fitting module pulls in the texture and the sampler (numba): load it on first use
-    if name in ("fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
-        from . import _fit
+    if name in _MOVED_TO_FITTING:
+        import warnings
 
-        return getattr(_fit, name)
+        from .. import fitting
+
+        warnings.warn(f"spectex.analysis.{name} has moved to spectex.fitting.{name} (the old name goes "
+                      f"in the next release)", DeprecationWarning, stacklevel=2)
+        return getattr(fitting, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -4,7 +4,7 @@ Three families, each a plain function of an image:
 
 * :func:`octave_power`: power per octave band of the luma, windowed so that a
   non-periodic photograph does not leak its edges (the estimator of
-  :func:`spectex.metrics.band_power`), with the least-squares slope in dB
+  :func:`spectex.spectrum.band_power`), with the least-squares slope in dB
   per octave that the fit uses to continue the spectrum to coarser scales;
 * :func:`colour_stats`: mean colour, covariance, principal colours (the
   mean moved one standard deviation each way along the principal axes of
@@ -34,18 +34,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import check_image, check_int
+from ..color import luma
 
 __all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
 
-_LUMA = np.array([0.2126, 0.7152, 0.0722])
-
-
 def _luma64(image: np.ndarray) -> np.ndarray:
-    if image.ndim == 2:
-        return image.astype(np.float64)
-    if image.shape[2] in (1, 2):
-        return image[:, :, 0].astype(np.float64)
-    return image[:, :, :3].astype(np.float64) @ _LUMA
+    return luma(image, dtype=np.float64)
 
 
 # --------------------------------------------------------------------------
@@ -55,7 +49,7 @@ def _luma64(image: np.ndarray) -> np.ndarray:
 def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
     """Power per octave band of the luma and its slope in dB per octave.
 
-    The bands and the estimator are those of :func:`spectex.metrics.band_power`
+    The bands and the estimator are those of :func:`spectex.spectrum.band_power`
     (mean removed, separable Hann window, power normalised so that the bands
     sum to the variance; optional Welch segments). The slope is the
     least-squares line through the band powers in dB against the band index
@@ -67,7 +61,7 @@ def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
     image : ndarray, shape (H, W) or (H, W, C)
         At least ``8 * min_cycles`` pixels on the shorter side.
     min_cycles, segment
-        As in :func:`spectex.metrics.band_power`.
+        As in :func:`spectex.spectrum.band_power`.
 
     Returns
     -------
@@ -76,7 +70,7 @@ def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
         ``power_db`` (K,); ``slope_db`` (dB per octave, towards coarser
         bands); ``intercept_db`` (the line's value at band 0).
     """
-    from ..metrics import band_power
+    from ..spectrum import band_power
 
     bands, power = band_power(image, min_cycles=min_cycles, segment=segment)
     k = np.arange(len(power), dtype=np.float64)

@@ -14,6 +14,8 @@ import importlib
 import re
 import sys
 
+__all__ = ["main", "build_parser", "UsageError"]
+
 # Subcommand modules, in the order they appear in ``spectex --help``.
 _COMMANDS = (
     "demo",

@@ -28,8 +28,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from spectex.export import export, parse_formats
-    from spectex.export._output import check_output_dir
+    from spectex.export import check_output_dir, export, parse_formats
     from spectex.texture import SpectralTexture
 
     # Everything is checked before anything is read or written.

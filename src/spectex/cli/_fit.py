@@ -112,7 +112,7 @@ def run(args) -> int | None:
     import time
 
     from spectex._output import OutputSet
-    from spectex.analysis import fit, prepare_exemplar
+    from spectex.fitting import fit, prepare_exemplar
     from spectex.io import read_image
 
     start = time.perf_counter()

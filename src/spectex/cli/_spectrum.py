@@ -44,8 +44,8 @@ def run(args) -> int | None:
     import numpy as np
 
     from spectex.io import atomic_path, check_output_path, read_image
-    from spectex.spectral import radial_power_spectrum, spectral_slope
     from spectex.color import luma
+    from spectex.spectrum import radial_power_spectrum, spectral_slope
 
     if args.fmax > 0.5:
         raise ValueError(f"--fmax must be at most 0.5 cycles per pixel (the Nyquist frequency), got {args.fmax:g}")

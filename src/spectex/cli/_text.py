@@ -37,8 +37,7 @@ def run(args) -> int | None:
     from pathlib import Path
 
     from spectex._output import note_input, plan_output, write_text
-    from spectex.synthesis import markov_text
-    from spectex.synthesis._markov import MAX_TEXT_LENGTH
+    from spectex.synthesis import MAX_TEXT_LENGTH, markov_text
 
     if args.length > MAX_TEXT_LENGTH:
         raise ValueError(f"--length must be at most {MAX_TEXT_LENGTH} symbols (the text is built in memory), "

@@ -25,7 +25,9 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["FORMATS", "ExportResult", "export", "parse_formats"]
+from ._output import check_output_dir
+
+__all__ = ["FORMATS", "ExportResult", "check_output_dir", "export", "parse_formats"]
 
 #: Export formats, in the order they are written; each is ``module.write_<name>(texture, folder)``.
 FORMATS = ("web", "glsl", "godot", "materialx", "hlsl")

@@ -1,6 +1,6 @@
-"""Spectral synthesis and spectral analysis (Blythe et al., 1999, 6.21.4).
+"""Spectral synthesis (Blythe et al., 1999, 6.21.4).
 
-Two ways to make noise with a prescribed spectrum, and the tools to check it:
+Two ways to make noise with a prescribed spectrum:
 
 * :func:`octave_sum`: a sum of octaves made by filtering under
   magnification (:func:`spectex.spectral.octave`), each with its own
@@ -9,15 +9,11 @@ Two ways to make noise with a prescribed spectrum, and the tools to check it:
 * :func:`spectral_noise`: the FFT route, a periodic Gaussian field whose
   power spectrum goes as ``1 / f^beta`` between optional low and high
   cut-offs.
-* :func:`band_limit`: an exact radial band-pass by FFT (what makes tiles
-  low-pass, see :mod:`spectex.tiles`).
-* :func:`radial_power_spectrum` and :func:`spectral_slope`: the radially
-  averaged power spectrum of an image and its log-log slope, with optional
-  windowing for non-periodic photographs. This is the one home of that
-  concept in spectex.
-* :func:`periodic_smooth_decomposition`: Moisan's periodic-plus-smooth
-  decomposition, used to make photographs tile and as a leak-free
-  alternative to windowing.
+* :func:`band_limit` and :func:`band_limit_planes`: an exact radial
+  band-pass by FFT (what makes tiles low-pass, see :mod:`spectex.tiles`).
+
+The tools to check them, power spectra and their slopes, are in
+:mod:`spectex.spectrum`.
 
 Frequencies are in cycles per pixel throughout: 0.5 is the Nyquist
 frequency, and a frequency ``f`` in an ``N``-pixel period is ``f N`` cycles
@@ -27,35 +23,12 @@ per period. Radial frequency is ``sqrt(fy^2 + fx^2)``.
 from __future__ import annotations
 
 import numbers
-from typing import NamedTuple
 
 import numpy as np
 
-from ..color import LUMA_REC709
+from .._parallel import fft_workers as _workers
 from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
 from ._octaves import octave
-
-#: Rec. 709 luma weights (on stored values), for colour images; their home is :mod:`spectex.color`.
-LUMA = np.array(LUMA_REC709)
-
-#: Arrays of at least this many elements are transformed with every core;
-#: smaller ones with one thread, which is faster for them, and much faster
-#: when the cores are busy with other work (thread start-up and waiting).
-PARALLEL_MIN = 1 << 20
-
-
-def _workers(n: int) -> int:
-    """scipy.fft ``workers`` for a transform over ``n`` elements."""
-    return -1 if n >= PARALLEL_MIN else 1
-
-
-
-
-def _radial_frequency(h: int, w: int, *, half: bool = True) -> np.ndarray:
-    """Radial frequency (cycles per pixel) of the rfft2 (or fft2) layout."""
-    fy = np.fft.fftfreq(h)[:, None]
-    fx = (np.fft.rfftfreq(w) if half else np.fft.fftfreq(w))[None, :]
-    return np.sqrt(fy * fy + fx * fx)
 
 
 def _check_band(low, high):
@@ -202,6 +175,39 @@ def _band_limit_planes(planes: np.ndarray, low, high, shape) -> np.ndarray:
     if (big_h, big_w) != (h, w):
         out *= (big_h * big_w) / (h * w)
     return out.astype(np.float32, copy=False)
+
+
+def band_limit_planes(planes, *, low: float | None = None, high: float | None = None,
+                      shape=None) -> np.ndarray:
+    """:func:`band_limit` of channel-first planes ``(C, h, w)``, without moving the channel axis.
+
+    The same band-pass and Fourier upsampling as :func:`band_limit`, for
+    planes stored one channel after the other (what the tile maker works
+    on), which saves the copies that moving the channel axis would make.
+
+    Parameters
+    ----------
+    planes : ndarray, shape (C, h, w)
+        Float values (taken as finite: they are not checked, for speed).
+    low, high : float or None
+        Band edges in cycles per (output) pixel.
+    shape : None or (int, int)
+        Output ``(H, W)``, at least ``(h, w)``; default ``(h, w)``.
+
+    Returns
+    -------
+    ndarray, float32, shape (C, H, W)
+    """
+    if not isinstance(planes, np.ndarray) or planes.ndim != 3 or not np.issubdtype(planes.dtype, np.floating):
+        raise ValueError(f"planes must be a float array of shape (C, h, w), got "
+                         f"{getattr(planes, 'dtype', type(planes).__name__)} of shape {np.shape(planes)}")
+    low, high = _check_band(low, high)
+    h, w = planes.shape[1:]
+    big_h, big_w = (h, w) if shape is None else check_shape("shape", shape)
+    if big_h < h or big_w < w:
+        raise ValueError(f"shape must be at least the planes' size {h}x{w} (rows x columns), "
+                         f"got {big_h}x{big_w}")
+    return _band_limit_planes(planes, low, high, (big_h, big_w))
 
 
 def band_limit(image, *, low: float | None = None, high: float | None = None, shape=None) -> np.ndarray:
@@ -370,272 +376,3 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
         shift = (int(rng.integers(0, h)), int(rng.integers(0, w)))
         total += dtype.type(a) * np.roll(part, shift, axis=(0, 1))
     return total
-
-
-# --------------------------------------------------------------------------
-# Analysis
-# --------------------------------------------------------------------------
-
-def periodic_smooth_decomposition(image):
-    """Moisan's periodic-plus-smooth decomposition ``image = p + s``.
-
-    ``s`` is the smooth image (a discrete harmonic function inside) whose
-    Laplacian equals that of the image's jumps across the wrap edges; ``p``
-    is periodic-looking: its step across the wrap edge is like any interior
-    step, and its Fourier transform is free of the cross of leakage that the
-    edges put into the transform of ``image``. ``s`` has zero mean, so ``p``
-    keeps the image's mean.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C)
-
-    Returns
-    -------
-    periodic, smooth : ndarray, float32, each the shape of ``image``
-
-    References
-    ----------
-    L. Moisan, "Periodic plus smooth image decomposition", Journal of
-    Mathematical Imaging and Vision 39(2), 161-179, 2011.
-    """
-    image = check_image("image", image, min_size=2)
-    u = (image[:, :, None] if image.ndim == 2 else image).astype(np.float64)
-    h, w = u.shape[:2]
-    s = _solve_periodic_poisson(_edge_source(u, u[0] - u[-1], u[:, 0] - u[:, -1]))
-    p = u - s
-    if image.ndim == 2:
-        p, s = p[:, :, 0], s[:, :, 0]
-    return p.astype(np.float32), s.astype(np.float32)
-
-
-def _edge_source(u: np.ndarray, row_step: np.ndarray, col_step: np.ndarray) -> np.ndarray:
-    """Boundary source image for steps across the wrap edges.
-
-    ``row_step`` (shape (W, C)) is a step from the last row to the first,
-    ``col_step`` (shape (H, C)) from the last column to the first. The
-    periodic solution of ``Laplacian s = source`` has (about) these steps
-    across the wrap edges and is smooth elsewhere; with the image's own
-    jumps it is Moisan's smooth component.
-    """
-    v = np.zeros(u.shape, dtype=np.float64)
-    v[0] -= row_step
-    v[-1] += row_step
-    v[:, 0] -= col_step
-    v[:, -1] += col_step
-    return v
-
-
-def _solve_periodic_poisson(v: np.ndarray) -> np.ndarray:
-    """Zero-mean periodic ``s`` with the 5-point Laplacian ``v``; (H, W, C) float64."""
-    import scipy.fft as sfft
-
-    h, w = v.shape[:2]
-    vh = sfft.rfft2(v, axes=(0, 1), workers=_workers(v.size))
-    cy = np.cos(2.0 * np.pi * np.arange(h) / h)[:, None]
-    cx = np.cos(2.0 * np.pi * np.arange(w // 2 + 1) / w)[None, :]
-    den = 2.0 * cx + 2.0 * cy - 4.0
-    den[0, 0] = 1.0
-    vh /= den[:, :, None]
-    vh[0, 0] = 0.0
-    return sfft.irfft2(vh, s=(h, w), axes=(0, 1), workers=_workers(v.size))
-
-
-_WINDOWS = ("none", "hann", "periodic")
-
-
-def hann_window(shape) -> np.ndarray:
-    """Separable 2-D Hann window, positive on every pixel.
-
-    Along each axis of ``n`` pixels the weights are
-    ``0.5 - 0.5 cos(2 pi (i + 1) / (n + 1))`` for ``i = 0 .. n - 1``: the
-    ``n + 2``-point Hann window without its two zero end points, so that no
-    pixel is discarded. The 2-D window is the outer product of the two.
-    Multiply an image with its mean removed by it before an FFT, and divide
-    the power by ``mean(window ** 2)`` to keep the estimate unbiased, as
-    :func:`radial_power_spectrum` and :func:`spectex.metrics.band_power` do.
-
-    Parameters
-    ----------
-    shape : int or (int, int)
-        ``(height, width)`` of the window (an int for a square one), each at
-        least 1.
-
-    Returns
-    -------
-    ndarray of float64, shape (height, width)
-        Weights in (0, 1], symmetric about the centre (1 at the centre
-        pixel of an odd size).
-
-    References
-    ----------
-    F. J. Harris, "On the use of windows for harmonic analysis with the
-    discrete Fourier transform", Proc. IEEE 66(1), 1978.
-    """
-    h, w = check_shape("shape", shape)
-    return np.outer(np.hanning(h + 2)[1:-1], np.hanning(w + 2)[1:-1])
-
-
-def radial_power_spectrum(image, *, window: str | None = None):
-    """Radially averaged power spectrum.
-
-    The image's mean is removed, the optional window applied, and the power
-    ``P(k) = |F(k)|^2 / (H W)^2`` (its sum over all frequencies is the
-    variance) divided by the window's mean square, so that the estimate is
-    unbiased for a stationary texture. ``P`` is averaged over rings of
-    radial frequency one frequency step wide, ``1 / min(H, W)`` cycles per
-    pixel, up to the Nyquist frequency of the shorter side.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C)
-        At least 4 x 4. Each channel is analysed separately (pass the luma
-        for one curve of a colour image).
-    window : {None, 'none', 'hann', 'periodic'}
-        ``None``/``'none'``: the image is taken as periodic (right for tiles
-        and synthesised noise). ``'hann'``: :func:`hann_window`, for
-        non-periodic photographs, whose edges otherwise leak a ``1/f^2``
-        cross into the spectrum. ``'periodic'``: the periodic component of
-        :func:`periodic_smooth_decomposition`, which removes the same leak
-        without the window's loss of resolution.
-
-    Returns
-    -------
-    freqs : ndarray, shape (K,)
-        Mean radial frequency of each ring, cycles per pixel, increasing,
-        in (0, 0.5].
-    power : ndarray, shape (K,) or (K, C)
-        Mean power in each ring.
-
-    References
-    ----------
-    F. J. Harris, "On the use of windows for harmonic analysis with the
-    discrete Fourier transform", Proc. IEEE 66(1), 1978; D. J. Field,
-    "Relations between the statistics of natural images and the response
-    properties of cortical cells", JOSA A 4(12), 1987.
-    """
-    import scipy.fft as sfft
-
-    image = check_image("image", image, min_size=4)
-    window = "none" if window is None else check_choice("window", window, _WINDOWS)
-    x = (image[:, :, None] if image.ndim == 2 else image).astype(np.float64)
-    if window == "periodic":
-        x = periodic_smooth_decomposition(x)[0].astype(np.float64)
-        if x.ndim == 2:
-            x = x[:, :, None]
-    h, w = x.shape[:2]
-    x = x - x.mean(axis=(0, 1))
-    msq = 1.0
-    if window == "hann":
-        win = hann_window((h, w))
-        x = x * win[:, :, None]
-        msq = float(np.mean(win ** 2))
-    spec = sfft.rfft2(x, axes=(0, 1), workers=_workers(x.size))
-    p2 = (spec.real ** 2 + spec.imag ** 2) / (float(h * w) ** 2 * msq)
-    f = _radial_frequency(h, w)
-    # Columns 1 .. W/2-1 of the half spectrum stand for two frequencies each.
-    mult = np.full(f.shape[1], 2.0)
-    mult[0] = 1.0
-    if w % 2 == 0:
-        mult[-1] = 1.0
-    n = min(h, w)
-    ring = np.rint(f * n).astype(np.int64)
-    kmax = n // 2
-    sel = (ring >= 1) & (ring <= kmax)
-    idx = ring[sel] - 1
-    wts = np.broadcast_to(mult[None, :], f.shape)[sel]
-    count = np.bincount(idx, weights=wts, minlength=kmax)
-    freqs = np.bincount(idx, weights=wts * f[sel], minlength=kmax)
-    good = count > 0
-    freqs = freqs[good] / count[good]
-    power = np.empty((int(good.sum()), x.shape[2]))
-    for c in range(x.shape[2]):
-        power[:, c] = np.bincount(idx, weights=wts * p2[:, :, c][sel], minlength=kmax)[good] / count[good]
-    return freqs, (power[:, 0] if image.ndim == 2 else power)
-
-
-class SlopeFit(NamedTuple):
-    """Least-squares line through ``log10(power)`` against ``log10(freq)``."""
-
-    slope: float | np.ndarray
-    intercept: float | np.ndarray
-    fmin: float
-    fmax: float
-
-
-_WEIGHTINGS = ("octave", "none")
-
-
-def _log_widths(x: np.ndarray) -> np.ndarray:
-    """Trapezoid weights of sorted points ``x``: the stretch of ``x`` each one stands for."""
-    if x.size < 2:
-        return np.ones_like(x)
-    gaps = np.diff(x)
-    w = np.empty_like(x)
-    w[0], w[-1] = gaps[0] / 2.0, gaps[-1] / 2.0
-    w[1:-1] = (gaps[:-1] + gaps[1:]) / 2.0
-    return w
-
-
-def spectral_slope(freqs, power, *, fmin: float | None = None, fmax: float | None = None,
-                   weighting: str = "octave") -> SlopeFit:
-    """Log-log slope of a power spectrum (``-beta`` for ``1/f^beta`` noise).
-
-    Parameters
-    ----------
-    freqs : array_like, shape (K,)
-        Frequencies, cycles per pixel (from :func:`radial_power_spectrum`).
-    power : array_like, shape (K,) or (K, C)
-    fmin, fmax : float or None
-        The range fitted (inclusive); default: all of it. Rings whose power
-        is zero, or below ``1e-12`` of the channel's largest (what an exact
-        band limit leaves), are left out of the fit.
-    weighting : {'octave', 'none'}
-        ``'octave'`` (the default): each point counts for the stretch of
-        ``log f`` it stands for (trapezoid weights in ``log f``), so every
-        octave of the range counts alike, the least-squares line through the
-        log-log curve as a whole. Rings of :func:`radial_power_spectrum`
-        are evenly spaced in ``f``: the octave from 0.25 to 0.5 holds as many
-        rings as all the octaves below it, and an unweighted fit (``'none'``)
-        follows the highest octave and misses the low frequencies.
-
-    Returns
-    -------
-    SlopeFit
-        ``slope`` and ``intercept`` of ``log10 P = slope log10 f +
-        intercept`` (floats, or arrays of shape (C,) for a (K, C) power), and
-        the range fitted.
-    """
-    freqs = np.asarray(freqs, dtype=np.float64)
-    power = np.asarray(power, dtype=np.float64)
-    if freqs.ndim != 1 or power.shape[:1] != freqs.shape or power.ndim not in (1, 2):
-        raise ValueError(f"freqs must have shape (K,) and power (K,) or (K, C), got {freqs.shape} "
-                         f"and {power.shape}")
-    weighting = check_choice("weighting", weighting, _WEIGHTINGS)
-    lo = float(np.nanmin(freqs)) if fmin is None else check_float("fmin", fmin, minimum=0.0)
-    hi = float(np.nanmax(freqs)) if fmax is None else check_float("fmax", fmax, minimum=0.0)
-    if not hi > lo:
-        raise ValueError(f"fmax must be greater than fmin, got fmin={lo}, fmax={hi}")
-    p2 = power[:, None] if power.ndim == 1 else power
-    slopes, intercepts = [], []
-    for c in range(p2.shape[1]):
-        pc = p2[:, c]
-        top = np.max(pc[np.isfinite(pc)], initial=0.0)
-        use = (freqs >= lo) & (freqs <= hi) & (freqs > 0) & np.isfinite(freqs) & np.isfinite(pc) \
-            & (pc > 1e-12 * top)
-        if use.sum() < 2:
-            raise ValueError(f"fewer than two frequencies with power in the fit range {lo:.4g} to {hi:.4g}")
-        x, y = np.log10(freqs[use]), np.log10(pc[use])
-        order = np.argsort(x, kind="stable")
-        x, y = x[order], y[order]
-        if weighting == "octave" and x[-1] > x[0]:
-            w = _log_widths(x)
-        else:
-            w = np.ones_like(x)
-        # Weighted least squares (np.polyfit weighs the residuals: sqrt of the weights).
-        a, b = np.polyfit(x, y, 1, w=np.sqrt(w))
-        slopes.append(float(a))
-        intercepts.append(float(b))
-    if power.ndim == 1:
-        return SlopeFit(slopes[0], intercepts[0], lo, hi)
-    return SlopeFit(np.array(slopes), np.array(intercepts), lo, hi)

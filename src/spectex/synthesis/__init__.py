@@ -18,7 +18,7 @@ The quality measures live in :mod:`spectex.metrics`.
 
 from ._efros_leung import efros_leung
 from ._histogram import match_histogram, sample_histogram
-from ._markov import MarkovModel, generate_text, markov_text, train_markov
+from ._markov import MAX_TEXT_LENGTH, MarkovModel, generate_text, markov_text, train_markov
 from ._quilting import quilt
 
 __all__ = [
@@ -30,4 +30,5 @@ __all__ = [
     "train_markov",
     "generate_text",
     "markov_text",
+    "MAX_TEXT_LENGTH",
 ]

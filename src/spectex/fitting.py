@@ -1,6 +1,16 @@
 """Fitting a spectral texture to an exemplar photograph.
 
-See :func:`fit` and ``docs/fitting.md``.
+The future work of Berger's sketch (seed 000): "analyze a given image for its
+statistical properties, and use these properties to generate texture tiles
+and mixing parameters for a similar-looking spectral texture".
+
+:func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
+out; :func:`fit_report` for the numbers of a fit (a :class:`FitResult` holds
+both); :func:`prepare_exemplar` for the input conversions (grey, alpha,
+16-bit, crop of huge images); :func:`structure_peak` for whether an exemplar
+is structured. The statistics it matches are those of :mod:`spectex.analysis`.
+
+See ``docs/fitting.md``.
 """
 
 from __future__ import annotations
@@ -10,8 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import check_float, check_image, check_int, check_seed
-from ._stats import cross_scale
+from ._validate import check_float, check_image, check_int, check_seed
+from .analysis import cross_scale
+from .color import luma
 
 __all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
            "STRUCTURED_PEAK", "FIT_TILINGS"]
@@ -20,7 +31,6 @@ __all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak
 MIN_SIZE = 32
 #: Larger exemplars are analysed on a centre crop of this many pixels a side (the pixel scale is kept).
 MAX_ANALYSIS_SIZE = 512
-_GOLDEN = 137.50776405003785
 #: Most power per octave the continuation may gain towards coarser scales (dB per octave).
 MAX_COARSE_SLOPE = -1.5
 #: Far-away bake regions used by the fit, in units of the second coarse layer's size.
@@ -92,7 +102,8 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
 # --------------------------------------------------------------------------
 
 def _luma(rgb: np.ndarray) -> np.ndarray:
-    return rgb[..., :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+    """Rec. 709 luma (:func:`spectex.color.luma`) in float64."""
+    return luma(rgb, dtype=np.float64)
 
 
 def _band_axis(n_rows: int, n_cols: int) -> np.ndarray:
@@ -165,7 +176,7 @@ def structure_peak(exemplar) -> float:
     to 0.06 whole and 0.05 to 0.11 as 128 x 128 corners (a small picture's
     noise floor is higher: about ``sqrt(2 ln N / N)``, 0.03 for N = 128^2).
     """
-    from ..metrics import repeat_peak
+    from .metrics import repeat_peak
 
     h, w = exemplar.shape[:2]
     peak = repeat_peak(exemplar, min_lag=min(24, min(h, w) // 2))
@@ -173,7 +184,7 @@ def structure_peak(exemplar) -> float:
 
 
 def _with_tilings(layer_list, tilings, patch):
-    from ..texture import Layer
+    from .texture import Layer
 
     return [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation, opacity=lay.opacity, tiling=t,
                   patch=patch, seed=k if t == "stochastic" else 0)
@@ -181,17 +192,14 @@ def _with_tilings(layer_list, tilings, patch):
 
 
 def _layers(n_layers: int, ratio: float, tile_px: int, pixel_size: float, opacity: float):
-    from ..texture import Layer
+    from .texture import Layer, layer_placement
 
     finest = tile_px * pixel_size
     out = []
     for k in range(n_layers):
         size = finest * ratio ** k
-        if k == 0:
-            out.append(Layer(size=size))
-        else:
-            out.append(Layer(size=size, offset=(round((0.382 * k % 1.0) * size, 9), round((0.618 * k % 1.0) * size, 9)),
-                             rotation=round((_GOLDEN * k) % 360.0, 6), opacity=opacity))
+        offset, rotation = layer_placement(k, size, decimals=9)
+        out.append(Layer(size=size, offset=offset, rotation=rotation, opacity=1.0 if k == 0 else opacity))
     return out
 
 
@@ -212,7 +220,7 @@ class _Problem:
 
     def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, segment, n_regions=3,
                  continuation=None):
-        from ..metrics import band_power
+        from .metrics import band_power
 
         self.exemplar = exemplar
         self.p = pixel_size
@@ -258,7 +266,7 @@ class _Problem:
                                          for fx, fy in _FAR[:n_regions - 1]]
 
     def texture(self, colour, alpha):
-        from ..texture import SpectralTexture
+        from .texture import SpectralTexture
 
         rgba = np.empty(colour.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(colour, 0.0, 1.0)
@@ -281,7 +289,7 @@ class _Problem:
         return bakes[:len(self.origins)]
 
     def band_error(self, bakes):
-        from ..metrics import band_power
+        from .metrics import band_power
 
         fine = self.fine_bakes(bakes)
         power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in fine], axis=0)
@@ -478,7 +486,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     """
     import time
 
-    from ..tiles import make_seamless
+    from .tiles import make_seamless
 
     start = time.perf_counter()
     pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
@@ -487,8 +495,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
     seed = check_seed("seed", seed)
-    from .._validate import check_choice
-    from ..shading.constants import DEFAULT_PATCH
+    from ._validate import check_choice
+    from .shading.constants import DEFAULT_PATCH
 
     tiling = check_choice("tiling", tiling, FIT_TILINGS)
     patch = DEFAULT_PATCH if patch is None else check_float("patch", patch, minimum=0.0, exclusive_minimum=True,
@@ -521,18 +529,18 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         tile0 = make_seamless(exemplar, size=(n, n))[:, :, :3].astype(np.float64)
         tile_method = "seamless crop"
     else:
-        from ..synthesis import quilt
+        from .synthesis import quilt
 
         block = int(np.clip(min(h, w) // 4, 16, 64))
         tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=seed).astype(np.float64)
         tile_method = f"tileable quilt (block {block})"
     tick()
     region = (min(h, 256), min(w, 256))
-    from ..metrics import band_power
+    from .metrics import band_power
 
     slope = min(MAX_COARSE_SLOPE, _coarse_slope(band_power(exemplar, segment=region)[1]))
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
-    from ..texture import Layer
+    from .texture import Layer
 
     base = _layers(layers, ratio, n, pixel_size, 1.0)
     layer_list = [base[0]] + [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation,
@@ -627,7 +635,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         :func:`spectex.analysis.cross_scale`), ``amplitude_exemplar`` and
         ``amplitude_texture`` (its ``amplitude``), ``bake_shape``.
     """
-    from ..metrics import band_power, band_power_distance, histogram_w1
+    from .metrics import band_power, band_power_distance, histogram_w1
 
     exemplar, _ = prepare_exemplar(image)
     scale = check_int("scale", scale, minimum=1, maximum=8)
