@@ -70,14 +70,14 @@ def lut_planar(texture) -> np.ndarray:
 def table_info(texture) -> dict | None:
     """What the shader takes about the table texture as a whole (``None`` without stochastic layers):
     ``lut_rows`` (its rows per channel, ``u_lut_rows``), ``lut_q`` (the last mip level, ``u_lut_q``),
-    ``lut_size``, ``levels`` (mip levels per tile)."""
+    ``lut_size``, ``level_shapes`` (height, width of each mip level, as in the raw files)."""
     if not any(getattr(layer, "tiling", "periodic") == "stochastic" for layer in texture.layers):
         return None
     from spectex.shading.constants import LUT_SIZE
 
     _, lut, _ = texture.stochastic_store()
-    levels = len(texture.mip_levels()[0])
-    return {"lut_rows": int(lut.shape[0]), "lut_q": levels - 1, "lut_size": LUT_SIZE, "levels": levels}
+    shapes = [[int(v) for v in level.shape[:2]] for level in texture.stochastic_tables()[0].gaussian]
+    return {"lut_rows": int(lut.shape[0]), "lut_q": len(shapes) - 1, "lut_size": LUT_SIZE, "level_shapes": shapes}
 
 
 def layer_entries(texture) -> list[dict]:
