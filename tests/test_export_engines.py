@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+from dataclasses import replace
 import subprocess
 import sys
 from pathlib import Path
@@ -38,10 +39,14 @@ def textures():
     layers = [Layer(size=5.0, tile=1, rotation=20.0),
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
               Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
-    return {"paper": paper, "mixed": SpectralTexture([a, b], layers)}
+    stochastic = SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic")
+    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5), layers[1],
+                                                replace(layers[2], tiling="stochastic", seed=8)])
+    return {"paper": paper, "mixed": SpectralTexture([a, b], layers), "stochastic": stochastic,
+            "mixed_stochastic": mixed_stochastic}
 
 
-@pytest.fixture(scope="module", params=["paper", "mixed"])
+@pytest.fixture(scope="module", params=["paper", "mixed", "stochastic", "mixed_stochastic"])
 def exported(request, tmp_path_factory):
     texture = textures()[request.param]
     return texture, export(texture, tmp_path_factory.mktemp("engines") / "out", formats="godot,hlsl").folder
@@ -166,8 +171,14 @@ def test_godot_holds_the_library_text_tiles_and_script(exported):
         line = next(x for x in shader.split("\n") if x.startswith(f"uniform sampler2D spectex_tile{i} "))
         assert "repeat_enable" in line and "filter_linear_mipmap" in line
         assert "source_color" not in line  # the tile is data (docs/export.md)
-    assert shader.count("spectex_layer(SPX_BLEND_") == len(texture.layers)
+    stochastic = sum(layer.tiling == "stochastic" for layer in texture.layers)
+    assert shader.count("spectex_layer(SPX_BLEND_") == len(texture.layers) - stochastic
+    assert shader.count("spectex_layer_stochastic(SPX_BLEND_") == stochastic
     script = (folder / "godot" / "spectex_ground.gd").read_text()
+    if stochastic:  # the script loads the tables the export wrote beside it
+        for name in ("gauss.rgba16f" if len(texture.tiles) == 1 else "gauss0.rgba16f", "spectex_lut.r16f"):
+            assert f'"{name}"' in script and (folder / "godot" / name).is_file()
+        assert "Image.FORMAT_RGBAH" in script and "spectex_gbase" in script and "spectex_ganchor" in script
     assert script.startswith("@tool\nextends MeshInstance3D\n")
     assert script.count("\t[") == len(texture.layers)
     assert "fposmod" in script and "spectex_anchor" in script
@@ -198,8 +209,44 @@ ENCODE_SRGB = ("vec3 a = clamp(ALBEDO, 0.0, 1.0);\n    spectex_out = vec4(mix(1.
                "12.92 * a, vec3(lessThanEqual(a, vec3(0.0031308)))), 1.0);")
 
 
-def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *, setup=None, flip_rows=False):
-    """Draw ``quad`` (4 world points, a triangle strip) with the shaders; RGBA uint8, row 0 at the top."""
+def upload_tables(gl, texture, folder, *, flip_rows=False):
+    """The stochastic tables from an export's raw files alone, as the READMEs say: per tile its
+    Gaussianised levels on units n .. 2n - 1, the look-up table on unit 2n."""
+    import moderngl
+    import numpy as np
+
+    from spectex.export._stochastic import LUT_FILE, gauss_name, read_raw
+
+    n = len(texture.tiles)
+    shapes = [lv.shape[:2] for lv in texture.mip_levels()[0]]
+    out = []
+    for i in range(n):
+        levels = read_raw(folder / gauss_name(texture, i), shapes, 4)
+        levels = [lv[::-1] for lv in levels] if flip_rows else levels  # as loaded by an engine with v = 0 at the bottom
+        tex = gl.texture(shapes[0][::-1], 4, np.ascontiguousarray(levels[0].astype("f2")).tobytes(), dtype="f2",
+                         alignment=1)
+        tex.build_mipmaps(0, len(levels) - 1)
+        for d, level in enumerate(levels[1:], start=1):
+            tex.write(np.ascontiguousarray(level.astype("f2")).tobytes(), level=d, alignment=1)
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        tex.repeat_x = tex.repeat_y = True
+        tex.use(location=n + i)
+        out.append(tex)
+    size = (folder / LUT_FILE).stat().st_size // 2 // 1024
+    lut = read_raw(folder / LUT_FILE, [(size, 1024)], 1)[0]
+    lut = lut[::-1] if flip_rows else lut
+    tex = gl.texture((1024, size), 1, np.ascontiguousarray(lut.astype("f2")).tobytes(), dtype="f2", alignment=1)
+    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    tex.repeat_x = tex.repeat_y = False
+    tex.use(location=2 * n)
+    out.append(tex)
+    return out
+
+
+def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *, setup=None, flip_rows=False,
+                tables=None):
+    """Draw ``quad`` (4 world points, a triangle strip) with the shaders; RGBA uint8, row 0 at the top.
+    ``tables``: the export's folder, whose stochastic tables to upload."""
     import moderngl
     import numpy as np
 
@@ -219,6 +266,8 @@ def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *
         tex.repeat_x = tex.repeat_y = True
         tex.use(location=unit)
         textures.append(tex)
+    if tables is not None and texture_is_stochastic(texture):
+        textures += upload_tables(gl, texture, tables, flip_rows=flip_rows)
     program["u_view_proj"].write(_view_projection(camera, h, w, np.array(world_to_spectex)).T.astype("f4").tobytes())
     if setup is not None:
         setup(program)
@@ -236,6 +285,10 @@ def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *
         park_framebuffer(gl)
         for obj in (vao, vbo, fbo, rb, program, *textures):
             obj.release()
+
+
+def texture_is_stochastic(texture) -> bool:
+    return any(layer.tiling == "stochastic" for layer in texture.layers)
 
 
 def ground_psnr(texture, camera, rgba) -> float:
@@ -263,14 +316,41 @@ VIEWS = [
 @pytest.mark.parametrize("camera_args, anchored", VIEWS)
 def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
     """The exported .gdshader, translated to GLSL, on a ground mesh seen by spectex's camera,
-    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends.
-    (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
+    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends, periodic
+    and stochastic layers. (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
     from spectex.render import Camera
 
     texture, folder = exported
     position, yaw, pitch = camera_args
     camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    rgba = draw_godot(gl, texture, folder, camera, anchored)
+    # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
+    assert ground_psnr(texture, camera, rgba) >= 45.0
+
+
+@pytest.mark.gl
+def test_godot_stochastic_controls_fail(gl, tmp_path):
+    """Controls: the stochastic Godot shader with other hash keys, or anchored without the grid
+    vertex (the script's spectex_gbase left at zero), is far from spectex's picture."""
+    from spectex.render import Camera
+
+    texture = textures()["mixed_stochastic"]
+    folder = export(texture, tmp_path / "out", formats="godot").folder
+    camera = Camera(VIEWS[2][0][0], yaw=VIEWS[2][0][1], pitch=VIEWS[2][0][2], fov=50.0)
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True)) >= 45.0
     text = (folder / "godot" / "spectex_ground.gdshader").read_text()
+    line = next(x for x in text.split("\n") if x.startswith("const uint SPECTEX_KEY["))
+    wrong_keys = text.replace(line, re.sub(r"(\d+)u", lambda m: f"{(int(m.group(1)) + 1) % 2 ** 32}u", line))
+    assert wrong_keys != text
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True, text=wrong_keys)) < 30.0
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True, gbase=False)) < 30.0
+
+
+def draw_godot(gl, texture, folder, camera, anchored, *, text=None, gbase=True):
+    """The exported .gdshader (or ``text``), translated to GLSL, drawn on a ground mesh with what
+    spectex_ground.gd would set (``gbase=False``: the grid vertices left at zero)."""
+    if text is None:
+        text = (folder / "godot" / "spectex_ground.gdshader").read_text()
     vert = godot_to_glsl(text, "vert").replace(
         "#version 450\n", "#version 450\nuniform mat4 u_view_proj;\n").rstrip()[:-1] + (
         "    gl_Position = u_view_proj * vec4(spectex_world, 1.0);\n}\n")
@@ -279,23 +359,39 @@ def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
     def setup(program):
         import numpy as np
 
-        for unit in range(len(texture.tiles)):
-            program[f"spectex_tile{unit}"].value = unit
+        n = len(texture.tiles)
+        for unit in range(n):
+            set_if_used(program, f"spectex_tile{unit}", unit)
+            set_if_used(program, f"spectex_gauss{unit}", n + unit)
+        set_if_used(program, "spectex_lut_texture", 2 * n)
         program["MODEL_MATRIX"].write(np.eye(4, dtype="f4").tobytes())
         if anchored:  # what spectex_ground.gd sets: a point near the camera, snapped, and its anchors
             x0, y0, _ = camera.position
             ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
+            coords = texture.anchor_coords(ax, ay)
             program["spectex_anchored"].value = True
             program["spectex_anchor_point"].value = (ax, ay)
-            anchors = [tuple(a[:2]) for a in texture.anchor_coords(ax, ay)]
-            program["spectex_anchor"].value = anchors if len(anchors) > 1 else anchors[0]
+            set_if_used(program, "spectex_anchor", [tuple(a[:2]) for a in coords])
+            set_if_used(program, "spectex_ganchor", [tuple(a[2:4]) for a in coords])
+            if gbase:  # the script's PackedInt32Array: the grid vertex's bits as int32
+                set_if_used(program, "spectex_gbase", [tuple(int(v) - 2 ** 32 if v >= 2 ** 31 else int(v)
+                                                             for v in a[4:]) for a in coords])
 
     x0, y0, _ = camera.position
     r = 4000.0
     quad = [[x0 - r, 0, -(y0 - r)], [x0 + r, 0, -(y0 - r)], [x0 - r, 0, -(y0 + r)], [x0 + r, 0, -(y0 + r)]]
-    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GODOT_TO_SPECTEX, setup=setup)
-    # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
-    assert ground_psnr(texture, camera, rgba) >= 45.0
+    return draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GODOT_TO_SPECTEX, setup=setup,
+                       tables=folder / "godot")
+
+
+def set_if_used(program, name, value):
+    """Set a uniform the compiler kept (arrays cut to the length it kept)."""
+    if name not in program:
+        return
+    if isinstance(value, list):
+        value = value[:program[name].array_length]
+        value = value[0] if len(value) == 1 else value
+    program[name].value = value
 
 
 def hlsl_to_glsl(text: str) -> str:
@@ -363,12 +459,3 @@ void main() {
     rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GROUND_TO_SPECTEX, setup=setup,
                        flip_rows=flip)
     assert ground_psnr(texture, camera, rgba) >= 45.0
-
-
-@pytest.mark.parametrize("fmt", ["web", "glsl", "godot", "hlsl"])
-def test_non_periodic_layers_are_refused_not_drawn_wrong(tmp_path, fmt):
-    texture = textures()["paper"]
-    object.__setattr__(texture.layers[1], "tiling", "stochastic")  # as issue 12's layers will carry it
-    with pytest.raises(ValueError, match=r"layers\[1\]: tiling 'stochastic' is not in the"):
-        export(texture, tmp_path / "out", formats=fmt)
-    assert not list(tmp_path.iterdir())

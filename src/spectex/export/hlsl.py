@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._shader import layer_library, require_periodic
+from ._shader import layer_library
 
 __all__ = ["write_hlsl", "hlsl_include", "ENTRY_POINT"]
 
@@ -187,7 +187,7 @@ def write_hlsl(texture, folder: Path) -> list[Path]:
     """Write ``folder/hlsl/``; return the files written."""
     from ._tiles import write_tiles
 
-    require_periodic(texture, "hlsl")
+
     out = Path(folder) / "hlsl"
     out.mkdir()
     tiles = write_tiles(texture, out)
