@@ -59,9 +59,9 @@ def library_body() -> str:
 
 # ------------------------------------------------------------------------------------ HLSL
 def compile_hlsl(tool, include: Path, texture, tmp_path: Path, *defines: str):
-    n_tiles = len(texture.tiles)
-    decls = "\n".join(f"Texture2D Tile{i};\nSamplerState Tile{i}Sampler;" for i in range(n_tiles))
-    args = ", ".join(f"Tile{i}, Tile{i}Sampler" for i in range(n_tiles))
+    names = hlsl_texture_names(texture)
+    decls = "\n".join(f"Texture2D {name};\nSamplerState {name}Sampler;" for name in names)
+    args = ", ".join(f"{name}, {name}Sampler" for name in names)
     wrapper = tmp_path / "wrapper.hlsl"
     wrapper.write_text(f"""#include "{include.name}"
 {decls}
@@ -76,7 +76,17 @@ float4 spectex_test_main(float4 position : SV_Position, float2 ground : TEXCOORD
                           capture_output=True, text=True)
 
 
-@pytest.mark.parametrize("defines", [(), ("UNITY_VERSION=202230",), ("SPECTEX_FLIP_V=1", "SPECTEX_MAX_ANISOTROPY=1.0")])
+def hlsl_texture_names(texture) -> list[str]:
+    """The entry point's texture inputs: the tiles, and for stochastic layers their tables."""
+    n = len(texture.tiles)
+    names = [f"Tile{i}" for i in range(n)]
+    if texture_is_stochastic(texture):
+        names += [f"Gauss{i}" for i in range(n)] + ["Lut"]
+    return names
+
+
+@pytest.mark.parametrize("defines", [(), ("UNITY_VERSION=202230",), ("SPECTEX_FLIP_V=1", "SPECTEX_MAX_ANISOTROPY=1.0"),
+                                     ("SPECTEX_ANCHORED",)])
 def test_hlsl_include_compiles_with_glslang(exported, tmp_path, defines):
     tool = glslang()
     texture, folder = exported
@@ -101,10 +111,12 @@ def test_hlsl_holds_the_library_text_and_unity_names(exported):
     text = (folder / "hlsl" / "spectex_ground.hlsl").read_text()
     assert library_body() in text
     assert f"void {ENTRY_POINT}(float2 Ground, Texture2D Tile0, SamplerState Tile0Sampler" in text
-    assert text.count("spectex_layer(SPX_BLEND_") == len(texture.layers)
+    stochastic = sum(layer.tiling == "stochastic" for layer in texture.layers)
+    assert text.count("spectex_layer(SPX_BLEND_") == len(texture.layers) - stochastic
+    assert text.count("spectex_layer_stochastic(SPX_BLEND_") == stochastic
     # nothing leaks into the including shader
-    tail = text[text.rindex("spectex_layer(SPX_BLEND_"):]
-    for name in ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD"):
+    tail = text[text.rindex("(SPX_BLEND_"):]
+    for name in ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD", "SPX_UINT"):
         assert f"#undef {name}\n" in tail
     for name in (p.name for p in (folder / "hlsl").glob("*.png")):
         assert name in (folder / "hlsl" / "README.md").read_text()
@@ -401,8 +413,9 @@ def hlsl_to_glsl(text: str) -> str:
     assert _PRELUDE in text
     glsl_prelude = """#define SPX_TEX_ARG(name) sampler2D name
 #define SPX_TEX(name) name
+#define SPX_UINT uint
 #if SPECTEX_FLIP_V
-#define SPX_LOD(name, uv, lod) textureLod(name, vec2(1.0, -1.0) * (uv), lod)
+#define SPX_LOD(name, uv, lod) textureLod(name, vec2(1.0, -1.0) * (uv) + vec2(0.0, 1.0), lod)
 #else
 #define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
 #endif
@@ -410,7 +423,9 @@ def hlsl_to_glsl(text: str) -> str:
     text = text.replace(_PRELUDE, glsl_prelude)
     text = re.sub(r"Texture2D (\w+), SamplerState \w+Sampler", r"sampler2D \1", text)
     text = text.replace("static const ", "const ")
-    head = ("#version 450\n#define float2 vec2\n#define float3 vec3\n#define float4 vec4\n#define ddx dFdx\n"
+    text = re.sub(r"^float4 (Spectex\w+\[)", r"uniform float4 \1", text, flags=re.M)
+    head = ("#version 450\n#define float2 vec2\n#define float3 vec3\n#define float4 vec4\n#define uint2 uvec2\n"
+            "#define ddx dFdx\n"
             "#define ddy dFdy\n#define lerp mix\n#define saturate(x) clamp(x, 0.0, 1.0)\n")
     return head + text
 
@@ -419,23 +434,52 @@ def hlsl_to_glsl(text: str) -> str:
 @pytest.mark.parametrize("camera_args, flip", [(VIEWS[0][0], False), (VIEWS[1][0], True), (VIEWS[2][0], False)])
 def test_hlsl_entry_point_draws_spectex_ground(exported, gl, camera_args, flip):
     """The exported HLSL include's entry point, its HLSL names mapped to GLSL, on a ground mesh:
-    matches the CPU renderer (measured 53-58 dB). ``flip``: Unity's convention (SPECTEX_FLIP_V,
-    the tile uploaded bottom row first). (Control, run by hand: the rows in the other order
-    than the flip expects, 7-23 dB.)"""
+    matches the CPU renderer (measured 53-58 dB), periodic and stochastic layers. ``flip``:
+    Unity's convention (SPECTEX_FLIP_V, the tile and tables uploaded bottom row first).
+    (Control, run by hand: the rows in the other order than the flip expects, 7-23 dB.)"""
     from spectex.render import Camera
 
     texture, folder = exported
     position, yaw, pitch = camera_args
     camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    rgba = draw_hlsl(gl, texture, folder, camera, flip)
+    assert ground_psnr(texture, camera, rgba) >= 45.0
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("flip", [False, True])
+def test_hlsl_anchored_holds_far_from_the_origin(gl, tmp_path, flip):
+    """SPECTEX_ANCHORED, 3000 km out: the host's anchors (the README's formula, float64) and a
+    ground point relative to the anchor point draw spectex's picture; controls: the grid vertex
+    left at zero, or no anchors at all (the origin's constants, the ground point absolute in
+    float32), are far from it."""
+    from spectex.render import Camera
+
+    texture = textures()["mixed_stochastic"]
+    folder = export(texture, tmp_path / "out", formats="hlsl").folder
+    camera = Camera((3.0e6, -2.0e6, 20.0), yaw=40.0, pitch=-40.0, fov=50.0)
+    assert ground_psnr(texture, camera, draw_hlsl(gl, texture, folder, camera, flip, anchored=True)) >= 45.0
+    wrong = draw_hlsl(gl, texture, folder, camera, flip, anchored=True, gbase=False)
+    assert ground_psnr(texture, camera, wrong) < 30.0
+    assert ground_psnr(texture, camera, draw_hlsl(gl, texture, folder, camera, flip)) < 30.0
+
+
+def draw_hlsl(gl, texture, folder, camera, flip, *, anchored=False, gbase=True):
+    """The exported include's entry point (GLSL names for its HLSL ones) on a ground mesh. With
+    ``anchored``, SPECTEX_ANCHORED: the mesh's points relative to an anchor point near the camera,
+    SpectexAnchor and SpectexGridBase as the README says (``gbase=False``: the vertex left at 0)."""
+    import numpy as np
+
     include = hlsl_to_glsl((folder / "hlsl" / "spectex_ground.hlsl").read_text())
-    include = include.replace("#version 450\n", f"#version 450\n#define SPECTEX_FLIP_V {int(flip)}\n")
-    tiles = ", ".join(f"Tile{i}" for i in range(len(texture.tiles)))
-    samplers = "".join(f"uniform sampler2D Tile{i};\n" for i in range(len(texture.tiles)))
+    head = f"#version 450\n#define SPECTEX_FLIP_V {int(flip)}\n" + ("#define SPECTEX_ANCHORED\n" if anchored else "")
+    include = include.replace("#version 450\n", head)
+    names = hlsl_texture_names(texture)
+    samplers = "".join(f"uniform sampler2D {name};\n" for name in names)
     frag = include + samplers + f"""in vec2 v_ground;
 out vec4 spectex_out;
 void main() {{
     vec3 c, lin;
-    SpectexGround_float(v_ground, {tiles}, c, lin);
+    SpectexGround_float(v_ground, {', '.join(names)}, c, lin);
     spectex_out = vec4(c, 1.0);
 }}
 """
@@ -448,14 +492,24 @@ void main() {
     gl_Position = u_view_proj * vec4(VERTEX, 0.0, 1.0);
 }
 """
+    x0, y0, _ = camera.position
+    ax, ay = (round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0) if anchored else (0.0, 0.0)
 
     def setup(program):
-        for unit in range(len(texture.tiles)):
-            program[f"Tile{unit}"].value = unit
+        for unit, name in enumerate(names):
+            set_if_used(program, name, unit)
+        if anchored:
+            coords = texture.anchor_coords(ax, ay)
+            set_if_used(program, "SpectexAnchor", [tuple(a[:4]) for a in coords])
+            halves = [(a[4] // 65536, a[4] % 65536, a[5] // 65536, a[5] % 65536) if gbase else (0.0,) * 4
+                      for a in coords]
+            set_if_used(program, "SpectexGridBase", halves)
 
-    x0, y0, _ = camera.position
     r = 4000.0
-    quad = [[x0 - r, y0 - r], [x0 + r, y0 - r], [x0 - r, y0 + r], [x0 + r, y0 + r]]
-    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GROUND_TO_SPECTEX, setup=setup,
-                       flip_rows=flip)
-    assert ground_psnr(texture, camera, rgba) >= 45.0
+    # the mesh's points relative to the anchor point; the view-projection moves them back (float64 here)
+    quad = [[x0 - ax - r, y0 - ay - r], [x0 - ax + r, y0 - ay - r], [x0 - ax - r, y0 - ay + r],
+            [x0 - ax + r, y0 - ay + r]]
+    to_spectex = np.array(GROUND_TO_SPECTEX)
+    to_spectex[:2, 3] = (ax, ay)
+    return draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, to_spectex, setup=setup, flip_rows=flip,
+                       tables=folder / "hlsl")
