@@ -370,6 +370,25 @@ derivatives; world positions are 32-bit floats in a standard Godot build, so
 far from the origin the ground point itself loses precision (the anchors keep
 the texture coordinates small; use a double-precision build or move the world
 origin for very large worlds).
+""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")
+
+
+def _stochastic_readme(texture) -> str:
+    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles)))
+    return f"""
+## Stochastic layers
+
+The stochastic layers (spectex's histogram-preserving tiling: they never
+repeat) sample no tile but two textures made from it: {gauss} (per tile its
+Gaussianised levels) and `{LUT_FILE}` (the look-up tables), raw little-endian
+half floats, lossless. `spectex_ground.gd` loads them itself
+(`Image.create_from_data` with `FORMAT_RGBAH` and every mip level spectex
+made, `FORMAT_RH` for the table) and sets `spectex_gauss*` and
+`spectex_lut_texture`: leave those parameters empty. Godot does not import
+these files: in *Project > Export > Resources*, add `*.rgba16f, *.r16f` to
+*Filters to export non-resource files*. The script also sets each stochastic
+layer's grid position (`spectex_ganchor`, `spectex_gbase`) in float64; without
+it the shader uses the origin's.
 """
 
 

@@ -221,7 +221,10 @@ def _stochastic_constants(texture, anchors) -> list[str]:
 
 def _readme(texture, tile_names) -> str:
     tiles = ", ".join(f"`{n}`" for n in tile_names)
-    call = ", ".join(f"Tile{i}, Tile{i}Sampler" for i in range(len(tile_names)))
+    inputs = [f"Tile{i}" for i in range(len(tile_names))]
+    if has_stochastic(texture):
+        inputs += [f"Gauss{i}" for i in range(len(tile_names))] + ["Lut"]
+    call = ", ".join(f"{name}, {name}Sampler" for name in inputs)
     ports = ", ".join(f"`Tile{i}` (Bare Texture2D), `Tile{i}Sampler` (SamplerState)" for i in range(len(tile_names)))
     return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
 
@@ -269,8 +272,55 @@ filter.
 What matches spectex: the layer arithmetic (the same library text),
 addressing, level of detail and blend. What differs: the engine generates
 the mip levels; the footprint comes from `ddx`/`ddy` (per 2 x 2 pixel quad);
-the ground point is a 32-bit float, so the texture is exact near the origin
-and loses precision thousands of kilometres away (move the world origin).
+the ground point is a 32-bit float, so by default the texture is exact near
+the origin and loses precision thousands of kilometres away; see *Far from the
+origin* below.
+
+## Far from the origin: `SPECTEX_ANCHORED`
+
+Define `SPECTEX_ANCHORED` before the include and pass `Ground` relative to an
+anchor point `a` near the camera (e.g. snapped to 256 m, so it moves rarely;
+the world position minus `a`, with `a` subtracted in double precision on the
+CPU or in camera-relative rendering). Set, per frame and per layer `k`, the
+global arrays (Unity: `Shader.SetGlobalVectorArray`), computed in float64:
+
+* `(s, t) = M_k (a - offset_k)` (`M_k`: the layer's 2 x 2 matrix, from
+  `spectex_ground.hlsl`'s `SPECTEX_MAT[k]` or `spectex export --format glsl`'s
+  table; `offset_k` its offset);
+* `SpectexAnchor[k] = (s mod 2, t mod 2, kx - floor(kx), ky - floor(ky))`, with
+  `(kx, ky) = G_k (s, t)` for a stochastic layer (`G_k`: `SPECTEX_GRID[k]`,
+  applied to the *unreduced* `s, t`), zeros in z, w otherwise;
+* `SpectexGridBase[k] = (bx >> 16, bx & 65535, by >> 16, by & 65535)` with
+  `bx = floor(kx) mod 2^32`, `by = floor(ky) mod 2^32`: the grid vertex, whose
+  hash picks the patches, as 16-bit halves (whole numbers: exact in a float).
+""" + (_stochastic_readme(texture, tile_names) if has_stochastic(texture) else "")
+
+
+def _stochastic_readme(texture, tile_names) -> str:
+    from ._stochastic import LUT_FILE, gauss_name
+
+    info = table_info(texture)
+    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(tile_names)))
+    shapes = ", ".join(f"{w} x {h}" for h, w in info["level_shapes"])
+    return f"""
+## Stochastic layers
+
+The stochastic layers (spectex's histogram-preserving tiling: they never
+repeat) sample no tile but two textures made from it, shipped losslessly as
+raw little-endian IEEE half floats, rows top first:
+
+* {gauss}: per tile `i`, input `Gauss{{i}}`: RGBA half floats, mip levels
+  {shapes} one after the other; wrap *Repeat*, trilinear;
+* `{LUT_FILE}`: input `Lut`: one channel of half floats,
+  {info['lut_size']} x {4 * info['lut_rows']}, no mip-maps; *Point* filtering,
+  *Clamp*.
+
+Unity: `new Texture2D(w, h, TextureFormat.RGBAHalf, mipCount, true)` (linear),
+`LoadRawTextureData(bytes)`, `Apply(false)`; `TextureFormat.RHalf` without
+mip-maps for the table; Unity's v = 0 is the bottom row, so reverse each
+level's rows when loading (the include flips v under Unity). Unreal: create
+the textures from the raw data in an editor script (`PF_FloatRGBA`, `PF_R16F`),
+or convert them to EXR half-float images with any tool that keeps halves.
 """
 
 
