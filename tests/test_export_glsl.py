@@ -99,6 +99,27 @@ def test_mip_pngs_are_the_levels_spectex_samples(exported):
         np.testing.assert_array_equal(read_image(folder / f"{name}.png"), levels[0])
 
 
+def test_stochastic_table_files_are_the_renderers_arrays(exported):
+    """The raw half-float files hold, bit for bit, the Gaussianised levels and the table texture
+    render.gl uploads (and nothing is written for a texture without stochastic layers)."""
+    from spectex.export._stochastic import read_raw
+
+    texture, folder = exported
+    table = json.loads((folder / "spectex_texture.json").read_text())
+    if not any(layer.tiling == "stochastic" for layer in texture.layers):
+        assert table["stochastic"] is None and not list(folder.glob("*16f"))
+        return
+    names = ["gauss.rgba16f"] if len(texture.tiles) == 1 else [f"gauss{i}.rgba16f" for i in range(len(texture.tiles))]
+    for name, tables in zip(names, texture.stochastic_tables()):
+        levels = read_raw(folder / name, [lv.shape[:2] for lv in tables.gaussian], 4)
+        for got, want in zip(levels, tables.gaussian):
+            np.testing.assert_array_equal(got, want)
+    _, lut, _ = texture.stochastic_store()
+    planar = read_raw(folder / "spectex_lut.r16f", [(4 * lut.shape[0], lut.shape[1])], 1)[0][:, :, 0]
+    np.testing.assert_array_equal(planar, np.concatenate([lut[:, :, c] for c in range(4)]))
+    assert table["stochastic"]["level_shapes"] == [list(lv.shape[:2]) for lv in texture.stochastic_tables()[0].gaussian]
+
+
 def frame_uniforms(table, camera: Camera, h: int, w: int) -> dict:
     """The README's per-frame uniforms, from the exported table (as spectex_uniforms.js computes them)."""
     x, y, z = camera.position
