@@ -50,7 +50,8 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["OutputFolder", "OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "check_interrupted", "note_input",
+__all__ = ["OutputFolder", "OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "check_interrupted",
+           "note_input",
            "plan_output", "same_file", "session", "write_text"]
 
 #: Prefix and marker of every temporary name this module makes (tests look for them).

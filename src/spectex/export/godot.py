@@ -146,8 +146,8 @@ def godot_shader(texture, tile_names) -> str:
                 f"SPX_TEX(spectex_lut_texture), {anchor},",
                 f"        (spectex_anchored ? spectex_ganchor[{k}] : SPECTEX_ORIGIN_GANCHOR[{k}]),",
                 f"        (spectex_anchored ? uvec2(spectex_gbase[{k}]) : SPECTEX_ORIGIN_GBASE[{k}]),",
-                f"        SPECTEX_MAT[{k}], SPECTEX_GRID[{k}], SPECTEX_KEY[{k}], SPECTEX_LUT_ROW[{k}], SPECTEX_B0[{k}], "
-                f"SPECTEX_B1[{k}], SPECTEX_B2[{k}],",
+                f"        SPECTEX_MAT[{k}], SPECTEX_GRID[{k}], SPECTEX_KEY[{k}], SPECTEX_LUT_ROW[{k}],",
+                f"        SPECTEX_B0[{k}], SPECTEX_B1[{k}], SPECTEX_B2[{k}],",
                 f"        SPECTEX_ORIGIN_RGB[{k}], SPECTEX_OPACITY[{k}], SPECTEX_MEAN[{k}], c, p, jx, jy);"]
             continue
         lines.append(f"    spectex_layer({_blend_name(k, layer.blend)}, SPX_TEX(spectex_tile{layer.tile}), {anchor},")

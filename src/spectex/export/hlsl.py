@@ -62,8 +62,8 @@ _PRELUDE = """// HLSL for the GLSL-subset layer library: vector types, textures 
 #endif
 """
 
-_UNDEF = ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD", "SPX_UINT", "SPECTEX_ST_ANCHOR", "SPECTEX_G_ANCHOR",
-          "SPECTEX_G_BASE")
+_UNDEF = ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD", "SPX_UINT", "SPECTEX_ST_ANCHOR",
+          "SPECTEX_G_ANCHOR", "SPECTEX_G_BASE")
 
 
 def _f(value: float) -> str:
@@ -153,8 +153,8 @@ def hlsl_include(texture, tile_names) -> str:
     for k, layer in enumerate(texture.layers):
         blend = "SPX_BLEND_FIRST" if k == 0 else f"SPX_BLEND_{layer.blend.upper()}"
         if layer.tiling == "stochastic":
-            lines.append(f"    spectex_layer_stochastic({blend}, SPX_TEX(Gauss{layer.tile}), SPX_TEX(Lut), {k}, c, p, jx, "
-                         "jy);")
+            lines.append(f"    spectex_layer_stochastic({blend}, SPX_TEX(Gauss{layer.tile}), SPX_TEX(Lut), {k}, "
+                         "c, p, jx, jy);")
         else:
             lines.append(f"    spectex_layer({blend}, SPX_TEX(Tile{layer.tile}), {k}, c, p, jx, jy);")
     lines += [
