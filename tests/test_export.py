@@ -144,6 +144,37 @@ def test_a_failing_writer_leaves_nothing_new(tmp_path, texture, monkeypatch):
     assert snapshot(tmp_path) == before
 
 
+def test_an_interrupt_leaves_the_earlier_export(tmp_path, texture, monkeypatch):
+    """Ctrl-C (or SIGTERM, raised the same way) while writing: no stage left, the earlier export intact."""
+    import spectex.export.materialx as mtlx
+
+    export(texture, tmp_path / "out", formats="web")
+    before = snapshot(tmp_path)
+
+    def interrupted(texture, folder):
+        (folder / "materialx").mkdir()
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(mtlx, "write_materialx", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        export(texture, tmp_path / "out", formats="web,materialx")
+    assert snapshot(tmp_path) == before and sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_export_refuses_to_replace_a_folder_holding_an_input(tmp_path, texture):
+    """An earlier export whose tile a command has read (an input of the session) is not replaced."""
+    from spectex._output import note_input, session
+
+    export(texture, tmp_path / "out", formats="godot")
+    before = snapshot(tmp_path)
+    with session():
+        note_input(tmp_path / "out" / "godot" / "tile.png")
+        with pytest.raises(ValueError, match="holds the input .*tile.png"):
+            export(texture, tmp_path / "out", formats="godot")
+    assert snapshot(tmp_path) == before
+    export(texture, tmp_path / "out", formats="godot")  # control: outside that session it is replaced
+
+
 # ------------------------------------------------------------------------------------- CLI
 def run_cli(argv, capsys):
     try:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+from dataclasses import replace
 import subprocess
 import sys
 from pathlib import Path
@@ -38,10 +39,14 @@ def textures():
     layers = [Layer(size=5.0, tile=1, rotation=20.0),
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
               Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
-    return {"paper": paper, "mixed": SpectralTexture([a, b], layers)}
+    stochastic = SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic")
+    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5), layers[1],
+                                                replace(layers[2], tiling="stochastic", seed=8)])
+    return {"paper": paper, "mixed": SpectralTexture([a, b], layers), "stochastic": stochastic,
+            "mixed_stochastic": mixed_stochastic}
 
 
-@pytest.fixture(scope="module", params=["paper", "mixed"])
+@pytest.fixture(scope="module", params=["paper", "mixed", "stochastic", "mixed_stochastic"])
 def exported(request, tmp_path_factory):
     texture = textures()[request.param]
     return texture, export(texture, tmp_path_factory.mktemp("engines") / "out", formats="godot,hlsl").folder
@@ -54,9 +59,9 @@ def library_body() -> str:
 
 # ------------------------------------------------------------------------------------ HLSL
 def compile_hlsl(tool, include: Path, texture, tmp_path: Path, *defines: str):
-    n_tiles = len(texture.tiles)
-    decls = "\n".join(f"Texture2D Tile{i};\nSamplerState Tile{i}Sampler;" for i in range(n_tiles))
-    args = ", ".join(f"Tile{i}, Tile{i}Sampler" for i in range(n_tiles))
+    names = hlsl_texture_names(texture)
+    decls = "\n".join(f"Texture2D {name};\nSamplerState {name}Sampler;" for name in names)
+    args = ", ".join(f"{name}, {name}Sampler" for name in names)
     wrapper = tmp_path / "wrapper.hlsl"
     wrapper.write_text(f"""#include "{include.name}"
 {decls}
@@ -71,7 +76,17 @@ float4 spectex_test_main(float4 position : SV_Position, float2 ground : TEXCOORD
                           capture_output=True, text=True)
 
 
-@pytest.mark.parametrize("defines", [(), ("UNITY_VERSION=202230",), ("SPECTEX_FLIP_V=1", "SPECTEX_MAX_ANISOTROPY=1.0")])
+def hlsl_texture_names(texture) -> list[str]:
+    """The entry point's texture inputs: the tiles, and for stochastic layers their tables."""
+    n = len(texture.tiles)
+    names = [f"Tile{i}" for i in range(n)]
+    if texture_is_stochastic(texture):
+        names += [f"Gauss{i}" for i in range(n)] + ["Lut"]
+    return names
+
+
+@pytest.mark.parametrize("defines", [(), ("UNITY_VERSION=202230",), ("SPECTEX_FLIP_V=1", "SPECTEX_MAX_ANISOTROPY=1.0"),
+                                     ("SPECTEX_ANCHORED",)])
 def test_hlsl_include_compiles_with_glslang(exported, tmp_path, defines):
     tool = glslang()
     texture, folder = exported
@@ -96,10 +111,12 @@ def test_hlsl_holds_the_library_text_and_unity_names(exported):
     text = (folder / "hlsl" / "spectex_ground.hlsl").read_text()
     assert library_body() in text
     assert f"void {ENTRY_POINT}(float2 Ground, Texture2D Tile0, SamplerState Tile0Sampler" in text
-    assert text.count("spectex_layer(SPX_BLEND_") == len(texture.layers)
+    stochastic = sum(layer.tiling == "stochastic" for layer in texture.layers)
+    assert text.count("spectex_layer(SPX_BLEND_") == len(texture.layers) - stochastic
+    assert text.count("spectex_layer_stochastic(SPX_BLEND_") == stochastic
     # nothing leaks into the including shader
-    tail = text[text.rindex("spectex_layer(SPX_BLEND_"):]
-    for name in ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD"):
+    tail = text[text.rindex("(SPX_BLEND_"):]
+    for name in ("vec2", "vec3", "vec4", "SPX_TEX_ARG", "SPX_TEX", "SPX_LOD", "SPX_UINT"):
         assert f"#undef {name}\n" in tail
     for name in (p.name for p in (folder / "hlsl").glob("*.png")):
         assert name in (folder / "hlsl" / "README.md").read_text()
@@ -166,8 +183,14 @@ def test_godot_holds_the_library_text_tiles_and_script(exported):
         line = next(x for x in shader.split("\n") if x.startswith(f"uniform sampler2D spectex_tile{i} "))
         assert "repeat_enable" in line and "filter_linear_mipmap" in line
         assert "source_color" not in line  # the tile is data (docs/export.md)
-    assert shader.count("spectex_layer(SPX_BLEND_") == len(texture.layers)
+    stochastic = sum(layer.tiling == "stochastic" for layer in texture.layers)
+    assert shader.count("spectex_layer(SPX_BLEND_") == len(texture.layers) - stochastic
+    assert shader.count("spectex_layer_stochastic(SPX_BLEND_") == stochastic
     script = (folder / "godot" / "spectex_ground.gd").read_text()
+    if stochastic:  # the script loads the tables the export wrote beside it
+        for name in ("gauss.rgba16f" if len(texture.tiles) == 1 else "gauss0.rgba16f", "spectex_lut.r16f"):
+            assert f'"{name}"' in script and (folder / "godot" / name).is_file()
+        assert "Image.FORMAT_RGBAH" in script and "spectex_gbase" in script and "spectex_ganchor" in script
     assert script.startswith("@tool\nextends MeshInstance3D\n")
     assert script.count("\t[") == len(texture.layers)
     assert "fposmod" in script and "spectex_anchor" in script
@@ -198,8 +221,44 @@ ENCODE_SRGB = ("vec3 a = clamp(ALBEDO, 0.0, 1.0);\n    spectex_out = vec4(mix(1.
                "12.92 * a, vec3(lessThanEqual(a, vec3(0.0031308)))), 1.0);")
 
 
-def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *, setup=None, flip_rows=False):
-    """Draw ``quad`` (4 world points, a triangle strip) with the shaders; RGBA uint8, row 0 at the top."""
+def upload_tables(gl, texture, folder, *, flip_rows=False):
+    """The stochastic tables from an export's raw files alone, as the READMEs say: per tile its
+    Gaussianised levels on units n .. 2n - 1, the look-up table on unit 2n."""
+    import moderngl
+    import numpy as np
+
+    from spectex.export._stochastic import LUT_FILE, gauss_name, read_raw
+
+    n = len(texture.tiles)
+    shapes = [lv.shape[:2] for lv in texture.mip_levels()[0]]
+    out = []
+    for i in range(n):
+        levels = read_raw(folder / gauss_name(texture, i), shapes, 4)
+        levels = [lv[::-1] for lv in levels] if flip_rows else levels  # as loaded by an engine with v = 0 at the bottom
+        tex = gl.texture(shapes[0][::-1], 4, np.ascontiguousarray(levels[0].astype("f2")).tobytes(), dtype="f2",
+                         alignment=1)
+        tex.build_mipmaps(0, len(levels) - 1)
+        for d, level in enumerate(levels[1:], start=1):
+            tex.write(np.ascontiguousarray(level.astype("f2")).tobytes(), level=d, alignment=1)
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        tex.repeat_x = tex.repeat_y = True
+        tex.use(location=n + i)
+        out.append(tex)
+    size = (folder / LUT_FILE).stat().st_size // 2 // 1024
+    lut = read_raw(folder / LUT_FILE, [(size, 1024)], 1)[0]
+    lut = lut[::-1] if flip_rows else lut
+    tex = gl.texture((1024, size), 1, np.ascontiguousarray(lut.astype("f2")).tobytes(), dtype="f2", alignment=1)
+    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    tex.repeat_x = tex.repeat_y = False
+    tex.use(location=2 * n)
+    out.append(tex)
+    return out
+
+
+def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *, setup=None, flip_rows=False,
+                tables=None):
+    """Draw ``quad`` (4 world points, a triangle strip) with the shaders; RGBA uint8, row 0 at the top.
+    ``tables``: the export's folder, whose stochastic tables to upload."""
     import moderngl
     import numpy as np
 
@@ -219,6 +278,8 @@ def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *
         tex.repeat_x = tex.repeat_y = True
         tex.use(location=unit)
         textures.append(tex)
+    if tables is not None and texture_is_stochastic(texture):
+        textures += upload_tables(gl, texture, tables, flip_rows=flip_rows)
     program["u_view_proj"].write(_view_projection(camera, h, w, np.array(world_to_spectex)).T.astype("f4").tobytes())
     if setup is not None:
         setup(program)
@@ -236,6 +297,10 @@ def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *
         park_framebuffer(gl)
         for obj in (vao, vbo, fbo, rb, program, *textures):
             obj.release()
+
+
+def texture_is_stochastic(texture) -> bool:
+    return any(layer.tiling == "stochastic" for layer in texture.layers)
 
 
 def ground_psnr(texture, camera, rgba) -> float:
@@ -263,14 +328,41 @@ VIEWS = [
 @pytest.mark.parametrize("camera_args, anchored", VIEWS)
 def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
     """The exported .gdshader, translated to GLSL, on a ground mesh seen by spectex's camera,
-    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends.
-    (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
+    matches the CPU renderer (no haze): the ground mapping, the anchors and the blends, periodic
+    and stochastic layers. (Control, run by hand: with spectex y = +Z instead of -Z, 9-32 dB.)"""
     from spectex.render import Camera
 
     texture, folder = exported
     position, yaw, pitch = camera_args
     camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    rgba = draw_godot(gl, texture, folder, camera, anchored)
+    # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
+    assert ground_psnr(texture, camera, rgba) >= 45.0
+
+
+@pytest.mark.gl
+def test_godot_stochastic_controls_fail(gl, tmp_path):
+    """Controls: the stochastic Godot shader with other hash keys, or anchored without the grid
+    vertex (the script's spectex_gbase left at zero), is far from spectex's picture."""
+    from spectex.render import Camera
+
+    texture = textures()["mixed_stochastic"]
+    folder = export(texture, tmp_path / "out", formats="godot").folder
+    camera = Camera(VIEWS[2][0][0], yaw=VIEWS[2][0][1], pitch=VIEWS[2][0][2], fov=50.0)
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True)) >= 45.0
     text = (folder / "godot" / "spectex_ground.gdshader").read_text()
+    line = next(x for x in text.split("\n") if x.startswith("const uint SPECTEX_KEY["))
+    wrong_keys = text.replace(line, re.sub(r"(\d+)u", lambda m: f"{(int(m.group(1)) + 1) % 2 ** 32}u", line))
+    assert wrong_keys != text
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True, text=wrong_keys)) < 30.0
+    assert ground_psnr(texture, camera, draw_godot(gl, texture, folder, camera, True, gbase=False)) < 30.0
+
+
+def draw_godot(gl, texture, folder, camera, anchored, *, text=None, gbase=True):
+    """The exported .gdshader (or ``text``), translated to GLSL, drawn on a ground mesh with what
+    spectex_ground.gd would set (``gbase=False``: the grid vertices left at zero)."""
+    if text is None:
+        text = (folder / "godot" / "spectex_ground.gdshader").read_text()
     vert = godot_to_glsl(text, "vert").replace(
         "#version 450\n", "#version 450\nuniform mat4 u_view_proj;\n").rstrip()[:-1] + (
         "    gl_Position = u_view_proj * vec4(spectex_world, 1.0);\n}\n")
@@ -279,23 +371,39 @@ def test_godot_shader_draws_spectex_ground(exported, gl, camera_args, anchored):
     def setup(program):
         import numpy as np
 
-        for unit in range(len(texture.tiles)):
-            program[f"spectex_tile{unit}"].value = unit
+        n = len(texture.tiles)
+        for unit in range(n):
+            set_if_used(program, f"spectex_tile{unit}", unit)
+            set_if_used(program, f"spectex_gauss{unit}", n + unit)
+        set_if_used(program, "spectex_lut_texture", 2 * n)
         program["MODEL_MATRIX"].write(np.eye(4, dtype="f4").tobytes())
         if anchored:  # what spectex_ground.gd sets: a point near the camera, snapped, and its anchors
             x0, y0, _ = camera.position
             ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
+            coords = texture.anchor_coords(ax, ay)
             program["spectex_anchored"].value = True
             program["spectex_anchor_point"].value = (ax, ay)
-            anchors = [tuple(a[:2]) for a in texture.anchor_coords(ax, ay)]
-            program["spectex_anchor"].value = anchors if len(anchors) > 1 else anchors[0]
+            set_if_used(program, "spectex_anchor", [tuple(a[:2]) for a in coords])
+            set_if_used(program, "spectex_ganchor", [tuple(a[2:4]) for a in coords])
+            if gbase:  # the script's PackedInt32Array: the grid vertex's bits as int32
+                set_if_used(program, "spectex_gbase", [tuple(int(v) - 2 ** 32 if v >= 2 ** 31 else int(v)
+                                                             for v in a[4:]) for a in coords])
 
     x0, y0, _ = camera.position
     r = 4000.0
     quad = [[x0 - r, 0, -(y0 - r)], [x0 + r, 0, -(y0 - r)], [x0 - r, 0, -(y0 + r)], [x0 + r, 0, -(y0 + r)]]
-    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GODOT_TO_SPECTEX, setup=setup)
-    # measured 53-58 dB on llvmpipe (its dFdx/dFdy are exact for the plane's linear ground point)
-    assert ground_psnr(texture, camera, rgba) >= 45.0
+    return draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GODOT_TO_SPECTEX, setup=setup,
+                       tables=folder / "godot")
+
+
+def set_if_used(program, name, value):
+    """Set a uniform the compiler kept (arrays cut to the length it kept)."""
+    if name not in program:
+        return
+    if isinstance(value, list):
+        value = value[:program[name].array_length]
+        value = value[0] if len(value) == 1 else value
+    program[name].value = value
 
 
 def hlsl_to_glsl(text: str) -> str:
@@ -305,8 +413,9 @@ def hlsl_to_glsl(text: str) -> str:
     assert _PRELUDE in text
     glsl_prelude = """#define SPX_TEX_ARG(name) sampler2D name
 #define SPX_TEX(name) name
+#define SPX_UINT uint
 #if SPECTEX_FLIP_V
-#define SPX_LOD(name, uv, lod) textureLod(name, vec2(1.0, -1.0) * (uv), lod)
+#define SPX_LOD(name, uv, lod) textureLod(name, vec2(1.0, -1.0) * (uv) + vec2(0.0, 1.0), lod)
 #else
 #define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
 #endif
@@ -314,7 +423,9 @@ def hlsl_to_glsl(text: str) -> str:
     text = text.replace(_PRELUDE, glsl_prelude)
     text = re.sub(r"Texture2D (\w+), SamplerState \w+Sampler", r"sampler2D \1", text)
     text = text.replace("static const ", "const ")
-    head = ("#version 450\n#define float2 vec2\n#define float3 vec3\n#define float4 vec4\n#define ddx dFdx\n"
+    text = re.sub(r"^float4 (Spectex\w+\[)", r"uniform float4 \1", text, flags=re.M)
+    head = ("#version 450\n#define float2 vec2\n#define float3 vec3\n#define float4 vec4\n#define uint2 uvec2\n"
+            "#define ddx dFdx\n"
             "#define ddy dFdy\n#define lerp mix\n#define saturate(x) clamp(x, 0.0, 1.0)\n")
     return head + text
 
@@ -323,23 +434,52 @@ def hlsl_to_glsl(text: str) -> str:
 @pytest.mark.parametrize("camera_args, flip", [(VIEWS[0][0], False), (VIEWS[1][0], True), (VIEWS[2][0], False)])
 def test_hlsl_entry_point_draws_spectex_ground(exported, gl, camera_args, flip):
     """The exported HLSL include's entry point, its HLSL names mapped to GLSL, on a ground mesh:
-    matches the CPU renderer (measured 53-58 dB). ``flip``: Unity's convention (SPECTEX_FLIP_V,
-    the tile uploaded bottom row first). (Control, run by hand: the rows in the other order
-    than the flip expects, 7-23 dB.)"""
+    matches the CPU renderer (measured 53-58 dB), periodic and stochastic layers. ``flip``:
+    Unity's convention (SPECTEX_FLIP_V, the tile and tables uploaded bottom row first).
+    (Control, run by hand: the rows in the other order than the flip expects, 7-23 dB.)"""
     from spectex.render import Camera
 
     texture, folder = exported
     position, yaw, pitch = camera_args
     camera = Camera(position, yaw=yaw, pitch=pitch, fov=50.0)
+    rgba = draw_hlsl(gl, texture, folder, camera, flip)
+    assert ground_psnr(texture, camera, rgba) >= 45.0
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("flip", [False, True])
+def test_hlsl_anchored_holds_far_from_the_origin(gl, tmp_path, flip):
+    """SPECTEX_ANCHORED, 3000 km out: the host's anchors (the README's formula, float64) and a
+    ground point relative to the anchor point draw spectex's picture; controls: the grid vertex
+    left at zero, or no anchors at all (the origin's constants, the ground point absolute in
+    float32), are far from it."""
+    from spectex.render import Camera
+
+    texture = textures()["mixed_stochastic"]
+    folder = export(texture, tmp_path / "out", formats="hlsl").folder
+    camera = Camera((3.0e6, -2.0e6, 20.0), yaw=40.0, pitch=-40.0, fov=50.0)
+    assert ground_psnr(texture, camera, draw_hlsl(gl, texture, folder, camera, flip, anchored=True)) >= 45.0
+    wrong = draw_hlsl(gl, texture, folder, camera, flip, anchored=True, gbase=False)
+    assert ground_psnr(texture, camera, wrong) < 30.0
+    assert ground_psnr(texture, camera, draw_hlsl(gl, texture, folder, camera, flip)) < 30.0
+
+
+def draw_hlsl(gl, texture, folder, camera, flip, *, anchored=False, gbase=True):
+    """The exported include's entry point (GLSL names for its HLSL ones) on a ground mesh. With
+    ``anchored``, SPECTEX_ANCHORED: the mesh's points relative to an anchor point near the camera,
+    SpectexAnchor and SpectexGridBase as the README says (``gbase=False``: the vertex left at 0)."""
+    import numpy as np
+
     include = hlsl_to_glsl((folder / "hlsl" / "spectex_ground.hlsl").read_text())
-    include = include.replace("#version 450\n", f"#version 450\n#define SPECTEX_FLIP_V {int(flip)}\n")
-    tiles = ", ".join(f"Tile{i}" for i in range(len(texture.tiles)))
-    samplers = "".join(f"uniform sampler2D Tile{i};\n" for i in range(len(texture.tiles)))
+    head = f"#version 450\n#define SPECTEX_FLIP_V {int(flip)}\n" + ("#define SPECTEX_ANCHORED\n" if anchored else "")
+    include = include.replace("#version 450\n", head)
+    names = hlsl_texture_names(texture)
+    samplers = "".join(f"uniform sampler2D {name};\n" for name in names)
     frag = include + samplers + f"""in vec2 v_ground;
 out vec4 spectex_out;
 void main() {{
     vec3 c, lin;
-    SpectexGround_float(v_ground, {tiles}, c, lin);
+    SpectexGround_float(v_ground, {', '.join(names)}, c, lin);
     spectex_out = vec4(c, 1.0);
 }}
 """
@@ -352,23 +492,24 @@ void main() {
     gl_Position = u_view_proj * vec4(VERTEX, 0.0, 1.0);
 }
 """
+    x0, y0, _ = camera.position
+    ax, ay = (round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0) if anchored else (0.0, 0.0)
 
     def setup(program):
-        for unit in range(len(texture.tiles)):
-            program[f"Tile{unit}"].value = unit
+        for unit, name in enumerate(names):
+            set_if_used(program, name, unit)
+        if anchored:
+            coords = texture.anchor_coords(ax, ay)
+            set_if_used(program, "SpectexAnchor", [tuple(a[:4]) for a in coords])
+            halves = [(a[4] // 65536, a[4] % 65536, a[5] // 65536, a[5] % 65536) if gbase else (0.0,) * 4
+                      for a in coords]
+            set_if_used(program, "SpectexGridBase", halves)
 
-    x0, y0, _ = camera.position
     r = 4000.0
-    quad = [[x0 - r, y0 - r], [x0 + r, y0 - r], [x0 - r, y0 + r], [x0 + r, y0 + r]]
-    rgba = draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, GROUND_TO_SPECTEX, setup=setup,
-                       flip_rows=flip)
-    assert ground_psnr(texture, camera, rgba) >= 45.0
-
-
-@pytest.mark.parametrize("fmt", ["web", "glsl", "godot", "hlsl"])
-def test_non_periodic_layers_are_refused_not_drawn_wrong(tmp_path, fmt):
-    texture = textures()["paper"]
-    object.__setattr__(texture.layers[1], "tiling", "stochastic")  # as issue 12's layers will carry it
-    with pytest.raises(ValueError, match=r"layers\[1\]: tiling 'stochastic' is not in the"):
-        export(texture, tmp_path / "out", formats=fmt)
-    assert not list(tmp_path.iterdir())
+    # the mesh's points relative to the anchor point; the view-projection moves them back (float64 here)
+    quad = [[x0 - ax - r, y0 - ay - r], [x0 - ax + r, y0 - ay - r], [x0 - ax - r, y0 - ay + r],
+            [x0 - ax + r, y0 - ay + r]]
+    to_spectex = np.array(GROUND_TO_SPECTEX)
+    to_spectex[:2, 3] = (ax, ay)
+    return draw_ground(gl, texture, camera, (90, 160), vert, frag, quad, to_spectex, setup=setup, flip_rows=flip,
+                       tables=folder / "hlsl")

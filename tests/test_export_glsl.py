@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -43,10 +45,14 @@ def textures():
     layers = [Layer(size=5.0, tile=1, rotation=20.0),
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
               Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
-    return {"paper": paper, "mixed": SpectralTexture([a, b], layers)}
+    stochastic = SpectralTexture.paper_preset(tile=make_test_tile(64, 0), tiling="stochastic")
+    mixed_stochastic = SpectralTexture([a, b], [layers[0], replace(layers[1], tiling="stochastic", patch=0.3, seed=5),
+                                                replace(layers[2], tiling="stochastic", seed=8)])
+    return {"paper": paper, "mixed": SpectralTexture([a, b], layers), "stochastic": stochastic,
+            "mixed_stochastic": mixed_stochastic}
 
 
-@pytest.fixture(scope="module", params=["paper", "mixed"])
+@pytest.fixture(scope="module", params=["paper", "mixed", "stochastic", "mixed_stochastic"])
 def exported(request, tmp_path_factory):
     texture = textures()[request.param]
     return texture, export(texture, tmp_path_factory.mktemp("glsl") / "out", formats="glsl").folder / "glsl"
@@ -93,6 +99,27 @@ def test_mip_pngs_are_the_levels_spectex_samples(exported):
         np.testing.assert_array_equal(read_image(folder / f"{name}.png"), levels[0])
 
 
+def test_stochastic_table_files_are_the_renderers_arrays(exported):
+    """The raw half-float files hold, bit for bit, the Gaussianised levels and the table texture
+    render.gl uploads (and nothing is written for a texture without stochastic layers)."""
+    from spectex.export._stochastic import read_raw
+
+    texture, folder = exported
+    table = json.loads((folder / "spectex_texture.json").read_text())
+    if not any(layer.tiling == "stochastic" for layer in texture.layers):
+        assert table["stochastic"] is None and not list(folder.glob("*16f"))
+        return
+    names = ["gauss.rgba16f"] if len(texture.tiles) == 1 else [f"gauss{i}.rgba16f" for i in range(len(texture.tiles))]
+    for name, tables in zip(names, texture.stochastic_tables()):
+        levels = read_raw(folder / name, [lv.shape[:2] for lv in tables.gaussian], 4)
+        for got, want in zip(levels, tables.gaussian):
+            np.testing.assert_array_equal(got, want)
+    _, lut, _ = texture.stochastic_store()
+    planar = read_raw(folder / "spectex_lut.r16f", [(4 * lut.shape[0], lut.shape[1])], 1)[0][:, :, 0]
+    np.testing.assert_array_equal(planar, np.concatenate([lut[:, :, c] for c in range(4)]))
+    assert table["stochastic"]["level_shapes"] == [list(lv.shape[:2]) for lv in texture.stochastic_tables()[0].gaussian]
+
+
 def frame_uniforms(table, camera: Camera, h: int, w: int) -> dict:
     """The README's per-frame uniforms, from the exported table (as spectex_uniforms.js computes them)."""
     x, y, z = camera.position
@@ -102,16 +129,72 @@ def frame_uniforms(table, camera: Camera, h: int, w: int) -> dict:
     up = np.cross(right, fwd)
     tan_y = math.tan(math.radians(camera.fov) / 2)
     tan_x = tan_y * w / h
-    anchor = []
+    anchor, ganchor, gbase = [], [], []
     for layer in table["layers"]:
         m = layer["matrix"]
         dx, dy = x - layer["offset"][0], y - layer["offset"][1]
-        anchor.append(((m[0] * dx + m[1] * dy) % 2.0, (m[2] * dx + m[3] * dy) % 2.0))
+        s, t = m[0] * dx + m[1] * dy, m[2] * dx + m[3] * dy
+        anchor.append((s % 2.0, t % 2.0))
+        # the README's formula for stochastic layers: the grid position of the unreduced (s, t)
+        g = layer.get("grid", [0.0, 0.0, 0.0, 0.0])
+        kx, ky = g[0] * s + g[1] * t, g[2] * s + g[3] * t
+        ganchor.append((kx - math.floor(kx), ky - math.floor(ky)))
+        gbase.append((math.floor(kx) % 2 ** 32, math.floor(ky) % 2 ** 32))
     atm = table["atmosphere"]
     return {"u_size": (w, h), "u_height": z, "u_fwd": tuple(fwd), "u_right": tuple(right), "u_up": tuple(up),
             "u_tan": (tan_x, tan_y), "u_ddx": tuple(right * 2 * tan_x / w), "u_ddy": tuple(-up * 2 * tan_y / h),
             "u_horizon": tuple(atm["horizon"]), "u_zenith": tuple(atm["zenith"]), "u_haze": atm["haze_distance"],
-            "u_far": 50 * atm["haze_distance"], "u_anchor": anchor}
+            "u_far": 50 * atm["haze_distance"], "u_anchor": anchor, "u_ganchor": ganchor, "u_gbase": gbase}
+
+
+def stochastic_uniforms(table) -> dict:
+    """The README's texture uniforms of the stochastic layers, from the exported table."""
+    layers = table["layers"]
+    if table["stochastic"] is None:
+        return {}
+
+    def pick(layer, name, zero):
+        return layer[name] if layer["tiling"] == "stochastic" else zero
+
+    return {"u_lut_rows": float(table["stochastic"]["lut_rows"]), "u_lut_q": float(table["stochastic"]["lut_q"]),
+            "u_grid": [tuple(pick(layer, "grid", [0.0] * 4)) for layer in layers],
+            "u_key": [pick(layer, "key", 0) for layer in layers],
+            "u_lut_row": [float(pick(layer, "lut_row", 0)) for layer in layers],
+            "u_basis": [tuple(np.reshape(pick(layer, "basis", [0.0] * 9), (3, 3)).T.reshape(-1)) for layer in layers],
+            "u_origin": [tuple(pick(layer, "origin", [0.0] * 3)) for layer in layers]}
+
+
+def upload_stochastic(gl, folder: Path, table, n_tiles: int) -> list:
+    """The README's stochastic textures from the raw files alone: units n .. 2n - 1 and 2n."""
+    import moderngl
+
+    from spectex.shading.constants import LUT_SIZE
+
+    shapes = [tuple(v) for v in table["stochastic"]["level_shapes"]]
+    out = []
+    names = ["gauss.rgba16f"] if n_tiles == 1 else [f"gauss{i}.rgba16f" for i in range(n_tiles)]
+    for i, name in enumerate(names):
+        data = np.fromfile(folder / name, dtype="<f2")
+        sizes = [h * w * 4 for h, w in shapes]
+        assert data.size == sum(sizes)
+        parts = np.split(data, np.cumsum(sizes)[:-1])
+        tex = gl.texture(shapes[0][::-1], 4, parts[0].tobytes(), dtype="f2", alignment=1)
+        tex.build_mipmaps(0, len(shapes) - 1)
+        for d, part in enumerate(parts[1:], start=1):
+            tex.write(part.tobytes(), level=d, alignment=1)
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        tex.repeat_x = tex.repeat_y = True
+        tex.use(location=n_tiles + i)
+        out.append(tex)
+    data = np.fromfile(folder / "spectex_lut.r16f", dtype="<f2")
+    rows = 4 * table["stochastic"]["lut_rows"]
+    assert data.size == rows * LUT_SIZE
+    lut = gl.texture((LUT_SIZE, rows), 1, data.tobytes(), dtype="f2", alignment=1)
+    lut.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    lut.repeat_x = lut.repeat_y = False
+    lut.use(location=2 * n_tiles)
+    out.append(lut)
+    return out
 
 
 @pytest.mark.gl
@@ -122,9 +205,44 @@ def frame_uniforms(table, camera: Camera, h: int, w: int) -> dict:
 ])
 def test_exported_files_alone_draw_spectex_picture(exported, gl, camera, anisotropy):
     """OpenGL 3.3 (llvmpipe) with only what the export holds, vs the CPU renderer: >= 40 dB."""
+    texture, folder = exported
+    h, w = 120, 200
+    image = draw_exported(gl, texture, folder, camera, anisotropy, (h, w))
+    reference = render_cpu(texture, camera, (h, w), anisotropy=anisotropy)
+    assert psnr(image, reference) >= 40.0  # measured 53.5-58.3 dB
+    # control: the picture has texture in it (not a flat colour)
+    assert image[h // 2:].std() > 0.02
+
+
+@pytest.mark.gl
+def test_stochastic_controls_fail(gl):
+    """Controls for the stochastic layers' uniforms 4000 km out: without the grid vertex (u_gbase
+    zero: the anchor reduced as the tile coordinates are) or with other hash keys, the exported
+    shader's picture is far from spectex's."""
+    texture = textures()["mixed_stochastic"]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = export(texture, Path(tmp) / "out", formats="glsl").folder / "glsl"
+        camera = Camera((4.0e6, 1.0e6, 12.0), yaw=230.0, pitch=-3.0)
+        reference = render_cpu(texture, camera, (120, 200), anisotropy=8.0)
+        right = draw_exported(gl, texture, folder, camera, 8.0, (120, 200))
+        assert psnr(right, reference) >= 40.0
+        table = json.loads((folder / "spectex_texture.json").read_text())
+        n = len(table["layers"])
+        for override in ({"u_gbase": [(0, 0)] * n},
+                         {"u_key": [(v + 1) % 2 ** 32 for v in stochastic_uniforms(table)["u_key"]]}):
+            wrong = draw_exported(gl, texture, folder, camera, 8.0, (120, 200), override)
+            assert psnr(wrong, reference) < 30.0
+
+
+def psnr(image, reference) -> float:
+    return 10 * np.log10(1 / float(np.mean((image - reference) ** 2)))
+
+
+def draw_exported(gl, texture, folder, camera, anisotropy, size, override=None):
+    """Draw ground.330.* with the exported files alone (uniforms as the README says; ``override``
+    replaces some); (h, w, 3) in [0, 1], row 0 at the top."""
     import moderngl
 
-    texture, folder = exported
     table = json.loads((folder / "spectex_texture.json").read_text())
     program = gl.program(vertex_shader=(folder / "ground.330.vert").read_text(),
                          fragment_shader=(folder / "ground.330.frag").read_text())
@@ -142,13 +260,16 @@ def test_exported_files_alone_draw_spectex_picture(exported, gl, camera, anisotr
         tex.repeat_x = tex.repeat_y = True
         tex.use(location=unit)
         textures.append(tex)
-    h, w = 120, 200
+    if table["stochastic"] is not None:
+        textures += upload_stochastic(gl, folder, table, len(names))
+    h, w = size
     values = {"u_tile": list(range(len(names))), "u_tex_size": (table["tile_shape"][1], table["tile_shape"][0]),
               "u_mat": [tuple(layer["matrix"]) for layer in table["layers"]],
               "u_opacity": [layer["opacity"] for layer in table["layers"]],
               "u_lod_off": [layer["lod_offset"] for layer in table["layers"]],
               "u_mean": [tuple(layer["mean"]) for layer in table["layers"]],
-              "u_max_aniso": anisotropy, **frame_uniforms(table, camera, h, w)}
+              "u_max_aniso": anisotropy, **frame_uniforms(table, camera, h, w), **stochastic_uniforms(table),
+              "u_gauss": [len(names) + i for i in range(len(names))], "u_lut": 2 * len(names), **(override or {})}
     for name, value in values.items():
         if name not in program:  # optimised away
             continue
@@ -170,11 +291,7 @@ def test_exported_files_alone_draw_spectex_picture(exported, gl, camera, anisotr
         park_framebuffer(gl)
         for obj in (vao, fbo, rb, program, *textures):
             obj.release()
-    reference = render_cpu(texture, camera, (h, w), anisotropy=anisotropy)
-    mse = float(np.mean((image - reference) ** 2))
-    assert 10 * np.log10(1 / mse) >= 40.0  # measured 53.5-58.3 dB
-    # control: the picture has texture in it (not a flat colour)
-    assert image[h // 2:].std() > 0.02
+    return image
 
 
 def test_readme_names_three_js_settings(exported):

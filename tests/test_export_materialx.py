@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -233,8 +234,10 @@ def test_no_over_node_and_a_note_on_colour_space(exported):
 
 def test_a_layer_without_standard_node_equivalent_is_named_in_the_file(tmp_path):
     """A non-periodic layer (spectex's stochastic tiling) becomes hextiledimage, with a note."""
-    texture = textures()["paper"]
-    object.__setattr__(texture.layers[2], "tiling", "stochastic")  # as issue 12's layers will carry it
+    paper = textures()["paper"]
+    layers = list(paper.layers)
+    layers[2] = replace(layers[2], tiling="stochastic", patch=0.4, seed=7)
+    texture = SpectralTexture(paper.tiles, layers)
     path = export(texture, tmp_path / "out", formats="materialx").folder / "materialx" / "spectex_ground.mtlx"
     text = path.read_text()
     assert "layer 2 uses spectex's stochastic tiling, which has no standard-node equivalent" in text

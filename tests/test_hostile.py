@@ -52,6 +52,11 @@ WORKERS = 4
 CAMERA = ("--camera", "0,0,2,0,-10")
 DEMO_FILES = ("ground.png", "closeup.png", "aerial.png", "tile_colour.png", "tile_alpha.png", "texture.tile.png",
               "texture.toml")
+#: What ``spectex export tex.toml --format web,glsl`` writes (a 16 x 16 tile: five mip levels).
+EXPORT_FILES = ("index.html", "spectex-export.json", "glsl/README.md", "glsl/spectex_texture.json",
+                "glsl/spectex_uniforms.js", "glsl/tile.png", "glsl/spectex_layers.es300.glsl",
+                "glsl/spectex_layers.330.glsl", "glsl/ground.es300.vert", "glsl/ground.es300.frag",
+                "glsl/ground.330.vert", "glsl/ground.330.frag", *(f"glsl/mips/tile.level{d}.png" for d in range(5)))
 FIT_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
 TEMP = re.compile(r"\.part|^\.spectex|^\.tmp")
 
@@ -181,6 +186,14 @@ class Case:
     check: object = None          # f(folder, stdout) -> None, extra assertions
     unset: tuple = ()             # environment variables removed for this run
     stdout: str = "pipe"          # 'closed': no standard output at all; 'broken': its reader has gone
+
+
+def _earlier_export(folder):
+    """An earlier export of tex.toml in exp_prev (what an interrupted new one must leave as it was)."""
+    from spectex.export import export
+    from spectex.texture import SpectralTexture
+
+    export(SpectralTexture.load(folder / "tex.toml"), folder / "exp_prev", formats="web,glsl")
 
 
 def _fifo(name):
@@ -364,6 +377,12 @@ CASES = [
     Case("export-strip-tile", ("export", "strip.toml", "-o", "exp"), 2, "at most 8192"),
     Case("export-bad-format", ("export", "tex.toml", "-o", "exp", "--format", "web,unreal5"), 2, "unreal5"),
     Case("export-missing-texture", ("export", "nope.toml", "-o", "exp"), 2, "nope.toml"),
+    Case("export-sigint-new-folder-writing", ("export", "tex.toml", "-o", "newexp", "--format", "web,glsl"), 130,
+         signum=SIGINT, when=".newexp.*", changes=("newexp", "newexp/glsl", "newexp/glsl/mips")
+         + tuple(f"newexp/{f}" for f in EXPORT_FILES)),
+    Case("export-sigterm-replacing-writing", ("export", "tex.toml", "-o", "exp_prev", "--format", "web,glsl"), 143,
+         signum=SIGTERM, when=".exp_prev.*.part", changes=tuple(f"exp_prev/{f}" for f in EXPORT_FILES),
+         setup=_earlier_export),
     Case("bake-o-texture", ("bake", "tex.toml", "-o", "tex.toml", "--size", "8x8", "--pixel-size", "1"), 2, ""),
     Case("bake-o-tile", ("bake", "tex.toml", "-o", "tex.tile.png", "--size", "8x8", "--pixel-size", "1"), 2, ""),
     Case("bake-absolute-tile", ("bake", "abs.toml", "-o", "b.zarr", "--size", "8x8", "--pixel-size", "1"), 2,

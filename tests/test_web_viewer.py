@@ -2,7 +2,9 @@
 
 Playwright drives the system chromium (``executable_path``; no browser
 download) with SwiftShader for WebGL. A screenshot of ``index.html`` at a
-camera must match ``spectex render --backend cpu`` at that camera and size.
+camera must match ``spectex render --backend cpu`` at that camera and size, for
+periodic and stochastic layers (``Layer(tiling="stochastic")``), far from the
+origin too.
 In CI (``CI=true``) a missing browser is a failure, not a skip.
 
 Run as a script (``python3 tests/test_web_viewer.py``) to write the
@@ -19,6 +21,7 @@ import re
 import shutil
 import sys
 import zlib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -83,16 +86,36 @@ def mixed_texture():
     return SpectralTexture([a, b], layers, bits=None)
 
 
+def paper_stochastic_texture(seed_shift=0, tiling="stochastic"):
+    """The paper's preset with every layer stochastic (``seed_shift``, ``tiling``: controls)."""
+    texture = SpectralTexture.paper_preset(tile=make_test_tile(128, 0), tiling="stochastic")
+    layers = [replace(layer, seed=layer.seed + seed_shift, tiling=tiling) for layer in texture.layers]
+    return SpectralTexture(texture.tiles, layers)
+
+
+def mixed_stochastic_texture():
+    """:func:`mixed_texture` with two stochastic layers (their own patches and seeds; one per tile)
+    between periodic ones: non-square float tiles, every blend."""
+    base = mixed_texture()
+    layers = list(base.layers)
+    layers[0] = replace(layers[0], tiling="stochastic", patch=0.4, seed=3)
+    layers[2] = replace(layers[2], tile=1, tiling="stochastic", patch=0.7, seed=11)
+    return SpectralTexture(base.tiles, layers, bits=None)
+
+
+MAKERS = {"paper": paper_texture, "mixed": mixed_texture, "paper_stochastic": paper_stochastic_texture,
+          "mixed_stochastic": mixed_stochastic_texture}
+
+
 @pytest.fixture(scope="module")
 def exports(tmp_path_factory):
     folder = tmp_path_factory.mktemp("web")
-    return {name: export(make(), folder / name, formats="web").folder / "index.html"
-            for name, make in (("paper", paper_texture), ("mixed", mixed_texture))}
+    return {name: export(make(), folder / name, formats="web").folder / "index.html" for name, make in MAKERS.items()}
 
 
 @pytest.fixture(scope="module")
 def textures():
-    return {"paper": paper_texture(), "mixed": mixed_texture()}
+    return {name: make() for name, make in MAKERS.items()}
 
 
 def view_url(html: Path, camera: Camera, *, extra: str = "") -> str:
@@ -150,7 +173,7 @@ VIEWS = {
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("texture_name", ["paper", "mixed"])
+@pytest.mark.parametrize("texture_name", list(MAKERS))
 @pytest.mark.parametrize("view", list(VIEWS))
 @pytest.mark.parametrize("anisotropy", [8.0, 1.0])
 def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name, view, anisotropy):
@@ -167,6 +190,71 @@ def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name,
     if value < 40.0:
         where = save_difference(f"{texture_name}_{view}_{anisotropy:g}", image, reference)
         pytest.fail(f"PSNR {value:.1f} dB < 40 dB; see {where}")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("view", ["closeup", "far_from_origin"])
+def test_stochastic_controls_score_far_below(browser, exports, textures, view):
+    """Controls: the stochastic screenshot against the CPU render of the same texture with other
+    seeds, and with periodic tiling, is far below the 40 dB it reaches against the right one."""
+    camera = VIEWS[view]
+    page = open_page(browser, view_url(exports["paper_stochastic"], camera, extra="&hud=0"))
+    try:
+        image = screenshot(page)
+    finally:
+        page.close()
+    right, _ = render(textures["paper_stochastic"], camera, SIZE, backend="cpu", anisotropy=8.0)
+    assert psnr(image, right) >= 40.0
+    for control in (paper_stochastic_texture(seed_shift=1), paper_stochastic_texture(tiling="periodic")):
+        wrong, _ = render(control, camera, SIZE, backend="cpu", anisotropy=8.0)
+        assert psnr(image, wrong) < 30.0
+
+
+@pytest.mark.slow
+def test_stochastic_toggles_and_no_mipmaps_match_cpu(browser, exports, textures):
+    """Layer keys and M (no mip-maps: the table's level-0 row, MIN_FILTER LINEAR) on the mixed
+    stochastic texture, against the CPU with the same layers and filter."""
+    camera = VIEWS["grazing"]
+    page = open_page(browser, view_url(exports["mixed_stochastic"], camera, extra="&hud=0&aniso=1"))
+    try:
+        page.keyboard.press("Digit2")
+        wait_drawn(page, "d.layers === '1-34'")
+        toggled = screenshot(page)
+        page.keyboard.press("KeyM")
+        wait_drawn(page, "d.layers === '1-34' && !d.mipmaps")
+        no_mip = screenshot(page)
+    finally:
+        page.close()
+    texture = textures["mixed_stochastic"]
+    enabled = [True, False, True, True]
+    reference, _ = render(texture, camera, SIZE, backend="cpu", enabled=enabled)
+    assert psnr(toggled, reference) >= 40.0
+    reference, _ = render(texture, camera, SIZE, backend="cpu", enabled=enabled, filter="linear")
+    assert psnr(no_mip, reference) >= 40.0
+    assert psnr(no_mip, toggled) < 35.0  # control: M changed the picture
+
+
+@pytest.mark.slow
+def test_uniforms_js_anchors_are_pythons_far_from_the_origin(browser):
+    """templates/uniforms.js (the viewer's and the glsl export's) computes every layer's anchor as
+    ``anchor_coords`` does, bit for bit: the tile coordinates mod 2 and, for stochastic layers,
+    the grid fraction and the grid vertex mod 2^32, thousands of kilometres out."""
+    from spectex.export.web import layer_table, uniforms_js
+
+    texture = mixed_stochastic_texture()
+    table = json.loads(json.dumps(layer_table(texture)))
+    page = browser.new_page()
+    try:
+        for x, y in ((0.0, 0.0), (3.0e6, -2.0e6), (-7.3e6, 5.1e6), (123456.789, -0.001)):
+            got = page.evaluate("([js, table, x, y]) => (new Function(js + '; return spectexFrameUniforms;'))()"
+                                "(table, x, y, 2, 0, -10, 60, 320, 180)", [uniforms_js(), table, x, y])
+            want = texture.anchor_coords(x, y)
+            np.testing.assert_array_equal(np.reshape(got["u_anchor"], (-1, 2)), want[:, :2])
+            np.testing.assert_array_equal(np.reshape(got["u_ganchor"], (-1, 2)), want[:, 2:4])
+            np.testing.assert_array_equal(np.reshape(got["u_gbase"], (-1, 2)), want[:, 4:])
+            assert want[0, 4] > 0 or (x, y) == (0.0, 0.0)  # far out, the grid vertex is a large number
+    finally:
+        page.close()
 
 
 @pytest.mark.slow
@@ -314,6 +402,37 @@ def test_embedded_levels_are_the_texels_spectex_samples():
                     got = np.frombuffer(raw, "<f4")
                 assert (entry["height"], entry["width"]) == level.shape[:2]
                 np.testing.assert_array_equal(got.reshape(level.shape), level)
+
+
+def test_embedded_stochastic_tables_are_what_the_renderer_uploads():
+    """The Gaussianised levels and the table texture inflate to the half floats ``render.gl`` uploads."""
+    from spectex.shading.tables import pack
+
+    assert viewer_data(paper_texture())["stochastic_textures"] is None
+    for texture in (paper_stochastic_texture(), mixed_stochastic_texture()):
+        data = viewer_data(texture)
+        st = data["stochastic_textures"]
+        for entry, tables in zip(st["gauss"], texture.stochastic_tables()):
+            assert len(entry["levels"]) == len(tables.gaussian) > 1
+            for level, ref in zip(entry["levels"], tables.gaussian):
+                raw = zlib.decompress(base64.b64decode(level["data"].split(",", 1)[1]))
+                got = np.frombuffer(raw, "<f2").astype(np.float32).reshape(level["height"], level["width"], 4)
+                np.testing.assert_array_equal(got, ref)
+        _, lut, rows = texture.stochastic_store()
+        raw = zlib.decompress(base64.b64decode(st["lut"]["data"].split(",", 1)[1]))
+        got = np.frombuffer(raw, "<f2").astype(np.float32).reshape(st["lut"]["height"], st["lut"]["width"])
+        assert got.shape == (4 * lut.shape[0], lut.shape[1])
+        for c in range(4):  # channel c in the c-th quarter, as render.gl lays it out
+            np.testing.assert_array_equal(got[c * lut.shape[0]:(c + 1) * lut.shape[0]], lut[:, :, c])
+        tables = pack(texture)
+        assert data["stochastic"]["lut_rows"] == lut.shape[0]
+        for k, (entry, layer) in enumerate(zip(data["layers"], texture.layers)):
+            assert entry["tiling"] == layer.tiling
+            if layer.tiling == "stochastic":
+                np.testing.assert_array_equal(np.reshape(entry["grid"], (2, 2)), tables.grid[k])
+                np.testing.assert_array_equal(np.reshape(entry["basis"], (3, 3)), tables.basis[k])
+                assert entry["key"] == tables.key[k] and entry["lut_row"] == layer.tile * rows
+                assert (entry["patch"], entry["seed"]) == (layer.patch, layer.seed)
 
 
 def test_layer_table_is_the_textures():

@@ -33,7 +33,9 @@ and from the library alike. The rules:
 
 The main entry points: :func:`plan_output` (check a single output before the
 work), :func:`atomic_path` (write one file), :func:`write_text` (text,
-streams allowed) and :class:`OutputSet` (several files, all or none).
+streams allowed), :class:`OutputSet` (several files, all or none) and
+:class:`OutputFolder` (a whole folder tree, such as ``spectex export``'s,
+replacing an earlier one all or none).
 """
 
 from __future__ import annotations
@@ -48,7 +50,8 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "check_interrupted", "note_input",
+__all__ = ["OutputFolder", "OutputSet", "Target", "Terminated", "atomic_path", "check_input_file", "check_interrupted",
+           "note_input",
            "plan_output", "same_file", "session", "write_text"]
 
 #: Prefix and marker of every temporary name this module makes (tests look for them).
@@ -544,3 +547,118 @@ class OutputSet:
                     with contextlib.suppress(OSError):
                         os.replace(backup / n, self.folder / n)
                 raise
+
+
+class OutputFolder:
+    """A whole folder written as one output: staged beside it, then swapped in.
+
+    For outputs that are a tree of files decided while writing (``spectex
+    export``). Check it before the work (the constructor), then write
+    anything into the stage inside ``with``::
+
+        out = OutputFolder("ground-export", replaceable=check)
+        with out as stage:
+            (stage / "index.html").write_text(...)
+
+    On a clean exit the stage is renamed to the folder; an existing folder is
+    first moved aside, restored if the rename fails, and removed only once
+    the new one is in place. On any exception, Ctrl-C and SIGTERM included,
+    the stage is removed and the folder is as it was.
+
+    Parameters
+    ----------
+    folder : str or Path
+        The output folder. Its parent must exist.
+    name : str
+        How errors name the output.
+    inputs : sequence of paths
+        Files the command reads: the folder must not be one of them nor hold
+        one (replacing it would delete it), nor hold a file read in the
+        current :func:`session`.
+    replaceable : callable, optional
+        ``replaceable(path)`` for an existing, non-empty folder: raises
+        ``ValueError`` if it must not be replaced (without it, only an empty
+        folder may be). Called again just before the swap.
+    """
+
+    def __init__(self, folder, *, name: str = "output", inputs=(), replaceable=None):
+        if not isinstance(folder, (str, os.PathLike)):
+            raise TypeError(f"{name} must be a path, got {type(folder).__name__}")
+        path = Path(folder)
+        if not os.fspath(folder) or path.name in ("", ".", ".."):
+            raise ValueError(f"{name} must name a folder, got {_show(folder)}")
+        self.path = path
+        self.name = name
+        self.inputs = tuple(inputs)
+        self.replaceable = replaceable
+        self.parent = path.parent if str(path.parent) else Path(".")
+        if not self.parent.is_dir():
+            raise ValueError(f"{name} is in a folder that does not exist: {_show(path)}")
+        self.check()
+        _probe_writable(name, self.parent, path)
+        self.stage = None
+
+    def check(self) -> None:
+        """Raise ``ValueError`` if the folder cannot (or can no longer) be written or replaced."""
+        path, name = self.path, self.name
+        if not os.path.lexists(path):
+            return
+        if os.path.islink(path) or not path.is_dir():
+            _check_not_input(name, path, path, self.inputs)
+            raise ValueError(f"{name} exists and is not a folder: {_show(path)}")
+        if any(path.iterdir()):
+            if self.replaceable is None:
+                raise ValueError(f"{name} {_show(path)} exists and is not empty; choose a new or empty folder")
+            self.replaceable(path)
+        for item in path.rglob("*"):  # replacing the folder deletes what is in it
+            if item.is_file():
+                try:
+                    _check_not_input(name, item, item, self.inputs)
+                except ValueError:
+                    raise ValueError(f"{name} {_show(path)} holds the input {_show(item)}, which replacing the "
+                                     "folder would delete; choose another output folder") from None
+
+    def __enter__(self) -> Path:
+        self.stage = None
+        try:
+            with _signals_held():  # no interrupt between making the stage and remembering it
+                self.stage = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=TEMP_MARK, dir=self.parent))
+        except OSError as exc:
+            raise ValueError(f"{self.name} {_show(self.path)} cannot be written: {exc.strerror or exc}") from None
+        except BaseException:
+            if self.stage is not None:
+                shutil.rmtree(self.stage, ignore_errors=True)
+            raise
+        return self.stage
+
+    def __exit__(self, exc_type, exc, tb):
+        stage, self.stage = self.stage, None
+        try:
+            if exc_type is None:
+                self._commit(stage)
+        except OSError as exc:
+            raise ValueError(f"{self.name} {_show(self.path)} could not be written: {exc.strerror or exc}; "
+                             "the earlier folder is as it was") from None
+        finally:
+            if os.path.lexists(stage):
+                shutil.rmtree(stage, ignore_errors=True)
+        return False
+
+    def _commit(self, stage: Path) -> None:
+        os.chmod(stage, 0o777 & ~_umask())  # mkdtemp makes it 0700
+        self.check()  # again: the folder may have changed during the work
+        check_interrupted()
+        old = None
+        with _signals_held():  # never left half-swapped
+            if os.path.lexists(self.path):
+                old = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".old" + TEMP_MARK, dir=self.parent))
+                os.replace(self.path, old / "previous")
+            try:
+                os.replace(stage, self.path)
+            except BaseException:
+                if old is not None:
+                    os.replace(old / "previous", self.path)
+                    shutil.rmtree(old, ignore_errors=True)
+                raise
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)

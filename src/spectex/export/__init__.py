@@ -15,7 +15,9 @@ with the first lines each target needs. ``docs/export.md`` says what matches
 spectex exactly in each target and what differs.
 
 The folder is written all or nothing: into a temporary folder beside it,
-moved into place when complete (:mod:`spectex.export._output`).
+moved into place when complete (:class:`spectex._output.OutputFolder`, with
+the export's rule for replacing an earlier export in
+:mod:`spectex.export._output`).
 """
 
 from __future__ import annotations
@@ -103,14 +105,15 @@ def export(texture, output, *, formats=None) -> ExportResult:
     from spectex import __version__
     from spectex.texture import SpectralTexture
 
-    from ._output import MANIFEST, check_output_dir, staged_dir
+    from ._output import MANIFEST, output_folder
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")
     names = parse_formats(formats)
-    output = check_output_dir("output", output)
+    folder = output_folder(output)
+    output = folder.path
     written = {}
-    with staged_dir(output) as tmp:
+    with folder as tmp:
         for name in names:
             module = importlib.import_module(f"spectex.export.{name}")
             paths = getattr(module, f"write_{name}")(texture, tmp)

@@ -10,8 +10,12 @@ beyond the few lines that connect the library to an engine.
 
 from __future__ import annotations
 
-__all__ = ["GLSL_TARGETS", "require_periodic", "prelude", "layer_library", "vertex_source", "ground_fragment",
-           "ground_template"]
+import re
+
+from spectex.shading.constants import FILTER_LINEAR_MIPMAP_LINEAR
+
+__all__ = ["GLSL_TARGETS", "prelude", "layer_library", "vertex_source", "ground_fragment", "ground_template",
+           "has_stochastic"]
 
 #: GLSL dialects the exports write: WebGL2 / OpenGL ES 3.0, and desktop OpenGL 3.3.
 GLSL_TARGETS = ("es300", "330")
@@ -61,6 +65,11 @@ def ground_fragment(texture, target: str, *, anisotropic: bool = True) -> str:
     return _fragment(texture, target, anisotropic=anisotropic)
 
 
+def has_stochastic(texture) -> bool:
+    """Whether any layer of ``texture`` uses the stochastic tiling (its exports then carry the tables)."""
+    return any(getattr(layer, "tiling", "periodic") == "stochastic" for layer in texture.layers)
+
+
 def ground_template(texture, target: str) -> dict:
     """The renderer's ground fragment shader for ``texture``, with the layer calls left open.
 
@@ -72,7 +81,9 @@ def ground_template(texture, target: str) -> dict:
 
     ``source``
         the shader for ``target`` with ``@ANISO@`` (1: the anisotropic
-        path), ``@ISO_LOD@`` and ``//@LAYERS@`` still to fill in;
+        path), ``@ISO_LOD@``, ``@STOCHASTIC@`` (1: some drawn layer is
+        stochastic), ``@MIN_FILTER@`` (the minification filter's code) and
+        ``//@LAYERS@`` still to fill in;
     ``first``, ``over``
         per layer, its call when it is the first drawn layer (sets the
         colour) and when it goes over others (its blend);
@@ -84,7 +95,9 @@ def ground_template(texture, target: str) -> dict:
     iso = _iso_lod(texture)
 
     def calls(on):
-        return _fragment(texture, target, anisotropic=False, enabled=[j in on for j in range(n)])
+        text = _fragment(texture, target, anisotropic=False, enabled=[j in on for j in range(n)])
+        # the switch that follows the drawn layers' tilings is the viewer's to set: the same in every variant
+        return text.replace("#define STOCHASTIC 1\n", "#define STOCHASTIC 0\n")
 
     empty = calls(())
     first = [_difference(empty, calls((k,))) for k in range(n)]
@@ -92,11 +105,14 @@ def ground_template(texture, target: str) -> dict:
     base = calls((0,))
     over = [first[0]] + [_difference(base, calls((0, k))) for k in range(1, n)]
     for k in range(n):
-        if not (first[k].strip().startswith(f"shade_layer({k},") and over[k].strip().startswith(f"shade_layer({k},")):
-            raise RuntimeError(f"ground shader: could not find layer {k}'s call")
+        for call in (first[k], over[k]):
+            if not re.fullmatch(rf"\s*shade_layer(_stochastic)?\({k}, [^\n]*;", call):
+                raise RuntimeError(f"ground shader: could not find layer {k}'s call")
     marker = "vec3 c = vec3(0.0);  // black where every layer is off\n"
     switches = {"#define SPX_ANISO 0\n": "#define SPX_ANISO @ANISO@\n",
                 f"#define ISO_LOD {1 if iso else 0}\n": "#define ISO_LOD @ISO_LOD@\n",
+                "#define STOCHASTIC 0\n": "#define STOCHASTIC @STOCHASTIC@\n",
+                f"#define MIN_FILTER {FILTER_LINEAR_MIPMAP_LINEAR}\n": "#define MIN_FILTER @MIN_FILTER@\n",
                 marker: marker + "//@LAYERS@\n"}
     source = empty
     for old, new in switches.items():
@@ -117,16 +133,3 @@ def _difference(base: str, more: str) -> str:
     while j < min(len(a), len(b)) - i and a[-1 - j] == b[-1 - j]:
         j += 1
     return "\n".join(line for line in b[i:len(b) - j] if line.strip())
-
-
-def require_periodic(texture, fmt: str) -> None:
-    """Refuse layers whose tiling this export cannot draw yet (only periodic layers so far).
-
-    Raises ``ValueError`` naming the layer, its tiling and the format, so that
-    no export draws a layer differently from spectex without saying so.
-    """
-    for k, layer in enumerate(texture.layers):
-        tiling = getattr(layer, "tiling", "periodic")
-        if tiling != "periodic":
-            raise ValueError(f"layers[{k}]: tiling {tiling!r} is not in the {fmt} export yet; "
-                             f"export the other formats (--format)")

@@ -18,6 +18,9 @@
 * ``tile.png`` and ``mips/tile.level<d>.png``: the tile and every mip level
   spectex samples (:meth:`SpectralTexture.mip_levels`), lossless, for
   engines that accept given mip levels (three.js ``texture.mipmaps``);
+* for a texture with stochastic layers, their tables (:mod:`spectex.export._stochastic`):
+  ``gauss.rgba16f`` (per tile, its Gaussianised levels) and ``spectex_lut.r16f``
+  (the look-up table texture), raw little-endian half floats, lossless;
 * ``README.md``: how to use them (three.js and plain OpenGL).
 """
 
@@ -26,7 +29,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ._shader import GLSL_TARGETS, ground_fragment, layer_library, prelude, require_periodic, vertex_source
+from ._shader import GLSL_TARGETS, ground_fragment, has_stochastic, layer_library, prelude, vertex_source
 
 __all__ = ["write_glsl"]
 
@@ -159,6 +162,71 @@ c = spectex_blend(SPX_BLEND_ALPHA, c, x, opacity[k], mean[k]);   // SPX_BLEND_FI
 `opacity`, `mean` and `blend` per layer. `dFdx`/`dFdy` are per 2 x 2 pixel
 quad, not spectex's exact per-pixel derivatives: the level of detail can
 differ slightly from spectex's at steep angles.
+""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")
+
+
+def _stochastic_readme(texture) -> str:
+    from spectex.shading.constants import LUT_SIZE
+
+    from ._stochastic import LUT_FILE, gauss_name, table_info
+
+    info = table_info(texture)
+    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles)))
+    shapes = ", ".join(f"{w} x {h}" for h, w in info["level_shapes"])
+    n = len(texture.tiles)
+    stochastic = [k for k, layer in enumerate(texture.layers) if layer.tiling == "stochastic"]
+    return f"""
+## Stochastic layers
+
+Layer(s) {', '.join(str(k) for k in stochastic)} use spectex's stochastic tiling
+(histogram-preserving tiling and blending): they never repeat. They sample no
+tile but two textures made from it, shipped losslessly as raw files of
+little-endian IEEE half floats, rows top first (row 0 is `t = 0`, no flip):
+
+| file | texture |
+|---|---|
+| {gauss} | per tile, its Gaussianised levels: RGBA16F, every mip level one after the other ({shapes}); wrap `REPEAT`, `LINEAR_MIPMAP_LINEAR`/`LINEAR` like the tiles |
+| `{LUT_FILE}` | the look-up tables: R16F, {LUT_SIZE} x {4 * info['lut_rows']}, one level; `NEAREST`/`NEAREST`, `CLAMP_TO_EDGE` |
+
+Units: tile `i` on unit `i`, its Gaussianised levels on unit `{n} + i`
+(`u_gauss[i]`), the table on unit `{2 * n}` (`u_lut`). More uniforms, all from
+`spectex_texture.json` (`spectexTextureUniforms` sets them): `u_lut_rows`,
+`u_lut_q`, and per layer `u_grid`, `u_key` (uint), `u_lut_row`, `u_basis`
+(mat3, column-major), `u_origin`; per frame (`spectexFrameUniforms`) the
+anchor's position in each stochastic layer's triangle grid, computed in
+float64 on the host from the same `(s, t) = M_k (camera - offset_k)` *before*
+the reduction mod 2: `k = G_k (s, t)` (`G_k` is the layer's `grid`),
+`u_ganchor[k] = k - floor(k)` and `u_gbase[k] = floor(k) mod 2^32` (uvec2).
+The grid vertex is hashed by its index, so it is passed whole: this is what
+keeps a stochastic layer exact thousands of kilometres from the origin.
+
+three.js (after the code above):
+
+```js
+async function halves(name) {{ return new Uint16Array(await (await fetch(name)).arrayBuffer()); }}
+const shapes = table.stochastic.level_shapes;  // [height, width] per level
+function gaussTexture(data) {{
+  let at = 0;
+  const mipmaps = shapes.map(([h, w]) => {{ const m = {{ data: data.subarray(at, at + 4 * w * h), width: w, height: h }}; at += 4 * w * h; return m; }});
+  const t = new THREE.DataTexture(mipmaps[0].data, shapes[0][1], shapes[0][0], THREE.RGBAFormat, THREE.HalfFloatType);
+  t.mipmaps = mipmaps;
+  t.generateMipmaps = false;
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.minFilter = THREE.LinearMipmapLinearFilter;
+  t.magFilter = THREE.LinearFilter;
+  t.needsUpdate = true;
+  return t;
+}}
+uniforms.u_gauss = {{ value: await Promise.all({json.dumps([gauss_name(texture, i) for i in range(n)])}.map(async (f) => gaussTexture(await halves(f)))) }};
+const lut = new THREE.DataTexture(await halves('{LUT_FILE}'), {LUT_SIZE}, {4 * info['lut_rows']}, THREE.RedFormat, THREE.HalfFloatType);
+lut.minFilter = lut.magFilter = THREE.NearestFilter;
+lut.needsUpdate = true;
+uniforms.u_lut = {{ value: lut }};
+```
+
+In your own shader, a stochastic layer is `spectex_sample_stochastic_grad` (see
+the library's comments and `ground.*.frag`'s `shade_layer_stochastic`) instead
+of `spectex_sample_grad`, with the grid position `g = u_ganchor[k] + G_k M_k p`.
 """
 
 
@@ -166,10 +234,10 @@ def write_glsl(texture, folder: Path) -> list[Path]:
     """Write ``folder/glsl/``; return the files written."""
     from spectex.io import write_image
 
+    from ._stochastic import write_tables
     from ._tiles import tile_names
     from .web import layer_table, uniforms_js
 
-    require_periodic(texture, "glsl")
     out = Path(folder) / "glsl"
     (out / "mips").mkdir(parents=True)
     files = []
@@ -194,6 +262,7 @@ def write_glsl(texture, folder: Path) -> list[Path]:
         stem = name.rsplit(".", 1)[0]
         for d, level in enumerate(levels):
             files.append(write_image(out / "mips" / f"{stem}.level{d}.png", level, bit_depth=depth))
+    files += write_tables(texture, out)
     path = out / "README.md"
     path.write_text(_readme(texture, names, len(texture.mip_levels()[0])), encoding="utf-8")
     files.append(path)

@@ -11,7 +11,11 @@
 * ``spectex_ground.gd``: a script for the ground ``MeshInstance3D`` that
   keeps the layer anchors next to the camera (float64 in GDScript), so that
   the texture stays precise far from the origin;
-* the tile(s) as lossless PNGs, and ``README.md`` (import settings).
+* the tile(s) as lossless PNGs, and ``README.md`` (import settings);
+* for stochastic layers, their tables as raw half floats
+  (:mod:`spectex.export._stochastic`), which the script loads into
+  ``ImageTexture`` objects exactly (``Image.create_from_data``, ``FORMAT_RGBAH``
+  with every mip level, ``FORMAT_RH``): no import step, no loss.
 
 The tile is *data* (alpha is the blend weight; colours are blended as
 spectex blends them, on the stored values), so its sampler has no
@@ -23,13 +27,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._shader import layer_library, require_periodic
+import numpy as np
+
+from ._shader import has_stochastic, layer_library
+from ._stochastic import LUT_FILE, gauss_name, layer_entries, table_info
 
 __all__ = ["write_godot", "godot_shader", "godot_script"]
 
 _GODOT_MACROS = """#define SPX_TEX_ARG(name) sampler2D name
 #define SPX_TEX(name) name
 #define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
+#define SPX_UINT uint
 """
 
 
@@ -46,11 +54,17 @@ def _blend_name(k: int, blend: str) -> str:
     return "SPX_BLEND_FIRST" if k == 0 else f"SPX_BLEND_{blend.upper()}"
 
 
+def _uvec(values) -> str:
+    return f"uvec{len(values)}(" + ", ".join(f"{int(v)}u" for v in values) + ")"
+
+
 def godot_shader(texture, tile_names) -> str:
     """The ``.gdshader`` text for ``texture`` (``tile_names``: per tile, its PNG)."""
     n = len(texture.layers)
     means = texture.mean_colours()
-    origin = texture.anchor_coords(0.0, 0.0)[:, :2]
+    anchors = texture.anchor_coords(0.0, 0.0)
+    origin = anchors[:, :2]
+    stochastic = has_stochastic(texture)
     h, w = texture.tile_shape
     lines = [
         "shader_type spatial;",
@@ -78,6 +92,7 @@ def godot_shader(texture, tile_names) -> str:
         f"const float SPECTEX_OPACITY[{n}] = {{{', '.join(_f(layer.opacity) for layer in texture.layers)}}};",
         f"const vec2 SPECTEX_ORIGIN_ANCHOR[{n}] = {{{', '.join(_vec(a) for a in origin)}}};",
         f"const vec2 SPECTEX_TEX_SIZE = {_vec((w, h))};",
+        *(_stochastic_declarations(texture, anchors) if stochastic else []),
         "",
         "uniform float spectex_metres_per_unit = 1.0;",
         "// spectex's own anisotropic filter (1 = off):",
@@ -89,6 +104,9 @@ def godot_shader(texture, tile_names) -> str:
         "uniform bool spectex_anchored = false;",
         "uniform vec2 spectex_anchor_point = vec2(0.0);",
         f"uniform vec2 spectex_anchor[{n}];",
+        *([f"uniform vec2 spectex_ganchor[{n}];  // stochastic layers: the grid position's fraction there",
+           f"uniform ivec2 spectex_gbase[{n}];   // and its grid vertex mod 2^32 (the bits of a uint)"]
+          if stochastic else []),
         "",
         "varying vec3 spectex_world;",
         "",
@@ -105,6 +123,7 @@ def godot_shader(texture, tile_names) -> str:
         "    c = spectex_blend(blend, c, x, opacity, mean);",
         "}",
         "",
+        *(_STOCHASTIC_LAYER if stochastic else []),
         "// spectex's colours are stored values (display-encoded); Godot's ALBEDO is linear light.",
         "vec3 spectex_srgb_to_linear(vec3 c) {",
         "    vec3 lo = c / 12.92;",
@@ -121,6 +140,16 @@ def godot_shader(texture, tile_names) -> str:
     ]
     for k, layer in enumerate(texture.layers):
         anchor = f"(spectex_anchored ? spectex_anchor[{k}] : SPECTEX_ORIGIN_ANCHOR[{k}])"
+        if layer.tiling == "stochastic":
+            lines += [
+                f"    spectex_layer_stochastic({_blend_name(k, layer.blend)}, SPX_TEX(spectex_gauss{layer.tile}), "
+                f"SPX_TEX(spectex_lut_texture), {anchor},",
+                f"        (spectex_anchored ? spectex_ganchor[{k}] : SPECTEX_ORIGIN_GANCHOR[{k}]),",
+                f"        (spectex_anchored ? uvec2(spectex_gbase[{k}]) : SPECTEX_ORIGIN_GBASE[{k}]),",
+                f"        SPECTEX_MAT[{k}], SPECTEX_GRID[{k}], SPECTEX_KEY[{k}], SPECTEX_LUT_ROW[{k}],",
+                f"        SPECTEX_B0[{k}], SPECTEX_B1[{k}], SPECTEX_B2[{k}],",
+                f"        SPECTEX_ORIGIN_RGB[{k}], SPECTEX_OPACITY[{k}], SPECTEX_MEAN[{k}], c, p, jx, jy);"]
+            continue
         lines.append(f"    spectex_layer({_blend_name(k, layer.blend)}, SPX_TEX(spectex_tile{layer.tile}), {anchor},")
         lines.append(f"                  SPECTEX_MAT[{k}], SPECTEX_OPACITY[{k}], SPECTEX_MEAN[{k}], c, p, jx, jy);")
     lines += [
@@ -136,13 +165,66 @@ def godot_shader(texture, tile_names) -> str:
     return "\n".join(lines)
 
 
+_STOCHASTIC_LAYER = [
+    "// A stochastic layer over c (histogram-preserving tiling and blending): as spectex's",
+    "// shade_layer_stochastic, with the grid position relative to the anchor's.",
+    "void spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 anchor, vec2 ganchor,",
+    "                              uvec2 gbase, vec4 m, vec4 gm, uint key, float lut_row, vec3 b0, vec3 b1,",
+    "                              vec3 b2, vec3 origin, float opacity, vec3 mean, inout vec3 c, vec2 p, vec2 jx,",
+    "                              vec2 jy) {",
+    "    vec2 rel = spectex_layer_deriv(m, p);",
+    "    vec2 g = ganchor + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);",
+    "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, gbase.x, gbase.y, key,",
+    "                                            spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
+    "                                            SPECTEX_TEX_SIZE, spectex_max_anisotropy, gm,",
+    "                                            SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q, lut_row,",
+    "                                            SPECTEX_LUT_ROWS, b0, b1, b2, origin);",
+    "    c = spectex_blend(blend, c, x, opacity, mean);",
+    "}",
+    "",
+]
+
+
+def _stochastic_declarations(texture, anchors) -> list[str]:
+    """The stochastic layers' textures and constants (zeros for periodic layers)."""
+    n = len(texture.layers)
+    info = table_info(texture)
+    entries = layer_entries(texture)
+
+    def per_layer(name, zero):
+        return [e.get(name, zero) for e in entries]
+
+    basis = [np.reshape(b, (3, 3)) for b in per_layer("basis", [0.0] * 9)]
+    lines = ["// ---- stochastic layers: their tables (set by spectex_ground.gd from the raw files; data, linear)"]
+    for i in range(len(texture.tiles)):
+        lines.append(f"uniform sampler2D spectex_gauss{i} : hint_default_white, filter_linear_mipmap, repeat_enable;"
+                     f"  // {gauss_name(texture, i)}")
+    lines += [
+        f"uniform sampler2D spectex_lut_texture : hint_default_white, filter_nearest, repeat_disable;  // {LUT_FILE}",
+        "// per layer: tile -> triangle-grid map, hash key, first table row, decorrelation (RGB = origin +",
+        "// b0 v.x + b1 v.y + b2 v.z), and the grid position of world (0, 0) (float64 on the host)",
+        f"const vec4 SPECTEX_GRID[{n}] = {{{', '.join(_vec(g) for g in per_layer('grid', [0.0] * 4))}}};",
+        f"const uint SPECTEX_KEY[{n}] = {{{', '.join(f'{int(v)}u' for v in per_layer('key', 0))}}};",
+        f"const float SPECTEX_LUT_ROW[{n}] = {{{', '.join(_f(v) for v in per_layer('lut_row', 0))}}};",
+        *(f"const vec3 SPECTEX_B{j}[{n}] = {{{', '.join(_vec(b[:, j]) for b in basis)}}};" for j in range(3)),
+        f"const vec3 SPECTEX_ORIGIN_RGB[{n}] = {{{', '.join(_vec(o) for o in per_layer('origin', [0.0] * 3))}}};",
+        f"const vec2 SPECTEX_ORIGIN_GANCHOR[{n}] = {{{', '.join(_vec(a[2:4]) for a in anchors)}}};",
+        f"const uvec2 SPECTEX_ORIGIN_GBASE[{n}] = {{{', '.join(_uvec(a[4:6]) for a in anchors)}}};",
+        f"const float SPECTEX_LUT_ROWS = {_f(info['lut_rows'])};",
+        f"const float SPECTEX_LUT_Q = {_f(info['lut_q'])};",
+    ]
+    return lines
+
+
 def godot_script(texture) -> str:
-    """``spectex_ground.gd``: keeps the shader's layer anchors next to the camera."""
+    """``spectex_ground.gd``: keeps the shader's layer anchors next to the camera (and, for
+    stochastic layers, loads their tables)."""
+    stochastic = has_stochastic(texture)
     rows = []
-    for layer in texture.layers:
-        m = layer.matrix().reshape(-1)
-        rows.append(f"\t[{', '.join(repr(float(v)) for v in m)}, {layer.offset[0]!r}, {layer.offset[1]!r}],")
-    return "\n".join([
+    for layer, entry in zip(texture.layers, layer_entries(texture)):
+        values = [*layer.matrix().reshape(-1), layer.offset[0], layer.offset[1], *entry.get("grid", [])]
+        rows.append(f"\t[{', '.join(repr(float(v)) for v in values)}],")
+    lines = [
         "@tool",
         "extends MeshInstance3D",
         "## spectex ground: keeps the layer anchors of spectex_ground.gdshader next to the camera,",
@@ -151,15 +233,48 @@ def godot_script(texture) -> str:
         "## or surface 0). With follow_camera, the mesh also moves with the camera in x and z (an",
         "## endless ground plane; the texture stays fixed to the world).",
         "",
-        "## Per layer: m00, m01, m10, m11 (world metres -> tile coordinates), offset x, offset y (metres).",
+        "## Per layer: m00, m01, m10, m11 (world metres -> tile coordinates), offset x, offset y (metres);",
+        "## for a stochastic layer also g00, g01, g10, g11 (tile coordinates -> triangle-grid coordinates).",
         "const LAYERS = [",
         *rows,
         "]",
+    ]
+    if stochastic:
+        info = table_info(texture)
+        gauss = ", ".join(f'"{gauss_name(texture, i)}"' for i in range(len(texture.tiles)))
+        lines += [
+            "## The stochastic layers' tables: raw little-endian half floats beside this script.",
+            f"const GAUSS_FILES = [{gauss}]",
+            f"const GAUSS_SIZE = Vector2i({info['level_shapes'][0][1]}, {info['level_shapes'][0][0]})",
+            f"const LUT_FILE = \"{LUT_FILE}\"",
+            f"const LUT_SIZE = Vector2i({info['lut_size']}, {4 * info['lut_rows']})",
+        ]
+    lines += [
         "",
         "@export var follow_camera := true",
         "## The anchor point moves in steps of this many metres (it only needs to stay near the camera).",
         "@export var anchor_step := 256.0",
         "",
+    ]
+    if stochastic:
+        lines += [
+            "var _tables_for: ShaderMaterial = null",
+            "",
+            "",
+            "## Give the material the stochastic tables, every mip level as spectex made it (no import).",
+            "func _load_tables(material: ShaderMaterial) -> void:",
+            "\tvar folder: String = get_script().resource_path.get_base_dir()",
+            "\tfor i in GAUSS_FILES.size():",
+            "\t\tvar data := FileAccess.get_file_as_bytes(folder.path_join(GAUSS_FILES[i]))",
+            "\t\tvar image := Image.create_from_data(GAUSS_SIZE.x, GAUSS_SIZE.y, true, Image.FORMAT_RGBAH, data)",
+            "\t\tmaterial.set_shader_parameter(\"spectex_gauss%d\" % i, ImageTexture.create_from_image(image))",
+            "\tvar lut := FileAccess.get_file_as_bytes(folder.path_join(LUT_FILE))",
+            "\tvar lut_image := Image.create_from_data(LUT_SIZE.x, LUT_SIZE.y, false, Image.FORMAT_RH, lut)",
+            "\tmaterial.set_shader_parameter(\"spectex_lut_texture\", ImageTexture.create_from_image(lut_image))",
+            "\t_tables_for = material",
+            "",
+        ]
+    lines += [
         "",
         "func _process(_delta: float) -> void:",
         "\tvar camera := get_viewport().get_camera_3d()",
@@ -170,6 +285,7 @@ def godot_script(texture) -> str:
         "\t\tmaterial = get_active_material(0) as ShaderMaterial",
         "\tif material == null:",
         "\t\treturn",
+        *(["\tif material != _tables_for:", "\t\t_load_tables(material)"] if stochastic else []),
         "\tvar eye := camera.global_position",
         "\tif follow_camera:",
         "\t\tglobal_position = Vector3(eye.x, global_position.y, eye.z)",
@@ -180,17 +296,44 @@ def godot_script(texture) -> str:
         "\tvar ax := snappedf(eye.x * scale, anchor_step)",
         "\tvar ay := snappedf(-eye.z * scale, anchor_step)",
         "\tvar anchors := PackedVector2Array()",
+        "\tvar ganchors := PackedVector2Array()",
+        "\tvar gbase := PackedInt32Array()",
         "\tfor layer in LAYERS:",
         "\t\tvar dx: float = ax - layer[4]",
         "\t\tvar dy: float = ay - layer[5]",
-        "\t\tvar s: float = fposmod(layer[0] * dx + layer[1] * dy, 2.0)",
-        "\t\tvar t: float = fposmod(layer[2] * dx + layer[3] * dy, 2.0)",
-        "\t\tanchors.append(Vector2(s, t))",
+        "\t\tvar s: float = layer[0] * dx + layer[1] * dy",
+        "\t\tvar t: float = layer[2] * dx + layer[3] * dy",
+        "\t\tanchors.append(Vector2(fposmod(s, 2.0), fposmod(t, 2.0)))",
+        "\t\tif layer.size() > 6:",
+        "\t\t\t# the grid position of the unreduced (s, t): its fraction, and its vertex mod 2^32",
+        "\t\t\tvar kx: float = layer[6] * s + layer[7] * t",
+        "\t\t\tvar ky: float = layer[8] * s + layer[9] * t",
+        "\t\t\tganchors.append(Vector2(kx - floorf(kx), ky - floorf(ky)))",
+        "\t\t\tgbase.append(_uint_bits(int(floorf(kx))))",
+        "\t\t\tgbase.append(_uint_bits(int(floorf(ky))))",
+        "\t\telse:",
+        "\t\t\tganchors.append(Vector2.ZERO)",
+        "\t\t\tgbase.append(0)",
+        "\t\t\tgbase.append(0)",
         "\tmaterial.set_shader_parameter(\"spectex_anchored\", true)",
         "\tmaterial.set_shader_parameter(\"spectex_anchor_point\", Vector2(ax, ay))",
         "\tmaterial.set_shader_parameter(\"spectex_anchor\", anchors)",
+    ]
+    if stochastic:
+        lines += [
+            "\tmaterial.set_shader_parameter(\"spectex_ganchor\", ganchors)",
+            "\tmaterial.set_shader_parameter(\"spectex_gbase\", gbase)",
+        ]
+    lines += [
         "",
-    ])
+        "",
+        "## v mod 2^32 as the int32 with the same bits (the shader reads them as a uint).",
+        "func _uint_bits(v: int) -> int:",
+        "\tvar u := posmod(v, 4294967296)",
+        "\treturn u - 4294967296 if u >= 2147483648 else u",
+        "",
+    ]
+    return "\n".join(lines)
 
 
 def _readme(texture, tile_names) -> str:
@@ -227,14 +370,33 @@ derivatives; world positions are 32-bit floats in a standard Godot build, so
 far from the origin the ground point itself loses precision (the anchors keep
 the texture coordinates small; use a double-precision build or move the world
 origin for very large worlds).
+""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")
+
+
+def _stochastic_readme(texture) -> str:
+    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles)))
+    return f"""
+## Stochastic layers
+
+The stochastic layers (spectex's histogram-preserving tiling: they never
+repeat) sample no tile but two textures made from it: {gauss} (per tile its
+Gaussianised levels) and `{LUT_FILE}` (the look-up tables), raw little-endian
+half floats, lossless. `spectex_ground.gd` loads them itself
+(`Image.create_from_data` with `FORMAT_RGBAH` and every mip level spectex
+made, `FORMAT_RH` for the table) and sets `spectex_gauss*` and
+`spectex_lut_texture`: leave those parameters empty. Godot does not import
+these files: in *Project > Export > Resources*, add `*.rgba16f, *.r16f` to
+*Filters to export non-resource files*. The script also sets each stochastic
+layer's grid position (`spectex_ganchor`, `spectex_gbase`) in float64; without
+it the shader uses the origin's.
 """
 
 
 def write_godot(texture, folder: Path) -> list[Path]:
     """Write ``folder/godot/``; return the files written."""
+    from ._stochastic import write_tables
     from ._tiles import write_tiles
 
-    require_periodic(texture, "godot")
     out = Path(folder) / "godot"
     out.mkdir()
     tiles = write_tiles(texture, out)
@@ -244,4 +406,4 @@ def write_godot(texture, folder: Path) -> list[Path]:
                        ("spectex_ground.gd", godot_script(texture)), ("README.md", _readme(texture, names))):
         (out / name).write_text(text, encoding="utf-8")
         files.append(out / name)
-    return files + tiles
+    return files + tiles + write_tables(texture, out)

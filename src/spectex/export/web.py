@@ -5,7 +5,11 @@ no libraries), the renderer's own shaders as GLSL ES 3.00
 (:mod:`spectex.export._shader`), the layer table, and every mip level of
 every tile exactly as spectex samples it (:meth:`SpectralTexture.mip_levels`),
 as ``data:`` URIs of deflate-compressed raw RGBA bytes that the page inflates
-with the browser's ``DecompressionStream`` and uploads level by level. No
+with the browser's ``DecompressionStream`` and uploads level by level. A
+texture with stochastic layers also carries their tables
+(:mod:`spectex.export._stochastic`): per tile the Gaussianised levels and the
+look-up table texture, as deflated half floats, uploaded as ``RGBA16F`` and
+``R16F`` exactly as the OpenGL renderer uploads them. No
 network access, no build step: it opens by double-click from ``file://``.
 
 The URL fragment holds the view, ``#camera=X,Y,Z,YAW,PITCH&fov=F`` (the
@@ -26,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._shader import ground_template, require_periodic, vertex_source
+from ._shader import ground_template, vertex_source
+from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info
 
 __all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_js", "DEFAULT_CAMERA",
            "DEFAULT_ANISOTROPY"]
@@ -38,9 +43,12 @@ DEFAULT_ANISOTROPY = 8.0
 
 
 def _level_uri(level: np.ndarray, bits) -> str:
-    """One mip level as a data: URI: row-major RGBA (uint8, or float32 little-endian), deflated."""
+    """One mip level as a data: URI: row-major RGBA (uint8, float32 or, for ``bits=16``, IEEE half
+    floats; little-endian), deflated."""
     if bits == 8:
         raw = np.floor(np.asarray(level, dtype=np.float64) * 255.0 + 0.5).astype(np.uint8)
+    elif bits == 16:
+        raw = np.asarray(level, dtype="<f2")
     else:
         raw = np.asarray(level, dtype="<f4")
     data = zlib.compress(np.ascontiguousarray(raw).tobytes(), 9)
@@ -56,7 +64,7 @@ def layer_table(texture, *, atmosphere=None) -> dict:
     h, w = texture.tile_shape
     means = texture.mean_colours()
     layers = []
-    for layer in texture.layers:
+    for layer, extra in zip(texture.layers, layer_entries(texture)):
         layers.append({
             "matrix": [float(v) for v in layer.matrix().reshape(-1)],
             "offset": [float(layer.offset[0]), float(layer.offset[1])],
@@ -67,11 +75,13 @@ def layer_table(texture, *, atmosphere=None) -> dict:
             "rotation": float(layer.rotation),
             "blend": layer.blend,
             "tile": int(layer.tile),
+            **extra,
         })
     return {
         "bits": 8 if texture.bits == 8 else 32,
         "tile_shape": [int(h), int(w)],
         "layers": layers,
+        "stochastic": table_info(texture),
         "atmosphere": {"horizon": list(atmosphere.horizon), "zenith": list(atmosphere.zenith),
                        "haze_distance": float(atmosphere.haze_distance)},
     }
@@ -83,9 +93,18 @@ def viewer_data(texture, *, atmosphere=None) -> dict:
                          for lv in levels]}
              for levels in texture.mip_levels()]
     shader = ground_template(texture, "es300")
+    stochastic = None
+    if table_info(texture) is not None:
+        lut = lut_planar(texture)
+        stochastic = {
+            "gauss": [{"levels": [{"width": int(lv.shape[1]), "height": int(lv.shape[0]), "data": _level_uri(lv, 16)}
+                                  for lv in levels]} for levels in gauss_levels(texture)],
+            "lut": {"width": int(lut.shape[1]), "height": int(lut.shape[0]), "data": _level_uri(lut, 16)},
+        }
     return {
         **layer_table(texture, atmosphere=atmosphere),
         "tiles": tiles,
+        "stochastic_textures": stochastic,
         "camera": list(DEFAULT_CAMERA),
         "anisotropy": DEFAULT_ANISOTROPY,
         "shader": {"vertex": vertex_source("es300"), "fragment": shader["source"], "first": shader["first"],
@@ -112,7 +131,6 @@ def uniforms_js() -> str:
 
 def write_web(texture, folder: Path) -> list[Path]:
     """Write ``folder/index.html``; return the files written."""
-    require_periodic(texture, "web")
     path = Path(folder) / "index.html"
     path.write_text(viewer_html(texture), encoding="utf-8")
     return [path]
