@@ -50,7 +50,7 @@ def main(argv=None) -> int:
 
     import skimage.data
 
-    from spectex.analysis import fit, fit_report
+    from spectex.analysis import fit, fit_report, fit_result
     from spectex.cli import main as cli_main
     from spectex.io import write_image
     from spectex.metrics import band_power, repetition
@@ -88,7 +88,7 @@ def main(argv=None) -> int:
     for size in (128, 512):
         for name in ("brick", "grass", "gravel"):
             img = getattr(skimage.data, name)()[:size, :size]
-            res, wall, _ = _cpu_wall(lambda: fit(img, return_result=True))
+            res, wall, _ = _cpu_wall(lambda: fit_result(img))
             rep = repetition(res.texture.bake((2 * size, 2 * size)), (size, size))
             rep_default = repetition(default.bake((2 * size, 2 * size)), (size, size))
             for label, tex, secs, r in (("fitted", res.texture, f"{wall:7.2f}", rep),

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import spectex
-from spectex.analysis import fit, fit_report, prepare_exemplar
+from spectex.analysis import FitResult, fit, fit_report, fit_result, prepare_exemplar
 from spectex.texture import SpectralTexture
 
 skdata = pytest.importorskip("skimage.data")
@@ -23,7 +23,7 @@ def _crop(name, n=128):
 
 @pytest.fixture(scope="module")
 def fitted():
-    return {name: fit(_crop(name), seed=0, return_result=True) for name in NAMES}
+    return {name: fit_result(_crop(name), seed=0) for name in NAMES}
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +84,7 @@ def test_fit_does_not_repeat_the_exemplar():
     # the tile is quilted larger than a small exemplar: no copy of it at its own period
     from spectex.metrics import repetition
 
-    res = fit(_crop("gravel", 64), return_result=True)
+    res = fit_result(_crop("gravel", 64))
     assert res.params["tile_px"] == 256
     bake = res.texture.bake((256, 256))
     assert repetition(bake, (64, 64)) < 0.05
@@ -190,3 +190,18 @@ def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
     assert structure_peak(res.exemplar) == res.params["structure_peak"]
     with pytest.raises(ValueError, match="tiling"):
         fit(_crop("gravel", 48), tiling="random")
+
+
+def test_fit_result_is_the_fit_and_return_result_is_deprecated():
+    img = _crop("grass", 48)
+    res = fit_result(img, iterations=1)
+    assert isinstance(res, FitResult) and isinstance(res.texture, SpectralTexture)
+    plain = fit(img, iterations=1)
+    np.testing.assert_array_equal(plain.tiles[0], res.texture.tiles[0])  # the same fit
+    with pytest.warns(DeprecationWarning, match="fit_result"):
+        old = fit(img, iterations=1, return_result=True)
+    assert isinstance(old, FitResult)
+    np.testing.assert_array_equal(old.texture.tiles[0], res.texture.tiles[0])
+    with pytest.warns(DeprecationWarning, match="return_result"):
+        assert isinstance(fit(img, iterations=1, return_result=False), SpectralTexture)
+    assert spectex.fit_result is fit_result

@@ -15,6 +15,7 @@ __version__ = "0.1.0"
 _SUBMODULES = (
     "analysis",
     "color",
+    "figures",
     "io",
     "metrics",
     "noise",
@@ -31,6 +32,7 @@ _SUBMODULES = (
 _LAZY_NAMES = {
     "SpectralTexture": "texture",
     "fit": "analysis",
+    "fit_result": "analysis",
 }
 
 __all__ = ["__version__", *_SUBMODULES, *_LAZY_NAMES]

@@ -9,7 +9,7 @@ Analysis
     :func:`colour_stats`, :func:`cross_scale`, :func:`dog_bands`.
 Fitting
     :func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
-    out; :func:`fit_report` for the numbers of a fit; :func:`prepare_exemplar`
+    out; :func:`fit_result` the same fit with its numbers (a :class:`FitResult`); :func:`fit_report` for the numbers of a fit; :func:`prepare_exemplar`
     for the input conversions (grey, alpha, 16-bit, crop of huge images).
 
 See ``docs/fitting.md``.
@@ -18,12 +18,12 @@ See ``docs/fitting.md``.
 from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
 
 __all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
-           "fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
+           "fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
 
 
 def __getattr__(name):
     # the fitting module pulls in the texture and the sampler (numba): load it on first use
-    if name in ("fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
+    if name in ("fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
         from . import _fit
 
         return getattr(_fit, name)

@@ -10,10 +10,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import check_float, check_image, check_int, check_seed
+from .._validate import DEPRECATED, check_float, check_image, check_int, check_seed
 from ._stats import cross_scale
 
-__all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
+__all__ = ["fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
            "STRUCTURED_PEAK", "FIT_TILINGS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
@@ -346,7 +346,7 @@ def _pick_gain(gains, values, target) -> float:
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
         iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
-        tiling: str = "auto", patch: float | None = None, progress=None, return_result: bool = False):
+        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -452,12 +452,13 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     progress : callable, optional
         ``progress(done, total)`` after each step.
     return_result : bool
-        Return a :class:`FitResult` (texture, exemplar used, notes,
-        parameters, time) instead of the texture alone.
+        Deprecated: call :func:`fit_result` for a :class:`FitResult`
+        (texture, exemplar used, notes, parameters, time). Still taken for
+        one release, with a ``DeprecationWarning``.
 
     Returns
     -------
-    SpectralTexture or FitResult
+    SpectralTexture
 
     References
     ----------
@@ -475,6 +476,34 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        synthesis and transfer", SIGGRAPH 2001 (the larger tile).
     .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
        a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
+    """
+    kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
+                  tile_size=tile_size, max_size=max_size, seed=seed, tiling=tiling, patch=patch, progress=progress)
+    if return_result is not DEPRECATED:
+        import warnings
+
+        warnings.warn("fit(..., return_result=...) is deprecated and will be removed in the next release; "
+                      "fit() returns the texture, fit_result() a FitResult", DeprecationWarning, stacklevel=2)
+        if return_result:
+            return fit_result(image, **kwargs)
+    return fit_result(image, **kwargs).texture
+
+
+def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
+               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
+               tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
+    """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
+
+    The parameters are :func:`fit`'s; the same inputs give the same texture.
+
+    Returns
+    -------
+    FitResult
+        ``texture`` (the :class:`spectex.SpectralTexture`), ``exemplar``
+        (as analysed, after :func:`prepare_exemplar`), ``pixel_size``,
+        ``notes`` (the input conversions), ``params`` (the fitted
+        parameters: tile size and method, layer opacities, alpha gain, band
+        gains, the band error of each step, tilings, ...) and ``seconds``.
     """
     import time
 
@@ -593,8 +622,6 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     history.append(err.tolist())
     colour = np.clip(_shape_spectrum(colour, np.clip(err, -6.0, 6.0)), 0.0, 1.0)
     texture = problem.texture(colour, alpha)
-    if not return_result:
-        return texture
     params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,

@@ -73,7 +73,7 @@ def run(args) -> int | None:
     import time
 
     from spectex._output import OutputSet
-    from spectex.analysis import fit, prepare_exemplar
+    from spectex.analysis import fit_result, prepare_exemplar
     from spectex.io import read_image
 
     start = time.perf_counter()
@@ -87,9 +87,9 @@ def run(args) -> int | None:
     photo = read_image(args.photo, name="photo")
     exemplar, notes = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
-        result = fit(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
+        result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
                      opacity=args.opacity,
-                     seed=args.seed, progress=bar, return_result=True)
+                     seed=args.seed, progress=bar)
     fit_seconds = time.perf_counter() - start
     texture = result.texture
     h, w = exemplar.shape[:2]
