@@ -95,9 +95,9 @@ def main(argv=None) -> int:
                                         ("default", default, "", rep_default)):
                 for o in origins:
                     rp = fit_report(tex, img, origin=o)
-                    print(f"{name} {size:<8}{label:<9}{str(o):<14}{rp['band_power_distance_db']:8.2f}"
-                          f"{max(rp['histogram_w1']):8.3f}{rp['cross_scale_texture']:8.2f}"
-                          f"{rp['cross_scale_exemplar']:8.2f}{secs:>7}{r:7.3f}")
+                    print(f"{name} {size:<8}{label:<9}{str(o):<14}{rp.band_power_distance_db:8.2f}"
+                          f"{max(rp.histogram_w1):8.3f}{rp.cross_scale_texture:8.2f}"
+                          f"{rp.cross_scale_exemplar:8.2f}{secs:>7}{r:7.3f}")
                     secs = ""
             if size == 128:
                 # continuation: coarser bakes (mip-filtered) against the exemplar's coarsest band

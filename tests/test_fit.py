@@ -41,30 +41,30 @@ def control_reports():
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_band_power_within_1p5_db(reports, name, origin):
-    assert reports[name, origin]["band_power_distance_db"] <= 1.5
+    assert reports[name, origin].band_power_distance_db <= 1.5
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_histograms_within_w1_0p03(reports, name, origin):
-    assert max(reports[name, origin]["histogram_w1"]) <= 0.03
+    assert max(reports[name, origin].histogram_w1) <= 0.03
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_cross_scale_dependence_sign_and_size(reports, name, origin):
     r = reports[name, origin]
-    assert np.sign(r["cross_scale_texture"]) == np.sign(r["cross_scale_exemplar"])
-    assert abs(r["cross_scale_texture"] - r["cross_scale_exemplar"]) <= 0.15
+    assert np.sign(r.cross_scale_texture) == np.sign(r.cross_scale_exemplar)
+    assert abs(r.cross_scale_texture - r.cross_scale_exemplar) <= 0.15
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_control_default_texture_misses(control_reports, name):
     r = control_reports[name]
-    assert r["band_power_distance_db"] > 1.5
-    assert max(r["histogram_w1"]) > 0.03
-    same_sign = np.sign(r["cross_scale_texture"]) == np.sign(r["cross_scale_exemplar"])
-    assert not same_sign or abs(r["cross_scale_texture"] - r["cross_scale_exemplar"]) > 0.15
+    assert r.band_power_distance_db > 1.5
+    assert max(r.histogram_w1) > 0.03
+    same_sign = np.sign(r.cross_scale_texture) == np.sign(r.cross_scale_exemplar)
+    assert not same_sign or abs(r.cross_scale_texture - r.cross_scale_exemplar) > 0.15
 
 
 def test_fit_layers_start_at_the_exemplar_scale(fitted):

@@ -31,10 +31,12 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
+from ._results import DictAccess
 from ._validate import check_float, check_image, check_int
 from .spectral import hann_window
 
@@ -49,6 +51,7 @@ __all__ = [
     "tileability",
     "compare",
     "Comparison",
+    "BandPower",
 ]
 
 # Rec. 709 luma weights: how colour images are reduced to one channel for the
@@ -122,6 +125,13 @@ def histogram_w1(a, b) -> np.ndarray:
 # Power per octave band
 # --------------------------------------------------------------------------
 
+class BandPower(NamedTuple):
+    """The result of :func:`band_power` (unpacks as ``bands, power_db``)."""
+
+    bands: np.ndarray     #: (K, 2) lower and upper edge of each band, cycles per pixel, finest first
+    power_db: np.ndarray  #: (K,) 10 log10 of each band's power
+
+
 def band_power(image, *, min_cycles: int = 4, segment=None):
     """Windowed, radially averaged power per octave band.
 
@@ -169,12 +179,12 @@ def band_power(image, *, min_cycles: int = 4, segment=None):
 
     Returns
     -------
-    bands : ndarray, shape (K, 2)
-        Lower and upper edge of each band in cycles per pixel, finest first
-        (the upper edge of band 0 is reported as 0.5).
-    power_db : ndarray, shape (K,)
-        ``10 log10`` of each band's power (floored at 1e-20, -200 dB, for a
-        flat image).
+    BandPower
+        A named tuple ``(bands, power_db)``: ``bands``, shape (K, 2), the
+        lower and upper edge of each band in cycles per pixel, finest first
+        (the upper edge of band 0 is reported as 0.5); ``power_db``, shape
+        (K,), ``10 log10`` of each band's power (floored at 1e-20, -200 dB,
+        for a flat image).
 
     References
     ----------
@@ -227,7 +237,7 @@ def band_power(image, *, min_cycles: int = 4, segment=None):
         sel = (r >= lo) if k == 0 else ((r >= lo) & (r < hi))
         bands[k] = lo, hi
         power[k] = spec[sel].sum()
-    return bands, 10.0 * np.log10(np.maximum(power, 1e-20))
+    return BandPower(bands, 10.0 * np.log10(np.maximum(power, 1e-20)))
 
 
 def _common_bands(a, b, min_cycles):
@@ -593,7 +603,7 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class Comparison:
+class Comparison(DictAccess):
     """The measures of an image against a reference (:func:`compare`).
 
     Attributes
@@ -641,24 +651,7 @@ class Comparison:
     exact_repetition: float | None
     seam_energy: float | None = None
 
-    def as_dict(self) -> dict:
-        """The fields as a dict of floats, lists and ``None`` (arrays become lists)."""
-        out = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            out[f.name] = v.tolist() if isinstance(v, np.ndarray) else (list(v) if isinstance(v, tuple) else v)
-        return out
-
-    def __getitem__(self, key):
-        import warnings
-
-        name = {"repetition": "exact_repetition"}.get(key, key)
-        if name not in {f.name for f in fields(self)} or (key == "seam_energy" and self.seam_energy is None):
-            raise KeyError(key)
-        warnings.warn(f"compare(...)[{key!r}] is deprecated and will be removed in the next release; "
-                      f"compare returns a Comparison: use its attribute .{name}",
-                      DeprecationWarning, stacklevel=2)
-        return self.as_dict()[name]
+    _renamed = {"repetition": "exact_repetition"}
 
 
 def _repeat_peak_or_none(image):

@@ -15,15 +15,16 @@ Fitting
 See ``docs/fitting.md``.
 """
 
-from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
+from ._stats import (ColourStats, CrossScale, ExemplarStats, OctavePower, analyse, colour_stats, cross_scale,
+                     dog_bands, octave_power)
 
-__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
-           "fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
+__all__ = ["ExemplarStats", "OctavePower", "ColourStats", "CrossScale", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
+           "fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"]
 
 
 def __getattr__(name):
     # the fitting module pulls in the texture and the sampler (numba): load it on first use
-    if name in ("fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
+    if name in ("fit", "fit_result", "fit_report", "FitResult", "FitReport", "FitReport", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK"):
         from . import _fit
 
         return getattr(_fit, name)

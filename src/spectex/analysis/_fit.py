@@ -10,10 +10,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._results import DictAccess
 from .._validate import DEPRECATED, check_float, check_image, check_int, check_seed
 from ._stats import cross_scale
 
-__all__ = ["fit", "fit_result", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
+__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
            "STRUCTURED_PEAK", "FIT_TILINGS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
@@ -247,7 +248,7 @@ class _Problem:
             self.target_bands = np.concatenate([self.target_bands, self.cont[1]])
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
-        self.target_cross, self.fine = target["value"], target["fine"]
+        self.target_cross, self.fine = target.value, target.fine
         self.set_regions(n_regions, tile_px=tile_px, ratio=ratio)
 
     def set_regions(self, n_regions, *, tile_px, ratio):
@@ -303,7 +304,7 @@ class _Problem:
         return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
 
     def cross(self, bakes):
-        return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in self.fine_bakes(bakes)]))
+        return float(np.mean([cross_scale(b, fine=self.fine).value for b in self.fine_bakes(bakes)]))
 
     def histogram_step(self, colour, bakes, *, shift_only=False):
         """Map the tile's channels so that the bakes' histograms become the exemplar's."""
@@ -633,7 +634,23 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
                      seconds=time.perf_counter() - start)
 
 
-def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2) -> dict:
+@dataclass(frozen=True, eq=False)
+class FitReport(DictAccess):
+    """The numbers of :func:`fit_report` (it was a dict: ``report["histogram_w1"]`` still works
+    for one release, with a ``DeprecationWarning``)."""
+
+    bake_shape: tuple                  #: (H, W) of the bake compared
+    band_power_distance_db: float      #: RMS over the exemplar's bands, dB
+    band_power_exemplar_db: np.ndarray
+    band_power_texture_db: np.ndarray
+    histogram_w1: np.ndarray           #: per channel
+    cross_scale_exemplar: float
+    cross_scale_texture: float
+    amplitude_exemplar: float
+    amplitude_texture: float
+
+
+def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -645,7 +662,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 
     Returns
     -------
-    dict
+    FitReport
         ``band_power_distance_db`` (RMS over the bands the exemplar holds,
         Welch segments of the exemplar's size, :func:`spectex.metrics.band_power_distance`),
         ``band_power_exemplar_db`` and ``band_power_texture_db`` (lists),
@@ -661,15 +678,15 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     h, w = exemplar.shape[:2]
     bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
     ce = cross_scale(exemplar)
-    cb = cross_scale(bake, fine=ce["fine"])
-    return {
-        "bake_shape": [scale * h, scale * w],
-        "band_power_distance_db": band_power_distance(exemplar, bake),
-        "band_power_exemplar_db": band_power(exemplar)[1].tolist(),
-        "band_power_texture_db": band_power(bake, segment=(h, w))[1].tolist(),
-        "histogram_w1": histogram_w1(exemplar, bake).tolist(),
-        "cross_scale_exemplar": ce["value"],
-        "cross_scale_texture": cb["value"],
-        "amplitude_exemplar": ce["amplitude"],
-        "amplitude_texture": cb["amplitude"],
-    }
+    cb = cross_scale(bake, fine=ce.fine)
+    return FitReport(
+        bake_shape=(scale * h, scale * w),
+        band_power_distance_db=band_power_distance(exemplar, bake),
+        band_power_exemplar_db=band_power(exemplar).power_db,
+        band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
+        histogram_w1=histogram_w1(exemplar, bake),
+        cross_scale_exemplar=ce.value,
+        cross_scale_texture=cb.value,
+        amplitude_exemplar=ce.amplitude,
+        amplitude_texture=cb.amplitude,
+    )

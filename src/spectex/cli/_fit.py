@@ -103,7 +103,7 @@ def run(args) -> int | None:
 
     numbers = {"band_power_distance_db": band_power_distance(exemplar, large),
                "histogram_w1": histogram_w1(exemplar, large[::2, ::2]).tolist(),
-               "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar)["fine"])["value"],
+               "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar).fine).value,
                "cross_scale_exemplar": result.params["target_cross_scale"]}
 
     with outputs as stage:

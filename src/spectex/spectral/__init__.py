@@ -18,6 +18,8 @@ Frequencies are in cycles per pixel (Nyquist is 0.5). See ``docs/tiles.md``.
 from ._magnify_gl import GLMagnification, magnify_gl
 from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
 from ._synthesis import (
+    PeriodicSmooth,
+    RadialSpectrum,
     SlopeFit,
     band_limit,
     hann_window,
@@ -32,6 +34,8 @@ from ._synthesis import (
 __all__ = [
     "FILTERS",
     "GLMagnification",
+    "PeriodicSmooth",
+    "RadialSpectrum",
     "SlopeFit",
     "band_limit",
     "discrete_filter",

@@ -376,6 +376,20 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
 # Analysis
 # --------------------------------------------------------------------------
 
+class PeriodicSmooth(NamedTuple):
+    """The two parts of :func:`periodic_smooth_decomposition` (unpacks as ``periodic, smooth``)."""
+
+    periodic: np.ndarray  #: periodic-looking part, the image's mean kept
+    smooth: np.ndarray    #: smooth part, zero mean
+
+
+class RadialSpectrum(NamedTuple):
+    """The result of :func:`radial_power_spectrum` (unpacks as ``freqs, power``)."""
+
+    freqs: np.ndarray  #: mean radial frequency of each ring, cycles per pixel
+    power: np.ndarray  #: mean power in each ring, ``(K,)`` or ``(K, C)``
+
+
 def periodic_smooth_decomposition(image):
     """Moisan's periodic-plus-smooth decomposition ``image = p + s``.
 
@@ -392,7 +406,9 @@ def periodic_smooth_decomposition(image):
 
     Returns
     -------
-    periodic, smooth : ndarray, float32, each the shape of ``image``
+    PeriodicSmooth
+        A named tuple ``(periodic, smooth)``: ndarray, float32, each the
+        shape of ``image``.
 
     References
     ----------
@@ -406,7 +422,7 @@ def periodic_smooth_decomposition(image):
     p = u - s
     if image.ndim == 2:
         p, s = p[:, :, 0], s[:, :, 0]
-    return p.astype(np.float32), s.astype(np.float32)
+    return PeriodicSmooth(p.astype(np.float32), s.astype(np.float32))
 
 
 def _edge_source(u: np.ndarray, row_step: np.ndarray, col_step: np.ndarray) -> np.ndarray:
@@ -501,11 +517,11 @@ def radial_power_spectrum(image, *, window: str | None = None):
 
     Returns
     -------
-    freqs : ndarray, shape (K,)
-        Mean radial frequency of each ring, cycles per pixel, increasing,
-        in (0, 0.5].
-    power : ndarray, shape (K,) or (K, C)
-        Mean power in each ring.
+    RadialSpectrum
+        A named tuple ``(freqs, power)``: ``freqs``, shape (K,), the mean
+        radial frequency of each ring, cycles per pixel, increasing, in
+        (0, 0.5]; ``power``, shape (K,) or (K, C), the mean power in each
+        ring.
 
     References
     ----------
@@ -551,7 +567,7 @@ def radial_power_spectrum(image, *, window: str | None = None):
     power = np.empty((int(good.sum()), x.shape[2]))
     for c in range(x.shape[2]):
         power[:, c] = np.bincount(idx, weights=wts * p2[:, :, c][sel], minlength=kmax)[good] / count[good]
-    return freqs, (power[:, 0] if image.ndim == 2 else power)
+    return RadialSpectrum(freqs, power[:, 0] if image.ndim == 2 else power)
 
 
 class SlopeFit(NamedTuple):
