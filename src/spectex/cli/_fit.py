@@ -22,7 +22,8 @@ def register(subparsers) -> None:
             "512 x 512 crop (said in the output). Nothing is written if anything fails."
         ),
     )
-    p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
+    p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",
+                   help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
                    help="output folder (made if missing; in an existing folder the five files replace "
                         "the earlier ones only when all are complete, and other files are left alone)")
@@ -82,9 +83,9 @@ def run(args) -> int | None:
                          f"got {args.pixel_size:g}")
     # Every file checked before the work (none may be the photo); all five replace the earlier
     # ones only when complete.
-    outputs = OutputSet(args.output, _FILES, inputs=[args.photo])
+    outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
-    photo = read_image(args.photo, name="photo")
+    photo = read_image(args.exemplar, name="EXEMPLAR")
     exemplar, notes = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
@@ -114,7 +115,7 @@ def run(args) -> int | None:
         _common.report(f"note: {note}")
     pr = result.params
     _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
-                   f"{args.photo} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
+                   f"{args.exemplar} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
     _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
     w1 = max(numbers["histogram_w1"])
