@@ -118,3 +118,14 @@ def test_results_are_typed_and_the_old_dict_access_is_deprecated():
     assert isinstance(bp, BandPower) and bp.power_db is power and bp[0] is bands
     freqs, p = rs = radial_power_spectrum(img)
     assert isinstance(rs, RadialSpectrum) and rs.freqs is freqs and rs.power is p
+
+
+def test_old_dict_patterns_still_work_with_a_warning():
+    op = octave_power(np.random.default_rng(0).random((64, 64)))
+    for use, expected in ((lambda: set(op), {"bands", "power_db", "slope_db", "intercept_db"}),
+                          (lambda: "slope_db" in op, True),
+                          (lambda: dict(op.items())["slope_db"], op.slope_db),
+                          (lambda: op.get("nothing", 7), 7),
+                          (lambda: sorted(op.keys()), sorted(["bands", "power_db", "slope_db", "intercept_db"]))):
+        with pytest.warns(DeprecationWarning, match="OctavePower"):
+            assert use() == expected

@@ -40,8 +40,27 @@ class DictAccess:
 
     def keys(self):
         """The attribute names (deprecated: for code that used the old dict)."""
-        self._warn("keys()", "as_dict() or the attributes")
+        self._warn(".keys()", "as_dict() or the attributes")
         return [f.name for f in fields(self)]
+
+    def items(self):
+        """``(name, value)`` pairs (deprecated: for code that used the old dict)."""
+        self._warn(".items()", "as_dict().items()")
+        return [(f.name, getattr(self, f.name)) for f in fields(self)]
+
+    def get(self, key, default=None):
+        """``result[key]`` or ``default`` (deprecated: for code that used the old dict)."""
+        name = self._renamed.get(key, key)
+        self._warn(f".get({key!r})", f"its attribute .{name}")
+        return getattr(self, name) if name in {f.name for f in fields(self)} else default
+
+    def __iter__(self):
+        self._warn(" iterated", "as_dict()")
+        return iter([f.name for f in fields(self)])
+
+    def __contains__(self, key):
+        self._warn(" 'in'", "hasattr() or as_dict()")
+        return self._renamed.get(key, key) in {f.name for f in fields(self)}
 
     def __getitem__(self, key):
         name = self._renamed.get(key, key)
