@@ -205,3 +205,17 @@ def test_fit_result_is_the_fit_and_return_result_is_deprecated():
     with pytest.warns(DeprecationWarning, match="return_result"):
         assert isinstance(fit(img, iterations=1, return_result=False), SpectralTexture)
     assert spectex.fit_result is fit_result
+
+
+def test_fit_report_on_a_given_bake_is_the_same_report(fitted, reports):
+    """fit_report(bake=...) (what spectex fit reports on) agrees with the report that bakes the same
+    region itself; a bake smaller than the exemplar is refused."""
+    tex = fitted["gravel"].texture
+    own = reports["gravel", (0.0, 0.0)]
+    given = fit_report(tex, _crop("gravel"), bake=tex.bake((256, 256)))
+    assert given.bake_shape == own.bake_shape == (256, 256)
+    assert given.band_power_distance_db == own.band_power_distance_db
+    np.testing.assert_array_equal(given.histogram_w1, own.histogram_w1)
+    assert given.cross_scale_texture == own.cross_scale_texture
+    with pytest.raises(ValueError, match="bake must be at least the exemplar's size 128x128, got 64x64"):
+        fit_report(tex, _crop("gravel"), bake=tex.bake((64, 64)))

@@ -650,7 +650,8 @@ class FitReport(DictAccess):
     amplitude_texture: float
 
 
-def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2) -> FitReport:
+def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
+               bake=None) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -659,6 +660,11 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     the fit did), and compared with the exemplar (prepared as by
     :func:`prepare_exemplar`: grey becomes RGB, alpha is dropped, huge
     images are cropped).
+
+    With ``bake``, a bake of the texture already made (``texture.bake(...)``
+    at the exemplar's ``pixel_size``, at least the exemplar's size), that is
+    compared instead, and ``origin`` and ``scale`` are not used: ``spectex
+    fit`` reports on the render of 8x the area it shows this way.
 
     Returns
     -------
@@ -674,13 +680,19 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     from ..metrics import band_power, band_power_distance, histogram_w1
 
     exemplar, _ = prepare_exemplar(image)
-    scale = check_int("scale", scale, minimum=1, maximum=8)
     h, w = exemplar.shape[:2]
-    bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+    if bake is None:
+        scale = check_int("scale", scale, minimum=1, maximum=8)
+        bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+    else:
+        bake = check_image("bake", bake, channels=(3,))
+        if bake.shape[0] < h or bake.shape[1] < w:
+            raise ValueError(f"bake must be at least the exemplar's size {w}x{h}, got "
+                             f"{bake.shape[1]}x{bake.shape[0]}")
     ce = cross_scale(exemplar)
     cb = cross_scale(bake, fine=ce.fine)
     return FitReport(
-        bake_shape=(scale * h, scale * w),
+        bake_shape=tuple(bake.shape[:2]),
         band_power_distance_db=band_power_distance(exemplar, bake),
         band_power_exemplar_db=band_power(exemplar).power_db,
         band_power_texture_db=band_power(bake, segment=(h, w)).power_db,

@@ -97,15 +97,10 @@ def run(args) -> int | None:
     same = texture.bake((h, w), pixel_size=args.pixel_size)
     side = math.sqrt(8.0)
     large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=args.pixel_size)
-    # the numbers, on the renders made anyway: the render of 8x the area that comparison.png shows
-    # (fit_report bakes its own region, 4x the area)
-    from spectex.analysis import cross_scale
-    from spectex.metrics import band_power_distance, histogram_w1
+    # the numbers, on the render of 8x the area that comparison.png shows
+    from spectex.analysis import fit_report
 
-    numbers = {"band_power_distance_db": band_power_distance(exemplar, large),
-               "histogram_w1": histogram_w1(exemplar, large[::2, ::2]).tolist(),
-               "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar).fine).value,
-               "cross_scale_exemplar": result.params["target_cross_scale"]}
+    numbers = fit_report(texture, photo, pixel_size=args.pixel_size, bake=large)
 
     with outputs as stage:
         texture.save(stage / "texture.toml")
@@ -118,10 +113,10 @@ def run(args) -> int | None:
                    f"{args.exemplar} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
     _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
-    w1 = max(numbers["histogram_w1"])
+    w1 = max(numbers.histogram_w1)
     _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
-                   f"{numbers['band_power_distance_db']:.2f} dB RMS, "
-                   f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers['cross_scale_texture']:+.2f} "
-                   f"(exemplar {numbers['cross_scale_exemplar']:+.2f})")
+                   f"{numbers.band_power_distance_db:.2f} dB RMS, "
+                   f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
+                   f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0
