@@ -50,7 +50,7 @@ def main(argv=None) -> int:
 
     import skimage.data
 
-    from spectex.fitting import fit, fit_report
+    from spectex.fitting import fit, fit_report, fit_result
     from spectex.cli import main as cli_main
     from spectex.io import write_image
     from spectex.metrics import band_power, repetition
@@ -88,16 +88,16 @@ def main(argv=None) -> int:
     for size in (128, 512):
         for name in ("brick", "grass", "gravel"):
             img = getattr(skimage.data, name)()[:size, :size]
-            res, wall, _ = _cpu_wall(lambda: fit(img, return_result=True))
+            res, wall, _ = _cpu_wall(lambda: fit_result(img))
             rep = repetition(res.texture.bake((2 * size, 2 * size)), (size, size))
             rep_default = repetition(default.bake((2 * size, 2 * size)), (size, size))
             for label, tex, secs, r in (("fitted", res.texture, f"{wall:7.2f}", rep),
                                         ("default", default, "", rep_default)):
                 for o in origins:
                     rp = fit_report(tex, img, origin=o)
-                    print(f"{name} {size:<8}{label:<9}{str(o):<14}{rp['band_power_distance_db']:8.2f}"
-                          f"{max(rp['histogram_w1']):8.3f}{rp['cross_scale_texture']:8.2f}"
-                          f"{rp['cross_scale_exemplar']:8.2f}{secs:>7}{r:7.3f}")
+                    print(f"{name} {size:<8}{label:<9}{str(o):<14}{rp.band_power_distance_db:8.2f}"
+                          f"{max(rp.histogram_w1):8.3f}{rp.cross_scale_texture:8.2f}"
+                          f"{rp.cross_scale_exemplar:8.2f}{secs:>7}{r:7.3f}")
                     secs = ""
             if size == 128:
                 # continuation: coarser bakes (mip-filtered) against the exemplar's coarsest band

@@ -21,12 +21,12 @@ def _modulated(m, n=192, seed=0):
 
 @pytest.mark.parametrize("m, sign", [(0.9, 1), (-0.9, -1)])
 def test_analysis_cross_scale_sign_follows_the_modulation(m, sign):
-    value = cross_scale(_modulated(m))["value"]
+    value = cross_scale(_modulated(m)).value
     assert sign * value > 0.5
 
 
 def test_analysis_cross_scale_is_small_without_modulation():
-    assert abs(cross_scale(_modulated(0.0))["value"]) < 0.15
+    assert abs(cross_scale(_modulated(0.0)).value) < 0.15
 
 
 def test_analysis_cross_scale_amplitude_coupling():
@@ -38,8 +38,8 @@ def test_analysis_cross_scale_amplitude_coupling():
     fine -= ndimage.gaussian_filter(fine, 1.0)
     coupled = 0.5 + 0.15 * coarse + 0.08 * np.abs(coarse) * fine
     plain = 0.5 + 0.15 * coarse + 0.08 * fine
-    with_coupling = cross_scale(coupled)["amplitude"]
-    without = cross_scale(plain)["amplitude"]
+    with_coupling = cross_scale(coupled).amplitude
+    without = cross_scale(plain).amplitude
     assert with_coupling > 0.5
     # without: only what the coarse band leaks into the fine bands' envelopes
     assert without < with_coupling - 0.25
@@ -55,13 +55,13 @@ def test_analysis_dog_bands_telescope():
 def test_analysis_octave_power_slope_of_white_noise():
     # white noise: each coarser octave holds a quarter of the frequencies, -6.02 dB
     img = np.random.default_rng(3).random((256, 256))
-    assert octave_power(img)["slope_db"] == pytest.approx(-6.02, abs=0.4)
+    assert octave_power(img).slope_db == pytest.approx(-6.02, abs=0.4)
 
 
 def test_analysis_octave_power_slope_of_brown_noise():
     from spectex.spectral import spectral_noise
 
-    slopes = [octave_power(spectral_noise((256, 256), beta=2.0, rng=s))["slope_db"] for s in range(3)]
+    slopes = [octave_power(spectral_noise((256, 256), beta=2.0, rng=s)).slope_db for s in range(3)]
     assert np.mean(slopes) == pytest.approx(0.0, abs=1.0)
 
 
@@ -71,19 +71,19 @@ def test_analysis_colour_stats_two_colours():
     img[:, :16] = a
     img[:, 16:] = b
     st = colour_stats(img)
-    np.testing.assert_allclose(st["mean"], (a + b) / 2, atol=1e-6)
-    np.testing.assert_allclose(st["covariance"], np.cov(img.reshape(-1, 3), rowvar=False, bias=True), atol=1e-6)
-    np.testing.assert_allclose(st["principal_colours"], np.stack([a, b]), atol=1e-5)
-    np.testing.assert_allclose(st["histograms"].sum(axis=1), 1.0)
-    assert st["principal_std"][1] == pytest.approx(0.0, abs=1e-6)
+    np.testing.assert_allclose(st.mean, (a + b) / 2, atol=1e-6)
+    np.testing.assert_allclose(st.covariance, np.cov(img.reshape(-1, 3), rowvar=False, bias=True), atol=1e-6)
+    np.testing.assert_allclose(st.principal_colours, np.stack([a, b]), atol=1e-5)
+    np.testing.assert_allclose(st.histograms.sum(axis=1), 1.0)
+    assert st.principal_std[1] == pytest.approx(0.0, abs=1e-6)
 
 
 def test_analysis_exemplars_have_their_signs():
     skdata = pytest.importorskip("skimage.data")
     brick = analyse(skdata.brick()[:128, :128])
     gravel = analyse(skdata.gravel()[:128, :128])
-    assert brick.cross["value"] > 0.3  # mortar lines: fine detail where the coarse band is bright
-    assert gravel.cross["value"] < -0.2  # gaps between stones: fine detail where it is dark
+    assert brick.cross.value > 0.3  # mortar lines: fine detail where the coarse band is bright
+    assert gravel.cross.value < -0.2  # gaps between stones: fine detail where it is dark
     assert set(brick.summary()) >= {"power_db", "slope_db_per_octave", "cross_scale_value"}
 
 
@@ -97,3 +97,35 @@ def test_analysis_exemplars_have_their_signs():
 def test_analysis_bad_input(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_results_are_typed_and_the_old_dict_access_is_deprecated():
+    from spectex.analysis import ColourStats, CrossScale, OctavePower
+    from spectex.spectral import spectral_noise
+    from spectex.metrics import BandPower, band_power
+    from spectex.spectral import RadialSpectrum, radial_power_spectrum
+
+    img = spectral_noise((128, 128), beta=2.0, rng=1)
+    op = octave_power(img)
+    assert isinstance(op, OctavePower)
+    with pytest.warns(DeprecationWarning, match="use its attribute .slope_db"):
+        assert op["slope_db"] == op.slope_db
+    with pytest.raises(KeyError):
+        op["nothing"]
+    assert set(op.as_dict()) == {"bands", "power_db", "slope_db", "intercept_db"}
+    assert isinstance(colour_stats(img), ColourStats) and isinstance(cross_scale(img), CrossScale)
+    bands, power = bp = band_power(img)  # named tuples still unpack as the old tuples
+    assert isinstance(bp, BandPower) and bp.power_db is power and bp[0] is bands
+    freqs, p = rs = radial_power_spectrum(img)
+    assert isinstance(rs, RadialSpectrum) and rs.freqs is freqs and rs.power is p
+
+
+def test_old_dict_patterns_still_work_with_a_warning():
+    op = octave_power(np.random.default_rng(0).random((64, 64)))
+    for use, expected in ((lambda: set(op), {"bands", "power_db", "slope_db", "intercept_db"}),
+                          (lambda: "slope_db" in op, True),
+                          (lambda: dict(op.items())["slope_db"], op.slope_db),
+                          (lambda: op.get("nothing", 7), 7),
+                          (lambda: sorted(op.keys()), sorted(["bands", "power_db", "slope_db", "intercept_db"]))):
+        with pytest.warns(DeprecationWarning, match="OctavePower"):
+            assert use() == expected

@@ -45,12 +45,16 @@ def test_cli_fit_writes_the_folder(photos, capsys):
     assert main(["fit", str(photos / "gravel.png"), "-o", str(out), "--pixel-size", "0.01"]) == 0
     text = capsys.readouterr().out
     assert "grey repeated into RGB" in text and "band power" in text and "W1" in text
+    assert "on the render of 8x its area (comparison.png)" in text  # what comparison.png shows
     assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
     tex = SpectralTexture.load(out / "texture.toml")
     assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 0.01)
     comp = read_image(out / "comparison.png")
-    # exemplar | render | render of 8x the area (sqrt(8) * 96 = 272 on a side, rounded to 16)
-    assert comp.shape[0] == 272 and comp.shape[1] == 96 + 96 + 272 + 16
+    # exemplar | render | render of 8x the area (sqrt(8) * 96 = 272 on a side, rounded to 16), labelled
+    from spectex.figures import LABEL_HEIGHT
+
+    assert comp.shape[0] == LABEL_HEIGHT + 272 and comp.shape[1] == 96 + 96 + 272 + 16
+    assert comp[:LABEL_HEIGHT].min() < 0.2 and comp[:LABEL_HEIGHT].max() == 1.0  # dark labels on white
     assert read_image(out / "band_power.png").shape[2] in (3, 4)
     assert _leftovers(photos) == []
 

@@ -134,29 +134,65 @@ def test_text_empty_corpus_is_exit_2(folder, capsys):
     assert not out.exists()
 
 
-def test_compare_prints_measures_and_side_by_side(folder, capsys):
+def test_compare_prints_measures_and_labelled_side_by_side(folder, capsys):
     quilt = folder / "q.png"
     main(["synth", str(folder / "grey.png"), "--size", "96x96", "--block", "24", "-o", str(quilt)])
     capsys.readouterr()
     sbs = folder / "sbs.png"
-    assert main(["compare", str(folder / "grey.png"), str(quilt), "--block", "24", "--overlap", "4",
+    assert main(["compare", str(quilt), "--reference", str(folder / "grey.png"), "--block", "24", "--overlap", "4",
                  "-o", str(sbs)]) == 0
     text = capsys.readouterr().out
-    for key in ("histogram W1", "band power distance", "tileability", "verbatim copy", "seam energy"):
+    for key in ("histogram W1", "band power distance", "tileability", "verbatim copy", "repetition",
+                "seam energy"):
         assert key in text
-    assert read_image(sbs).shape == (96, 64 + 8 + 96, 3)
-    assert main(["compare", str(folder / "grey.png"), str(folder / "rgb.png"), "--json"]) == 0
+    from spectex.figures import LABEL_HEIGHT
+
+    picture = read_image(sbs)
+    assert picture.shape == (LABEL_HEIGHT + 96, 64 + 8 + 96, 3)
+    strip = picture[:LABEL_HEIGHT]
+    assert strip[:, :64].min() < 0.2 and strip[:, 72:].min() < 0.2  # a label over each image
+    assert main(["compare", str(folder / "rgb.png"), "--reference", str(folder / "grey.png"), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert len(data["histogram_w1"]) == 1  # grey against colour: compared on luma
 
 
+def test_compare_repetition_sees_a_tiled_image(folder, capsys):
+    """A tiled exemplar, slightly blurred (no exact 8-bit copies survive), reads as repeating;
+    the exemplar itself does not."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(3)
+    tile = ndimage.gaussian_filter(rng.random((96, 96)), 1.0, mode="wrap")
+    tile = (tile - tile.min()) / (tile.max() - tile.min())
+    tiled = ndimage.gaussian_filter(np.tile(tile, (3, 3)), 0.6, mode="wrap") + rng.normal(0, 0.01, (288, 288))
+    np.save(folder / "tile.npy", tile.astype(np.float32))
+    np.save(folder / "tiled.npy", np.clip(tiled, 0, 1).astype(np.float32))
+    assert main(["compare", str(folder / "tiled.npy"), "--reference", str(folder / "tile.npy"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["exact_repetition"] < 0.05  # the old number: blind to it
+    assert data["repeat_peak_image"] > 0.5
+    assert data["repeat_peak_reference"] < 0.1
+
+
+def test_compare_old_order_still_works_with_a_note(folder, capsys):
+    quilt = folder / "q2.png"
+    main(["synth", str(folder / "grey.png"), "--size", "96x96", "--block", "24", "-o", str(quilt)])
+    capsys.readouterr()
+    assert main(["compare", str(folder / "grey.png"), str(quilt), "--json"]) == 0
+    old = capsys.readouterr()
+    assert "deprecated" in old.err and "--reference" in old.err
+    assert main(["compare", str(quilt), "--reference", str(folder / "grey.png"), "--json"]) == 0
+    assert json.loads(old.out) == json.loads(capsys.readouterr().out)  # read as (reference, image)
+
+
 def test_compare_flat_images_give_strict_json(folder, capsys):
     Image.fromarray(np.full((40, 40), 90, np.uint8)).save(folder / "flat.png")
-    assert main(["compare", str(folder / "flat.png"), str(folder / "flat.png"), "--json"]) == 0
+    assert main(["compare", str(folder / "flat.png"), "--reference", str(folder / "flat.png"), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["tileability_image"] is None and data["histogram_w1"] == [0.0]
 
 
 def test_compare_bad_output_is_exit_2(folder, capsys):
-    assert main(["compare", str(folder / "grey.png"), str(folder / "rgb.png"), "-o", str(folder / "x.txt")]) == 2
+    assert main(["compare", str(folder / "rgb.png"), "--reference", str(folder / "grey.png"),
+                 "-o", str(folder / "x.txt")]) == 2
     assert "output must end in one of" in _error_line(capsys)

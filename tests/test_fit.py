@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import spectex
-from spectex.fitting import fit, fit_report, prepare_exemplar
+from spectex.fitting import FitResult, fit, fit_report, fit_result, prepare_exemplar
 from spectex.texture import SpectralTexture
 
 skdata = pytest.importorskip("skimage.data")
@@ -23,7 +23,7 @@ def _crop(name, n=128):
 
 @pytest.fixture(scope="module")
 def fitted():
-    return {name: fit(_crop(name), seed=0, return_result=True) for name in NAMES}
+    return {name: fit_result(_crop(name), seed=0) for name in NAMES}
 
 
 @pytest.fixture(scope="module")
@@ -41,30 +41,30 @@ def control_reports():
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_band_power_within_1p5_db(reports, name, origin):
-    assert reports[name, origin]["band_power_distance_db"] <= 1.5
+    assert reports[name, origin].band_power_distance_db <= 1.5
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_histograms_within_w1_0p03(reports, name, origin):
-    assert max(reports[name, origin]["histogram_w1"]) <= 0.03
+    assert max(reports[name, origin].histogram_w1) <= 0.03
 
 
 @pytest.mark.parametrize("origin", ORIGINS)
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_cross_scale_dependence_sign_and_size(reports, name, origin):
     r = reports[name, origin]
-    assert np.sign(r["cross_scale_texture"]) == np.sign(r["cross_scale_exemplar"])
-    assert abs(r["cross_scale_texture"] - r["cross_scale_exemplar"]) <= 0.15
+    assert np.sign(r.cross_scale_texture) == np.sign(r.cross_scale_exemplar)
+    assert abs(r.cross_scale_texture - r.cross_scale_exemplar) <= 0.15
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_fit_control_default_texture_misses(control_reports, name):
     r = control_reports[name]
-    assert r["band_power_distance_db"] > 1.5
-    assert max(r["histogram_w1"]) > 0.03
-    same_sign = np.sign(r["cross_scale_texture"]) == np.sign(r["cross_scale_exemplar"])
-    assert not same_sign or abs(r["cross_scale_texture"] - r["cross_scale_exemplar"]) > 0.15
+    assert r.band_power_distance_db > 1.5
+    assert max(r.histogram_w1) > 0.03
+    same_sign = np.sign(r.cross_scale_texture) == np.sign(r.cross_scale_exemplar)
+    assert not same_sign or abs(r.cross_scale_texture - r.cross_scale_exemplar) > 0.15
 
 
 def test_fit_layers_start_at_the_exemplar_scale(fitted):
@@ -84,7 +84,7 @@ def test_fit_does_not_repeat_the_exemplar():
     # the tile is quilted larger than a small exemplar: no copy of it at its own period
     from spectex.metrics import repetition
 
-    res = fit(_crop("gravel", 64), return_result=True)
+    res = fit_result(_crop("gravel", 64))
     assert res.params["tile_px"] == 256
     bake = res.texture.bake((256, 256))
     assert repetition(bake, (64, 64)) < 0.05
@@ -190,3 +190,32 @@ def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
     assert structure_peak(res.exemplar) == res.params["structure_peak"]
     with pytest.raises(ValueError, match="tiling"):
         fit(_crop("gravel", 48), tiling="random")
+
+
+def test_fit_result_is_the_fit_and_return_result_is_deprecated():
+    img = _crop("grass", 48)
+    res = fit_result(img, iterations=1)
+    assert isinstance(res, FitResult) and isinstance(res.texture, SpectralTexture)
+    plain = fit(img, iterations=1)
+    np.testing.assert_array_equal(plain.tiles[0], res.texture.tiles[0])  # the same fit
+    with pytest.warns(DeprecationWarning, match="fit_result"):
+        old = fit(img, iterations=1, return_result=True)
+    assert isinstance(old, FitResult)
+    np.testing.assert_array_equal(old.texture.tiles[0], res.texture.tiles[0])
+    with pytest.warns(DeprecationWarning, match="return_result"):
+        assert isinstance(fit(img, iterations=1, return_result=False), SpectralTexture)
+    assert spectex.fit_result is fit_result
+
+
+def test_fit_report_on_a_given_bake_is_the_same_report(fitted, reports):
+    """fit_report(bake=...) (what spectex fit reports on) agrees with the report that bakes the same
+    region itself; a bake smaller than the exemplar is refused."""
+    tex = fitted["gravel"].texture
+    own = reports["gravel", (0.0, 0.0)]
+    given = fit_report(tex, _crop("gravel"), bake=tex.bake((256, 256)))
+    assert given.bake_shape == own.bake_shape == (256, 256)
+    assert given.band_power_distance_db == own.band_power_distance_db
+    np.testing.assert_array_equal(given.histogram_w1, own.histogram_w1)
+    assert given.cross_scale_texture == own.cross_scale_texture
+    with pytest.raises(ValueError, match="bake must be at least the exemplar's size 128x128, got 64x64"):
+        fit_report(tex, _crop("gravel"), bake=tex.bake((64, 64)))

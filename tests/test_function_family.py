@@ -1,10 +1,13 @@
 """The colour-science test family (issue 18) for the public functions of
-``spectex.color``, ``spectex.procedural``, ``spectex.tiles`` and ``spectex.spectral``.
+``spectex.color``, ``spectex.procedural``, ``spectex.tiles``, ``spectex.spectral``,
+``spectex.metrics``, ``spectex.analysis``, ``spectex.synthesis``, ``spectex.figures``,
+``spectex.io.to_uint`` and the parameters of ``Layer`` and ``Camera``.
 
 Three tables, one test each:
 
 * ``REFERENCES``: values worked out by hand or from the standard behind the
-  function (Rec. 709, IEC 61966-2-1, the Hann window's sin^2 form, ...).
+  function (Rec. 709, IEC 61966-2-1, the Hann window's sin^2 form, ...); an
+  entry's optional fourth item is its tolerance (default 2e-6).
 * ``ND``: functions of arrays of points or values give the same numbers for an
   n-dimensional input as for its flattened form.
 * ``SWEEP``: each numeric parameter given -1, 0, 1, +inf, -inf and NaN (in the
@@ -20,7 +23,9 @@ import math
 import numpy as np
 import pytest
 
-from spectex import color, periodic, procedural, spectral, spectrum, tiles
+from spectex import analysis, color, figures, io, metrics, periodic, procedural, spectral, spectrum, synthesis, tiles
+from spectex.render import Camera
+from spectex.texture import Layer
 
 # ----------------------------------------------------------------- references
 
@@ -29,6 +34,27 @@ _WHITE = np.ones((1, 1, 3), np.float32)
 
 def _rgb(r, g, b):
     return np.array([[[r, g, b]]], np.float32)
+
+
+def _noise(n=32, seed=0):
+    return np.random.default_rng(seed).random((n, n))
+
+
+def _sinusoid(a, cycles, n):
+    y, x = np.mgrid[0:n, 0:n]
+    return 0.5 + a * np.sin(2 * np.pi * (cycles * x + 3 * y) / n)
+
+
+def _ramp():
+    y, x = np.mgrid[0:32, 0:32]
+    return (x + y) / 62.0
+
+
+def _two_colours():
+    img = np.empty((8, 8, 3))
+    img[:, :4] = (0.2, 0.3, 0.4)
+    img[:, 4:] = (0.8, 0.5, 0.2)
+    return img
 
 
 REFERENCES = [
@@ -72,6 +98,43 @@ REFERENCES = [
     ("radial power of a sinusoid peaks at its ring", lambda: _sinusoid_peak(), math.hypot(3, 4) / 32),
     # procedural value ranges
     ("value_range clouds", lambda: procedural.value_range("clouds"), [-1.0, 1.0]),
+    # metrics: W1 between all-black and all-white is 1, identical images 0
+    ("histogram_w1 black/white", lambda: metrics.histogram_w1(np.zeros((4, 4)), np.ones((6, 6))), [1.0]),
+    ("histogram_w1 of a shift by 0.25", lambda: metrics.histogram_w1(_noise(), _noise() + 0.25), [0.25]),
+    # band powers of a sinusoid sum to its variance a^2/2 (the Hann window's mean square divided out)
+    ("band_power of a sinusoid sums to a^2/2", lambda: float(np.sum(10.0 ** (
+        metrics.band_power(_sinusoid(0.3, 8, 64)).power_db / 10.0))), 0.3 ** 2 / 2, 0.02 * 0.045),
+    ("band_power_distance to itself", lambda: metrics.band_power_distance(_noise(64), _noise(64)), 0.0),
+    # all steps equal (a diagonal ramp): block boundaries look like the interior
+    ("seam_energy of a diagonal ramp", lambda: metrics.seam_energy(_ramp(), 8), 1.0, 1e-6),
+    # a checkerboard: the wrap step is like every other step
+    ("tileability of a checkerboard", lambda: metrics.tileability(np.indices((8, 8)).sum(0) % 2.0), 1.0),
+    ("verbatim_copy of a crop", lambda: metrics.verbatim_copy(_noise(64)[8:40, 16:48], _noise(64)), 1.0),
+    ("repetition of a tiling", lambda: metrics.repetition(np.tile(_noise(), (2, 2)), 32), 1.0),
+    ("repeat_peak of a tiling", lambda: metrics.repeat_peak(np.tile(_noise(), (2, 2))), 1.0, 1e-9),
+    ("compare: repeat_peak of a tiling", lambda: metrics.compare(
+        np.tile(_noise(), (2, 2)), reference=_noise()).repeat_peak_image, 1.0, 1e-9),
+    # analysis: white noise loses 4x the bins, 6.02 dB, per octave coarser; two colours' mean
+    ("octave_power slope of white noise", lambda: np.mean([analysis.octave_power(
+        np.random.default_rng(s).random((256, 256))).slope_db for s in range(4)]), -6.02, 0.3),
+    ("colour_stats mean of two colours", lambda: analysis.colour_stats(_two_colours()).mean, [0.5, 0.4, 0.3]),
+    ("colour_stats principal colours", lambda: analysis.colour_stats(_two_colours()).principal_colours,
+     [[0.2, 0.3, 0.4], [0.8, 0.5, 0.2]]),
+    ("dog_bands sum to the image less its blur", lambda: float(np.abs(np.sum(analysis.dog_bands(_noise(), 3), axis=0)
+     - (_noise() - __import__("scipy.ndimage").ndimage.gaussian_filter(_noise(), 4.0, mode="reflect"))).max()),
+     0.0, 1e-6),  # float32 inside
+    # synthesis: matching a histogram gives the exemplar's values exactly (same size: a permutation)
+    ("match_histogram gives the exemplar's values", lambda: np.sort(synthesis.match_histogram(
+        _noise(), _noise(seed=5) ** 2).ravel()), np.sort((_noise(seed=5) ** 2).ravel()), 1e-7),
+    ("sample_histogram draws the exemplar's values", lambda: float(np.isin(synthesis.sample_histogram(
+        _noise(8), (16, 16), rng=1), _noise(8).astype(np.float32)).mean()), 1.0),
+    # io: 8-bit quantisation rounds half up, clips, and maps NaN to 0
+    ("to_uint 8", lambda: io.to_uint(np.array([0.0, 0.5 / 255, 1.0, 2.0, -1.0, np.nan]), 8), [0, 1, 255, 255, 0, 0]),
+    ("to_uint 16", lambda: io.to_uint(np.array([1.0, 0.5]), 16), [65535, 32768]),
+    # figures: the montage's size, the images in place
+    ("montage shape", lambda: figures.montage([np.zeros((4, 5)), np.ones((6, 3, 3))], gap=2).shape, [6, 10, 3]),
+    ("montage places the second image", lambda: figures.montage([np.zeros((4, 5)), np.ones((6, 3, 3))],
+                                                                 gap=2)[5, 7:10, 1], [1.0, 1.0, 1.0]),
 ]
 
 
@@ -86,10 +149,11 @@ def _sinusoid_peak():
     return freqs[np.argmax(power)]
 
 
-@pytest.mark.parametrize("name, call, expected", REFERENCES, ids=[r[0] for r in REFERENCES])
-def test_reference_values(name, call, expected):
+@pytest.mark.parametrize("entry", REFERENCES, ids=[r[0] for r in REFERENCES])
+def test_reference_values(entry):
+    name, call, expected = entry[:3]
     got = np.asarray(call(), dtype=np.float64)
-    tol = 0.5 / 32 if "ring" in name else 2e-6
+    tol = entry[3] if len(entry) > 3 else (0.5 / 32 if "ring" in name else 2e-6)
     np.testing.assert_allclose(got, np.asarray(expected, dtype=np.float64), rtol=0, atol=tol)
 
 
@@ -124,6 +188,49 @@ def test_nd_input_gives_the_numbers_of_its_flattened_form(name, f):
 
 def test_nd_luma_is_per_pixel():
     a, b = _image_nd(color.luma)
+    np.testing.assert_array_equal(a, b)
+
+
+ND_VALUES = [
+    ("to_uint 8", lambda v: io.to_uint(v, 8)),
+    ("to_uint 16", lambda v: io.to_uint(v, 16)),
+]
+
+
+@pytest.mark.parametrize("name, f", ND_VALUES, ids=[n for n, _ in ND_VALUES])
+def test_nd_values_give_the_numbers_of_their_flattened_form(name, f):
+    nd = np.asarray(f(_VALUES))
+    flat = np.asarray(f(_VALUES.ravel()))
+    assert nd.shape == _VALUES.shape
+    np.testing.assert_array_equal(nd.ravel(), flat)
+
+
+#: Functions of an image's pixels that do not depend on where the pixels are: the same
+#: numbers for the pixels laid out as 6 x 4 and as 24 x 1 (their flattened form).
+ND_LAYOUT = [
+    ("histogram_w1", lambda px: metrics.histogram_w1(px, np.full((3, 3, 3), 0.4, np.float32))),
+    ("colour_stats mean", lambda px: analysis.colour_stats(px).mean),
+    ("colour_stats covariance", lambda px: analysis.colour_stats(px).covariance),
+    ("colour_stats histograms", lambda px: analysis.colour_stats(px).histograms),
+]
+
+
+@pytest.mark.parametrize("name, f", ND_LAYOUT, ids=[n for n, _ in ND_LAYOUT])
+def test_pixel_statistics_do_not_depend_on_the_layout(name, f):
+    px = np.random.default_rng(1).random((2, 3, 4, 3)).astype(np.float32)
+    a = np.asarray(f(px.reshape(6, 4, 3)))
+    b = np.asarray(f(px.reshape(24, 1, 3)))
+    np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+    assert not np.allclose(a, np.asarray(f(px.reshape(6, 4, 3)[::-1] ** 2)))  # a control
+
+
+def test_nd_match_histogram_is_per_pixel():
+    """match_histogram ranks pixels wherever they are: the 6 x 4 and the 24 x 1 layouts of the
+    same pixels get the same values, pixel for pixel."""
+    px = np.random.default_rng(3).random((2, 3, 4, 3)).astype(np.float32)
+    ex = np.random.default_rng(4).random((5, 5, 3)).astype(np.float32) ** 2
+    a = synthesis.match_histogram(px.reshape(6, 4, 3), ex).reshape(2, 3, 4, 3)
+    b = synthesis.match_histogram(px.reshape(24, 1, 3), ex).reshape(2, 3, 4, 3)
     np.testing.assert_array_equal(a, b)
 
 
@@ -241,6 +348,66 @@ SWEEP = [
     ("colorize field", "field", lambda v: procedural.colorize(_img(v), "earth")),
     ("colorize vrange", "vrange", lambda v: procedural.colorize(_img(0.5), "earth", vrange=(v, 2.0))),
     ("animate speed", "speed", lambda v: procedural.animate("fbm", 8, 2, speed=v)),
+    # metrics
+    ("histogram_w1 a", "a", lambda v: metrics.histogram_w1(_img(v), _img(0.5))),
+    ("histogram_w1 b", "b", lambda v: metrics.histogram_w1(_img(0.5), _img(v))),
+    ("band_power image", "image", lambda v: metrics.band_power(_img(v, (32, 32)), min_cycles=2)),
+    ("band_power min_cycles", "min_cycles", lambda v: metrics.band_power(_img(0.5, (32, 32)), min_cycles=v)),
+    ("band_power_distance", "a", lambda v: metrics.band_power_distance(_img(v, (32, 32)), _img(0.5, (32, 32)),
+                                                                        min_cycles=2)),
+    ("seam_energy image", "image", lambda v: metrics.seam_energy(_img(v), 8)),
+    ("seam_energy block", "block", lambda v: metrics.seam_energy(_img(0.5), v)),
+    ("seam_energy overlap", "overlap", lambda v: metrics.seam_energy(_img(0.5), 8, v)),
+    ("tileability", "image", lambda v: metrics.tileability(_img(v))),
+    ("tileability axis", "axis", lambda v: metrics.tileability(_img(0.5), axis=v)),
+    ("verbatim_copy image", "image", lambda v: metrics.verbatim_copy(_img(v), _img(0.5))),
+    ("verbatim_copy patch", "patch", lambda v: metrics.verbatim_copy(_img(0.5), _img(0.5), patch=v)),
+    ("repetition image", "image", lambda v: metrics.repetition(_img(v), 8)),
+    ("repetition period", "period", lambda v: metrics.repetition(_img(0.5), v)),
+    ("repeat_peak image", "image", lambda v: metrics.repeat_peak(_img(v), min_lag=4)),
+    ("repeat_peak min_lag", "min_lag", lambda v: metrics.repeat_peak(_img(0.5), min_lag=v)),
+    ("repeat_peak sigma", "sigma", lambda v: metrics.repeat_peak(_img(0.5), min_lag=4, sigma=v)),
+    ("compare image", "image", lambda v: metrics.compare(_img(v), reference=_img(0.5))),
+    ("compare reference", "reference", lambda v: metrics.compare(_img(0.5), reference=_img(v))),
+    ("compare block", "block", lambda v: metrics.compare(_img(0.5), reference=_img(0.5), block=v)),
+    # analysis
+    ("octave_power image", "image", lambda v: analysis.octave_power(_img(v, (32, 32)), min_cycles=2)),
+    ("colour_stats image", "image", lambda v: analysis.colour_stats(_img(v, channels=3))),
+    ("colour_stats bins", "bins", lambda v: analysis.colour_stats(_img(0.5, channels=3), bins=v)),
+    ("dog_bands image", "image", lambda v: analysis.dog_bands(_img(v), 2)),
+    ("dog_bands levels", "levels", lambda v: analysis.dog_bands(_img(0.5), v)),
+    ("cross_scale image", "image", lambda v: analysis.cross_scale(_img(v, (64, 64)))),
+    ("cross_scale step", "step", lambda v: analysis.cross_scale(_img(0.5, (64, 64)), step=v)),
+    ("analyse image", "image", lambda v: analysis.analyse(_img(v, (32, 32), 3))),
+    # synthesis
+    ("sample_histogram exemplar", "exemplar", lambda v: synthesis.sample_histogram(_img(v), (8, 8))),
+    ("sample_histogram shape", "shape", lambda v: synthesis.sample_histogram(_img(0.5), (8, v))),
+    ("match_histogram image", "image", lambda v: synthesis.match_histogram(_img(v), _img(0.5))),
+    ("match_histogram exemplar", "exemplar", lambda v: synthesis.match_histogram(_img(0.5), _img(v))),
+    ("match_histogram iterations", "iterations",
+     lambda v: synthesis.match_histogram(_img(0.5, channels=3), _img(0.5, channels=3), joint=True, iterations=v)),
+    ("quilt exemplar", "exemplar", lambda v: synthesis.quilt(_img(v), (16, 16), block=8)),
+    ("quilt block", "block", lambda v: synthesis.quilt(_img(0.5), (16, 16), block=v)),
+    ("quilt overlap", "overlap", lambda v: synthesis.quilt(_img(0.5), (16, 16), block=8, overlap=v)),
+    ("quilt tolerance", "tolerance", lambda v: synthesis.quilt(_img(0.5), (16, 16), block=8, tolerance=v)),
+    ("efros_leung window", "window", lambda v: synthesis.efros_leung(_img(0.5), (8, 8), window=v)),
+    ("efros_leung epsilon", "epsilon", lambda v: synthesis.efros_leung(_img(0.5), (8, 8), window=5, epsilon=v)),
+    # figures and io
+    ("montage image", "images[0]", lambda v: figures.montage([_img(v)])),
+    ("montage gap", "gap", lambda v: figures.montage([_img(0.5)], gap=v)),
+    ("montage background", "background", lambda v: figures.montage([_img(0.5)], background=v)),
+    ("to_uint", None, lambda v: io.to_uint(np.array([0.2, v]))),
+    # the texture's layers and the camera
+    ("Layer size", "size", lambda v: Layer(size=v)),
+    ("Layer rotation", "rotation", lambda v: Layer(size=1.0, rotation=v)),
+    ("Layer opacity", "opacity", lambda v: Layer(size=1.0, opacity=v)),
+    ("Layer offset", "offset", lambda v: Layer(size=1.0, offset=(v, 0.0))),
+    ("Layer patch", "patch", lambda v: Layer(size=1.0, tiling="stochastic", patch=v)),
+    ("Camera z", "z", lambda v: Camera((0.0, 0.0, v))),
+    ("Camera x", "x", lambda v: Camera((v, 0.0, 1.0))),
+    ("Camera yaw", "yaw", lambda v: Camera((0.0, 0.0, 1.0), yaw=v)),
+    ("Camera pitch", "pitch", lambda v: Camera((0.0, 0.0, 1.0), pitch=v)),
+    ("Camera fov", "fov", lambda v: Camera((0.0, 0.0, 1.0), fov=v)),
 ]
 
 

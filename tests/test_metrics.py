@@ -144,10 +144,42 @@ def test_repetition_tiling_vs_noise(gravel):
 
 
 def test_compare_collects_everything(gravel):
-    result = metrics.compare(gravel[:64, :64], gravel, block=32)
-    assert set(result) >= {"histogram_w1", "band_power_distance_db", "tileability_image",
-                           "verbatim_copy", "repetition", "seam_energy"}
-    assert result["verbatim_copy"] > 0.2  # the reference is a crop of the image
+    result = metrics.compare(gravel, reference=gravel[:64, :64], block=32)
+    assert isinstance(result, metrics.Comparison)
+    assert result.verbatim_copy > 0.2  # the reference is a crop of the image
+    assert result.seam_energy is not None and len(result.histogram_w1) == 1
+    assert result.repeat_peak_image == pytest.approx(metrics.repeat_peak(gravel))
+    assert set(result.as_dict()) >= {"histogram_w1", "band_power_distance_db", "tileability_image",
+                                     "verbatim_copy", "repeat_peak_image", "exact_repetition", "seam_energy"}
+
+
+def test_compare_repetition_sees_a_filtered_repeat(gravel):
+    """A tiled crop, blurred a little (no exact 8-bit copy survives): the
+    exact repetition misses it, the repeat peak (the compare report's number)
+    sees it; the untiled image reads as not repeating."""
+    from scipy import ndimage
+
+    noise = np.random.default_rng(1).normal(0.0, 0.01, (192, 192))
+    tiled = np.clip(ndimage.gaussian_filter(np.tile(gravel[:64, :64], (3, 3)), 0.7) + noise, 0.0, 1.0)
+    r = metrics.compare(tiled, reference=gravel[:64, :64])
+    assert r.exact_repetition < 0.05
+    assert r.repeat_peak_image > 0.5
+    assert metrics.compare(gravel, reference=gravel[:64, :64]).repeat_peak_image < 0.1
+
+
+def test_compare_old_call_is_deprecated_and_never_swapped(gravel):
+    crop = gravel[:64, :64]
+    with pytest.warns(DeprecationWarning, match="compare\\(image, reference=reference\\)"):
+        old = metrics.compare(crop, gravel)  # the old order: reference first
+    assert old.as_dict() == metrics.compare(gravel, reference=crop).as_dict()
+    with pytest.warns(DeprecationWarning, match="attribute .exact_repetition"):
+        assert old["repetition"] == old.exact_repetition  # the old dict access
+    with pytest.raises(TypeError, match="reference by name"):
+        metrics.compare(gravel)
+    with pytest.raises(TypeError, match="3 positional arguments"):
+        metrics.compare(gravel, crop, crop)
+    with pytest.raises(TypeError, match="2 positional arguments and reference="):
+        metrics.compare(gravel, crop, reference=crop)
 
 
 def test_band_power_segments_compare_sizes_at_one_resolution():

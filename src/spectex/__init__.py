@@ -29,6 +29,7 @@ _SUBMODULES = (
     "color",
     "export",
     "fitting",
+    "figures",
     "io",
     "metrics",
     "noise",
@@ -57,6 +58,7 @@ _LAZY_NAMES = {
     "make_seamless": "tiles",
     "read_image": "io",
     "write_image": "io",
+    "fit_result": "fitting",
 }
 
 __all__ = ["__version__", *_SUBMODULES, *_LAZY_NAMES]

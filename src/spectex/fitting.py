@@ -20,11 +20,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import check_float, check_image, check_int, check_seed
+from ._results import DictAccess
+from ._validate import DEPRECATED, check_float, check_image, check_int, check_seed
 from .analysis import cross_scale
 from .color import luma
 
-__all__ = ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
+__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
            "STRUCTURED_PEAK", "FIT_TILINGS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
@@ -255,7 +256,7 @@ class _Problem:
             self.target_bands = np.concatenate([self.target_bands, self.cont[1]])
         self.target_sorted = [np.sort(exemplar[:, :, c].ravel()) for c in range(3)]
         target = cross_scale(exemplar)
-        self.target_cross, self.fine = target["value"], target["fine"]
+        self.target_cross, self.fine = target.value, target.fine
         self.set_regions(n_regions, tile_px=tile_px, ratio=ratio)
 
     def set_regions(self, n_regions, *, tile_px, ratio):
@@ -311,7 +312,7 @@ class _Problem:
         return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
 
     def cross(self, bakes):
-        return float(np.mean([cross_scale(b, fine=self.fine)["value"] for b in self.fine_bakes(bakes)]))
+        return float(np.mean([cross_scale(b, fine=self.fine).value for b in self.fine_bakes(bakes)]))
 
     def histogram_step(self, colour, bakes, *, shift_only=False):
         """Map the tile's channels so that the bakes' histograms become the exemplar's."""
@@ -354,7 +355,7 @@ def _pick_gain(gains, values, target) -> float:
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
         iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
-        tiling: str = "auto", patch: float | None = None, progress=None, return_result: bool = False):
+        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -460,12 +461,13 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     progress : callable, optional
         ``progress(done, total)`` after each step.
     return_result : bool
-        Return a :class:`FitResult` (texture, exemplar used, notes,
-        parameters, time) instead of the texture alone.
+        Deprecated: call :func:`fit_result` for a :class:`FitResult`
+        (texture, exemplar used, notes, parameters, time). Still taken for
+        one release, with a ``DeprecationWarning``.
 
     Returns
     -------
-    SpectralTexture or FitResult
+    SpectralTexture
 
     References
     ----------
@@ -483,6 +485,34 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        synthesis and transfer", SIGGRAPH 2001 (the larger tile).
     .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
        a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
+    """
+    kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
+                  tile_size=tile_size, max_size=max_size, seed=seed, tiling=tiling, patch=patch, progress=progress)
+    if return_result is not DEPRECATED:
+        import warnings
+
+        warnings.warn("fit(..., return_result=...) is deprecated and will be removed in the next release; "
+                      "fit() returns the texture, fit_result() a FitResult", DeprecationWarning, stacklevel=2)
+        if return_result:
+            return fit_result(image, **kwargs)
+    return fit_result(image, **kwargs).texture
+
+
+def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
+               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
+               tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
+    """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
+
+    The parameters are :func:`fit`'s; the same inputs give the same texture.
+
+    Returns
+    -------
+    FitResult
+        ``texture`` (the :class:`spectex.SpectralTexture`), ``exemplar``
+        (as analysed, after :func:`prepare_exemplar`), ``pixel_size``,
+        ``notes`` (the input conversions), ``params`` (the fitted
+        parameters: tile size and method, layer opacities, alpha gain, band
+        gains, the band error of each step, tilings, ...) and ``seconds``.
     """
     import time
 
@@ -601,8 +631,6 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     history.append(err.tolist())
     colour = np.clip(_shape_spectrum(colour, np.clip(err, -6.0, 6.0)), 0.0, 1.0)
     texture = problem.texture(colour, alpha)
-    if not return_result:
-        return texture
     params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
@@ -614,7 +642,24 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
                      seconds=time.perf_counter() - start)
 
 
-def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2) -> dict:
+@dataclass(frozen=True, eq=False)
+class FitReport(DictAccess):
+    """The numbers of :func:`fit_report` (it was a dict: ``report["histogram_w1"]`` still works
+    for one release, with a ``DeprecationWarning``)."""
+
+    bake_shape: tuple                  #: (H, W) of the bake compared
+    band_power_distance_db: float      #: RMS over the exemplar's bands, dB
+    band_power_exemplar_db: np.ndarray
+    band_power_texture_db: np.ndarray
+    histogram_w1: np.ndarray           #: per channel
+    cross_scale_exemplar: float
+    cross_scale_texture: float
+    amplitude_exemplar: float
+    amplitude_texture: float
+
+
+def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
+               bake=None) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -624,9 +669,14 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     :func:`prepare_exemplar`: grey becomes RGB, alpha is dropped, huge
     images are cropped).
 
+    With ``bake``, a bake of the texture already made (``texture.bake(...)``
+    at the exemplar's ``pixel_size``, at least the exemplar's size), that is
+    compared instead, and ``origin`` and ``scale`` are not used: ``spectex
+    fit`` reports on the render of 8x the area it shows this way.
+
     Returns
     -------
-    dict
+    FitReport
         ``band_power_distance_db`` (RMS over the bands the exemplar holds,
         Welch segments of the exemplar's size, :func:`spectex.metrics.band_power_distance`),
         ``band_power_exemplar_db`` and ``band_power_texture_db`` (lists),
@@ -638,19 +688,25 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     from .metrics import band_power, band_power_distance, histogram_w1
 
     exemplar, _ = prepare_exemplar(image)
-    scale = check_int("scale", scale, minimum=1, maximum=8)
     h, w = exemplar.shape[:2]
-    bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+    if bake is None:
+        scale = check_int("scale", scale, minimum=1, maximum=8)
+        bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+    else:
+        bake = check_image("bake", bake, channels=(3,))
+        if bake.shape[0] < h or bake.shape[1] < w:
+            raise ValueError(f"bake must be at least the exemplar's size {w}x{h}, got "
+                             f"{bake.shape[1]}x{bake.shape[0]}")
     ce = cross_scale(exemplar)
-    cb = cross_scale(bake, fine=ce["fine"])
-    return {
-        "bake_shape": [scale * h, scale * w],
-        "band_power_distance_db": band_power_distance(exemplar, bake),
-        "band_power_exemplar_db": band_power(exemplar)[1].tolist(),
-        "band_power_texture_db": band_power(bake, segment=(h, w))[1].tolist(),
-        "histogram_w1": histogram_w1(exemplar, bake).tolist(),
-        "cross_scale_exemplar": ce["value"],
-        "cross_scale_texture": cb["value"],
-        "amplitude_exemplar": ce["amplitude"],
-        "amplitude_texture": cb["amplitude"],
-    }
+    cb = cross_scale(bake, fine=ce.fine)
+    return FitReport(
+        bake_shape=tuple(bake.shape[:2]),
+        band_power_distance_db=band_power_distance(exemplar, bake),
+        band_power_exemplar_db=band_power(exemplar).power_db,
+        band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
+        histogram_w1=histogram_w1(exemplar, bake),
+        cross_scale_exemplar=ce.value,
+        cross_scale_texture=cb.value,
+        amplitude_exemplar=ce.amplitude,
+        amplitude_texture=cb.amplitude,
+    )

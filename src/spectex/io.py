@@ -56,8 +56,8 @@ def to_uint(image: np.ndarray, bit_depth: int = 8) -> np.ndarray:
     check_choice("bit_depth", str(bit_depth), ("8", "16"))
     top = 255 if bit_depth == 8 else 65535
     arr = np.asarray(image, dtype=np.float32)
-    arr = np.nan_to_num(arr, nan=0.0)
-    out = np.clip(arr * np.float32(top) + np.float32(0.5), 0, top)
+    arr = np.clip(np.nan_to_num(arr, nan=0.0), 0.0, 1.0)  # before scaling: inf * top would overflow
+    out = arr * np.float32(top) + np.float32(0.5)
     return out.astype(np.uint8 if bit_depth == 8 else np.uint16)
 
 

@@ -34,11 +34,14 @@ References
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from ._results import DictAccess
 from ._validate import check_float, check_image, check_int
 from .color import luma
-from .spectrum import band_power  # the estimator's home is spectex.spectrum; a measure of this table
+from .spectrum import BandPower, band_power  # the estimator's home is spectex.spectrum; a measure of this table
 
 __all__ = [
     "histogram_w1",
@@ -50,6 +53,8 @@ __all__ = [
     "repeat_peak",
     "tileability",
     "compare",
+    "Comparison",
+    "BandPower",
 ]
 
 
@@ -476,48 +481,120 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
 # Everything at once
 # --------------------------------------------------------------------------
 
-def compare(reference, image, *, block: int | None = None, overlap: int = 0) -> dict:
-    """All the measures of ``image`` against an exemplar ``reference``.
+@dataclass(frozen=True, eq=False)
+class Comparison(DictAccess):
+    """The measures of an image against a reference (:func:`compare`).
+
+    Attributes
+    ----------
+    histogram_w1 : tuple of float
+        :func:`histogram_w1`, one per channel.
+    bands : ndarray, shape (K, 2), or None
+        Octave bands, cycles per pixel, finest first (``None``: an image too
+        small for two bands).
+    band_power_image_db, band_power_reference_db : ndarray, shape (K,), or None
+        :func:`band_power` of both at the common size (as in
+        :func:`band_power_distance`).
+    band_power_distance_db : float or None
+        RMS of their difference.
+    tileability_image, tileability_reference : float or None
+        :func:`tileability` (``None`` under 3 x 3 pixels).
+    verbatim_copy : float or None
+        :func:`verbatim_copy` of the reference in the image.
+    repeat_peak_image, repeat_peak_reference : float or None
+        :func:`repeat_peak` of each: how strongly fine detail repeats, at any
+        period and angle (<= 0.1 does not repeat); ``min_lag`` is 24 pixels,
+        or half the shorter side of a smaller image (``None`` under 2 pixels).
+    exact_repetition : float or None
+        :func:`repetition` of the image at the reference's period (exact
+        8-bit copies one period away, axis-aligned; blind to a repeat that
+        filtering or blending changed).
+    seam_energy : float or None
+        :func:`seam_energy` for the ``block`` layout, if one was given.
+
+    ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
+    Indexing by the old dict keys (``result["repetition"]``, the exact
+    repetition) still works for one release, with a ``DeprecationWarning``.
+    """
+
+    histogram_w1: tuple
+    bands: np.ndarray | None
+    band_power_image_db: np.ndarray | None
+    band_power_reference_db: np.ndarray | None
+    band_power_distance_db: float | None
+    tileability_image: float | None
+    tileability_reference: float | None
+    verbatim_copy: float | None
+    repeat_peak_image: float | None
+    repeat_peak_reference: float | None
+    exact_repetition: float | None
+    seam_energy: float | None = None
+
+    _renamed = {"repetition": "exact_repetition"}
+
+
+def _repeat_peak_or_none(image):
+    side = min(image.shape[:2])
+    if side < 2:
+        return None
+    return repeat_peak(image, min_lag=min(24, side // 2))
+
+
+def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -> Comparison:
+    """All the measures of ``image`` against a ``reference`` (an exemplar).
+
+    Call it as ``compare(image, reference=exemplar)``: the image judged
+    first, the reference named (the convention of ``docs/conventions.md``,
+    with a name so that the two cannot be swapped by mistake).
+
+    The old call ``compare(reference, image)``, two positional arguments,
+    reference first, still works for one release and gives a
+    ``DeprecationWarning``; it will then be refused, not read the other way.
 
     Parameters
     ----------
-    reference : ndarray, shape (h, w) or (h, w, C)
-        The exemplar (or any reference image).
     image : ndarray, shape (H, W) or (H, W, C)
-        The texture to judge; the same number of channels.
+        The texture to judge.
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The exemplar (or any reference image); the same number of channels.
     block, overlap : int, optional
         With ``block``, also the seam energy for that block layout.
 
     Returns
     -------
-    dict
-        ``histogram_w1`` (list per channel), ``bands`` (list of [low, high]
-        cycles per pixel), ``band_power_reference_db`` and
-        ``band_power_image_db`` (lists; both at the common size, as in
-        :func:`band_power_distance`), ``band_power_distance_db``,
-        ``tileability_reference``, ``tileability_image``, ``verbatim_copy``,
-        ``repetition`` (at the reference's period), and ``seam_energy`` if
-        ``block`` was given. Measures an image is too small for are ``None``.
+    Comparison
+        Measures an image is too small for are ``None``.
     """
-    reference = check_image("reference", reference)
+    if len(args) == 2 and reference is None:
+        import warnings
+
+        warnings.warn("compare(reference, image) is deprecated and will be removed in the next release; "
+                      "call compare(image, reference=reference)", DeprecationWarning, stacklevel=2)
+        reference, image = args
+    elif len(args) == 1:
+        image = args[0]
+        if reference is None:
+            raise TypeError("compare() needs the reference by name: compare(image, reference=exemplar)")
+    else:
+        raise TypeError(f"compare() takes the image and reference=..., got {len(args)} positional arguments"
+                        + (" and reference=" if reference is not None else ""))
     image = check_image("image", image)
-    out: dict = {"histogram_w1": histogram_w1(reference, image).tolist()}
+    reference = check_image("reference", reference)
+    w1 = tuple(float(v) for v in histogram_w1(image, reference))
     try:
         bands, pr, pi = _common_bands(reference, image, 4)
-        out["bands"] = bands.tolist()
-        out["band_power_reference_db"] = pr.tolist()
-        out["band_power_image_db"] = pi.tolist()
-        out["band_power_distance_db"] = float(np.sqrt(np.mean((pr - pi) ** 2)))
+        distance = float(np.sqrt(np.mean((pr - pi) ** 2)))
     except ValueError:
-        out["bands"] = out["band_power_reference_db"] = out["band_power_image_db"] = None
-        out["band_power_distance_db"] = None
-    for key, img in (("tileability_reference", reference), ("tileability_image", image)):
-        out[key] = tileability(img) if min(img.shape[:2]) >= 3 else None
+        bands = pr = pi = distance = None
+    tile_i, tile_r = ((tileability(img) if min(img.shape[:2]) >= 3 else None) for img in (image, reference))
     if min(image.shape[:2]) >= 5 and min(reference.shape[:2]) >= 5:
-        out["verbatim_copy"] = verbatim_copy(image, reference)
-        out["repetition"] = repetition(image, reference.shape[:2])
+        copy = verbatim_copy(image, reference)
+        exact = repetition(image, reference.shape[:2])
     else:
-        out["verbatim_copy"] = out["repetition"] = None
-    if block is not None:
-        out["seam_energy"] = seam_energy(image, block, overlap)
-    return out
+        copy = exact = None
+    return Comparison(
+        histogram_w1=w1, bands=bands, band_power_image_db=pi, band_power_reference_db=pr,
+        band_power_distance_db=distance, tileability_image=tile_i, tileability_reference=tile_r,
+        verbatim_copy=copy, repeat_peak_image=_repeat_peak_or_none(image),
+        repeat_peak_reference=_repeat_peak_or_none(reference), exact_repetition=exact,
+        seam_energy=seam_energy(image, block, overlap) if block is not None else None)

@@ -24,12 +24,21 @@ Mathematical Imaging and Vision 39(2), 161-179, 2011.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ._parallel import fft_workers
 from ._validate import check_image
 
-__all__ = ["periodic_smooth_decomposition", "solve_periodic_poisson", "wrap_step_source"]
+
+class PeriodicSmooth(NamedTuple):
+    """The two parts of :func:`periodic_smooth_decomposition` (unpacks as ``periodic, smooth``)."""
+
+    periodic: np.ndarray  #: periodic-looking part, the image's mean kept
+    smooth: np.ndarray    #: smooth part, zero mean
+
+__all__ = ["PeriodicSmooth", "periodic_smooth_decomposition", "solve_periodic_poisson", "wrap_step_source"]
 
 
 def periodic_smooth_decomposition(image):
@@ -61,7 +70,7 @@ def periodic_smooth_decomposition(image):
     p = u - s
     if image.ndim == 2:
         p, s = p[:, :, 0], s[:, :, 0]
-    return p.astype(np.float32), s.astype(np.float32)
+    return PeriodicSmooth(p.astype(np.float32), s.astype(np.float32))
 
 
 def wrap_step_source(shape, row_step, col_step) -> np.ndarray:

@@ -59,7 +59,9 @@ from .color import luma
 
 __all__ = [
     "WINDOWS",
+    "BandPower",
     "PowerSpectrum",
+    "RadialSpectrum",
     "SlopeFit",
     "band_power",
     "hann_window",
@@ -107,6 +109,20 @@ def hann_window(shape) -> np.ndarray:
 # --------------------------------------------------------------------------
 # The estimator
 # --------------------------------------------------------------------------
+
+class RadialSpectrum(NamedTuple):
+    """The result of :func:`radial_power_spectrum` (unpacks as ``freqs, power``)."""
+
+    freqs: np.ndarray  #: mean radial frequency of each ring, cycles per pixel
+    power: np.ndarray  #: mean power in each ring, ``(K,)`` or ``(K, C)``
+
+
+class BandPower(NamedTuple):
+    """The result of :func:`band_power` (unpacks as ``bands, power_db``)."""
+
+    bands: np.ndarray     #: (K, 2) lower and upper edge of each band, cycles per pixel, finest first
+    power_db: np.ndarray  #: (K,) 10 log10 of each band's power
+
 
 class PowerSpectrum(NamedTuple):
     """The periodogram of :func:`power_spectrum`, on the half plane of a real FFT.
@@ -278,7 +294,7 @@ def radial_power_spectrum(image, *, window: str | None = None):
     power = np.empty((int(good.sum()), x.shape[2]))
     for c in range(x.shape[2]):
         power[:, c] = np.bincount(idx, weights=wts * p2[:, :, c][sel], minlength=kmax)[good] / count[good]
-    return freqs, (power[:, 0] if image.ndim == 2 else power)
+    return RadialSpectrum(freqs, power[:, 0] if image.ndim == 2 else power)
 
 
 # --------------------------------------------------------------------------
@@ -366,7 +382,7 @@ def band_power(image, *, min_cycles: int = 4, segment=None):
         sel = (r >= lo) if k == 0 else ((r >= lo) & (r < hi))
         bands[k] = lo, hi
         power[k] = p[sel].sum()
-    return bands, 10.0 * np.log10(np.maximum(power, 1e-20))
+    return BandPower(bands, 10.0 * np.log10(np.maximum(power, 1e-20)))
 
 
 # --------------------------------------------------------------------------

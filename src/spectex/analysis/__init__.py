@@ -10,18 +10,19 @@ Analysis
 Fitting
     has its own module, :mod:`spectex.fitting` (:func:`spectex.fit`). The
     names ``spectex.analysis.fit``, ``fit_report``, ``FitResult``,
-    ``prepare_exemplar``, ``structure_peak`` and ``STRUCTURED_PEAK`` still
+    ``fit_result``, ``FitReport``, ``prepare_exemplar``, ``structure_peak`` and ``STRUCTURED_PEAK`` still
     work for one release, with a ``DeprecationWarning`` naming their home.
 
 See ``docs/fitting.md``.
 """
 
-from ._stats import ExemplarStats, analyse, colour_stats, cross_scale, dog_bands, octave_power
+from ._stats import (ColourStats, CrossScale, ExemplarStats, OctavePower, analyse, colour_stats, cross_scale,
+                     dog_bands, octave_power)
 
-__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
+__all__ = ["ExemplarStats", "OctavePower", "ColourStats", "CrossScale", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
 
 # Names that moved to spectex.fitting: still found here for one release, with a warning.
-_MOVED_TO_FITTING = ("fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK")
+_MOVED_TO_FITTING = ("fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "STRUCTURED_PEAK")
 
 
 def __getattr__(name):

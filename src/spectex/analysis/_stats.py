@@ -33,10 +33,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._results import DictAccess
 from .._validate import check_image, check_int
 from ..color import luma
 
-__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
+__all__ = ["ExemplarStats", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands",
+           "OctavePower", "ColourStats", "CrossScale"]
 
 def _luma64(image: np.ndarray) -> np.ndarray:
     return luma(image, dtype=np.float64)
@@ -46,7 +48,18 @@ def _luma64(image: np.ndarray) -> np.ndarray:
 # Power per octave
 # --------------------------------------------------------------------------
 
-def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
+@dataclass(frozen=True, eq=False)
+class OctavePower(DictAccess):
+    """The result of :func:`octave_power` (it was a dict: ``result["slope_db"]`` still works
+    for one release, with a ``DeprecationWarning``)."""
+
+    bands: np.ndarray      #: (K, 2) band edges, cycles per pixel, finest first
+    power_db: np.ndarray   #: (K,) power per band, dB
+    slope_db: float        #: dB per octave, towards coarser bands
+    intercept_db: float    #: the line's value at band 0, dB
+
+
+def octave_power(image, *, min_cycles: int = 4, segment=None) -> OctavePower:
     """Power per octave band of the luma and its slope in dB per octave.
 
     The bands and the estimator are those of :func:`spectex.spectrum.band_power`
@@ -65,7 +78,7 @@ def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
 
     Returns
     -------
-    dict
+    OctavePower
         ``bands`` (K, 2) edges in cycles per pixel, finest first;
         ``power_db`` (K,); ``slope_db`` (dB per octave, towards coarser
         bands); ``intercept_db`` (the line's value at band 0).
@@ -75,14 +88,28 @@ def octave_power(image, *, min_cycles: int = 4, segment=None) -> dict:
     bands, power = band_power(image, min_cycles=min_cycles, segment=segment)
     k = np.arange(len(power), dtype=np.float64)
     slope, intercept = np.polyfit(k, power, 1)
-    return {"bands": bands, "power_db": power, "slope_db": float(slope), "intercept_db": float(intercept)}
+    return OctavePower(bands=bands, power_db=power, slope_db=float(slope), intercept_db=float(intercept))
 
 
 # --------------------------------------------------------------------------
 # Colour
 # --------------------------------------------------------------------------
 
-def colour_stats(image, *, bins: int = 64) -> dict:
+@dataclass(frozen=True, eq=False)
+class ColourStats(DictAccess):
+    """The result of :func:`colour_stats` (it was a dict: ``result["mean"]`` still works for one
+    release, with a ``DeprecationWarning``)."""
+
+    mean: np.ndarray               #: (C,)
+    covariance: np.ndarray         #: (C, C)
+    principal_axes: np.ndarray     #: (C, C), eigenvectors as columns, largest variance first
+    principal_std: np.ndarray      #: (C,)
+    principal_colours: np.ndarray  #: (2, C), mean -/+ one standard deviation along the first axis
+    histograms: np.ndarray         #: (C, bins), each summing to 1
+    bin_edges: np.ndarray          #: (bins + 1,)
+
+
+def colour_stats(image, *, bins: int = 64) -> ColourStats:
     """Colour distribution: mean, covariance, principal colours, histograms.
 
     Parameters
@@ -94,7 +121,7 @@ def colour_stats(image, *, bins: int = 64) -> dict:
 
     Returns
     -------
-    dict
+    ColourStats
         ``mean`` (C,); ``covariance`` (C, C); ``principal_axes`` (C, C), the
         eigenvectors of the covariance as columns, largest variance first;
         ``principal_std`` (C,), the standard deviation along each;
@@ -121,8 +148,8 @@ def colour_stats(image, *, bins: int = 64) -> dict:
     principal = np.clip(np.stack([mean - std[0] * evecs[:, 0], mean + std[0] * evecs[:, 0]]), 0.0, 1.0)
     edges = np.linspace(0.0, 1.0, bins + 1)
     hist = np.stack([np.histogram(np.clip(x[:, c], 0, 1), bins=edges)[0] / x.shape[0] for c in range(x.shape[1])])
-    return {"mean": mean, "covariance": cov, "principal_axes": evecs, "principal_std": std,
-            "principal_colours": principal, "histograms": hist, "bin_edges": edges}
+    return ColourStats(mean=mean, covariance=cov, principal_axes=evecs, principal_std=std,
+                       principal_colours=principal, histograms=hist, bin_edges=edges)
 
 
 # --------------------------------------------------------------------------
@@ -163,7 +190,20 @@ def _corr(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.sum(a * b) / den) if den > 0 else 0.0
 
 
-def cross_scale(image, *, fine=None, step: int = 2) -> dict:
+@dataclass(frozen=True, eq=False)
+class CrossScale(DictAccess):
+    """The result of :func:`cross_scale` (it was a dict: ``result["value"]`` still works for one
+    release, with a ``DeprecationWarning``)."""
+
+    value: float                  #: mean over the fine bands of corr(fine amplitude, coarse value)
+    amplitude: float              #: mean over the fine bands of corr(fine amplitude, coarse amplitude)
+    value_bands: np.ndarray       #: per fine band
+    amplitude_bands: np.ndarray   #: per fine band
+    fine: tuple                   #: the fine band indices
+    step: int                     #: octaves between fine and coarse
+
+
+def cross_scale(image, *, fine=None, step: int = 2) -> CrossScale:
     """Cross-scale dependence: fine-band amplitude against the coarser band.
 
     The luma is split into octave bands by differences of Gaussians
@@ -198,7 +238,7 @@ def cross_scale(image, *, fine=None, step: int = 2) -> dict:
 
     Returns
     -------
-    dict
+    CrossScale
         ``value`` and ``amplitude`` (floats, the means), ``value_bands`` and
         ``amplitude_bands`` (per fine band), ``fine`` and ``step``.
 
@@ -229,9 +269,8 @@ def cross_scale(image, *, fine=None, step: int = 2) -> dict:
         amp_c = np.sqrt(ndimage.gaussian_filter(bands[c] ** 2, _sigma(c + 1), mode="reflect"))
         value.append(_corr(amp_f[crop], bands[c][crop]))
         amplitude.append(_corr(amp_f[crop], amp_c[crop]))
-    return {"value": float(np.mean(value)), "amplitude": float(np.mean(amplitude)),
-            "value_bands": np.array(value), "amplitude_bands": np.array(amplitude),
-            "fine": fine, "step": step}
+    return CrossScale(value=float(np.mean(value)), amplitude=float(np.mean(amplitude)),
+                      value_bands=np.array(value), amplitude_bands=np.array(amplitude), fine=fine, step=step)
 
 
 # --------------------------------------------------------------------------
@@ -243,20 +282,20 @@ class ExemplarStats:
     """The statistics :func:`spectex.fit` matches (see :func:`analyse`)."""
 
     shape: tuple
-    power: dict = field(repr=False)
-    colour: dict = field(repr=False)
-    cross: dict = field(repr=False)
+    power: OctavePower = field(repr=False)
+    colour: ColourStats = field(repr=False)
+    cross: CrossScale = field(repr=False)
 
     def summary(self) -> dict:
         """Plain numbers (JSON-friendly) for reports."""
         return {
             "shape": list(self.shape),
-            "power_db": [round(float(p), 3) for p in self.power["power_db"]],
-            "slope_db_per_octave": round(self.power["slope_db"], 3),
-            "mean": [round(float(m), 4) for m in self.colour["mean"]],
-            "principal_std": [round(float(s), 4) for s in self.colour["principal_std"]],
-            "cross_scale_value": round(self.cross["value"], 3),
-            "cross_scale_amplitude": round(self.cross["amplitude"], 3),
+            "power_db": [round(float(p), 3) for p in self.power.power_db],
+            "slope_db_per_octave": round(self.power.slope_db, 3),
+            "mean": [round(float(m), 4) for m in self.colour.mean],
+            "principal_std": [round(float(s), 4) for s in self.colour.principal_std],
+            "cross_scale_value": round(self.cross.value, 3),
+            "cross_scale_amplitude": round(self.cross.amplitude, 3),
         }
 
 

@@ -8,24 +8,46 @@ from . import _common
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "compare",
-        help="measure a texture against its exemplar (histograms, band power, copies, tiling)",
+        help="measure an image against its exemplar (histograms, band power, copies, repetition, tiling)",
         description=(
-            "Print the measures of spectex.metrics for image B against exemplar A: per-channel "
-            "histogram Wasserstein-1 distance, power per octave band and its RMS distance in dB, "
-            "tileability of both, the largest verbatim copy of A in B, repetition of B at A's "
-            "period, and with --block the seam energy of a quilt. Grey against colour compares "
-            "the colour image's luma."
+            "Print the measures of spectex.metrics for IMAGE against the exemplar given with "
+            "--reference: per-channel histogram Wasserstein-1 distance, power per octave band and its "
+            "RMS distance in dB, tileability of both, the largest verbatim copy of the reference in "
+            "IMAGE, how strongly the fine detail of each repeats (repeat_peak, any period and "
+            "direction), and with --block the seam energy of a quilt. Grey against colour compares "
+            "the colour image's luma. The old form 'compare A B' (exemplar first) still works for "
+            "one release, with a note on standard error."
         ),
     )
-    p.add_argument("a", type=_common.existing_file, metavar="A", help="exemplar (reference) image")
-    p.add_argument("b", type=_common.existing_file, metavar="B", help="texture to judge")
+    p.add_argument("inputs", type=_common.existing_file, nargs="+", metavar="IMAGE",
+                   help="the image to judge")
+    p.add_argument("--reference", type=_common.existing_file, default=None, metavar="EXEMPLAR",
+                   help="the exemplar (or any reference image) IMAGE is judged against")
     p.add_argument("--block", type=_common.positive_int, default=None,
                    help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="with --block: quilt overlap, for the seam energy (default: 0)")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
-                   help="also write A and B side by side to this image")
+                   help="also write the reference and IMAGE side by side, labelled, to this image")
     p.set_defaults(func=run)
+
+
+def _inputs(args):
+    """``(image, reference)`` paths from the new form (IMAGE --reference R) or the old (A B)."""
+    import sys
+
+    from . import UsageError
+
+    if len(args.inputs) == 1:
+        if args.reference is None:
+            raise UsageError("compare needs the exemplar: spectex compare IMAGE --reference EXEMPLAR")
+        return args.inputs[0], args.reference
+    if len(args.inputs) == 2 and args.reference is None:
+        print("spectex compare: 'compare A B' (exemplar first) is deprecated and will be removed; "
+              "use 'compare B --reference A'", file=sys.stderr)
+        return args.inputs[1], args.inputs[0]
+    raise UsageError("compare takes one IMAGE and --reference EXEMPLAR, got "
+                     f"{len(args.inputs)} images" + (" and --reference" if args.reference is not None else ""))
 
 
 def _as_common_channels(a, b):
@@ -45,44 +67,34 @@ def _as_common_channels(a, b):
     return a.astype(np.float32), b.astype(np.float32)
 
 
-def side_by_side(a, b, gap: int = 8):
-    """A and B next to each other on a mid-grey canvas (grey becomes RGB)."""
-    import numpy as np
-
-    def rgb(img):
-        return np.repeat(img[:, :, None], 3, axis=2) if img.ndim == 2 else img
-
-    a, b = rgb(a), rgb(b)
-    h = max(a.shape[0], b.shape[0])
-    canvas = np.full((h, a.shape[1] + gap + b.shape[1], 3), 0.5, dtype=np.float32)
-    canvas[:a.shape[0], :a.shape[1]] = a
-    canvas[:b.shape[0], a.shape[1] + gap:] = b
-    return canvas
-
-
 def run(args) -> int | None:
     import json
+    from pathlib import Path
 
     from spectex import metrics
+    from spectex.figures import montage
     from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
 
     if args.block is None:
         _common.refuse(args, ["overlap"], "without --block (only to the seam energy of a quilt)")
+    image_path, reference_path = _inputs(args)
     _common.require_stdout("the measures would be lost")
-    output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[args.a, args.b])
+    output = (check_output_path("output", args.output, IMAGE_SUFFIXES, inputs=[image_path, reference_path])
               if args.output else None)
     from spectex._validate import check_image
 
-    a = check_image("A", read_image(args.a, name="A"))  # errors name A or B, not the metric's argument
-    b = check_image("B", read_image(args.b, name="B"))
-    a, b = _as_common_channels(a, b)
-    result = metrics.compare(a, b, block=args.block, overlap=args.overlap)
+    # errors name IMAGE or the reference, not the metric's argument
+    image = check_image("IMAGE", read_image(image_path, name="IMAGE"))
+    reference = check_image("--reference", read_image(reference_path, name="--reference"))
+    image, reference = _as_common_channels(image, reference)
+    result = metrics.compare(image, reference=reference, block=args.block, overlap=args.overlap)
     if args.json:  # strict JSON: NaN and infinity (flat images) become null
-        print(json.dumps(_finite(result), indent=2, allow_nan=False))
+        print(json.dumps(_finite(result.as_dict()), indent=2, allow_nan=False))
     else:
-        _print_table(result, a, b)
+        _print_table(result, image, reference)
     if output is not None:
-        write_image(output, side_by_side(a, b))
+        labels = [f"reference: {Path(reference_path).name}", f"image: {Path(image_path).name}"]
+        write_image(output, montage([reference, image], labels))
         _common.report(f"wrote {output}")
     return 0
 
@@ -99,7 +111,7 @@ def _finite(value):
     return value
 
 
-def _print_table(r, a, b) -> None:
+def _print_table(r, image, reference) -> None:
     import math
 
     def num(v, fmt="{:.4f}"):
@@ -111,18 +123,20 @@ def _print_table(r, a, b) -> None:
             return "infinite"
         return fmt.format(v)
 
-    print(f"A: {a.shape[1]}x{a.shape[0]}   B: {b.shape[1]}x{b.shape[0]}")
-    print("histogram W1 per channel   " + "  ".join(num(v) for v in r["histogram_w1"])
+    print(f"image: {image.shape[1]}x{image.shape[0]}   reference: {reference.shape[1]}x{reference.shape[0]}")
+    print("histogram W1 per channel   " + "  ".join(num(v) for v in r.histogram_w1)
           + "   (<= 0.03 is close)")
-    if r["bands"] is not None:
-        print("band power (dB)     cycles/px      A         B")
-        for (lo, hi), pa, pb in zip(r["bands"], r["band_power_reference_db"], r["band_power_image_db"]):
-            print(f"                    {lo:.4f}-{hi:.4f}  {num(pa, '{:8.2f}'):>8s}  {num(pb, '{:8.2f}'):>8s}")
-    print(f"band power distance        {num(r['band_power_distance_db'], '{:.2f} dB')}   (<= 1.5 dB is close)")
-    print(f"tileability A / B          {num(r['tileability_reference'], '{:.2f}')} / "
-          f"{num(r['tileability_image'], '{:.2f}')}   (about 1 tiles seamlessly)")
-    print(f"verbatim copy of A in B    {num(r['verbatim_copy'])}   (largest region copied with one offset, "
-          "fraction of B)")
-    print(f"repetition at A's period   {num(r['repetition'])}   (about 0: no tiling of A)")
-    if "seam_energy" in r:
-        print(f"seam energy                {num(r['seam_energy'], '{:.3f}')}   (about 1: seams like the interior)")
+    if r.bands is not None:
+        print("band power (dB)     cycles/px      image  reference")
+        for (lo, hi), pi, pr in zip(r.bands, r.band_power_image_db, r.band_power_reference_db):
+            print(f"                    {lo:.4f}-{hi:.4f}  {num(pi, '{:8.2f}'):>8s}  {num(pr, '{:8.2f}'):>8s}")
+    print(f"band power distance        {num(r.band_power_distance_db, '{:.2f} dB')}   (<= 1.5 dB is close)")
+    print(f"tileability image / ref.   {num(r.tileability_image, '{:.2f}')} / "
+          f"{num(r.tileability_reference, '{:.2f}')}   (about 1 tiles seamlessly)")
+    print(f"verbatim copy of reference {num(r.verbatim_copy)}   (largest region copied with one offset, "
+          "fraction of the image)")
+    print(f"repetition image / ref.    {num(r.repeat_peak_image, '{:.3f}')} / "
+          f"{num(r.repeat_peak_reference, '{:.3f}')}   (repeat_peak of the fine detail, any period; "
+          "<= 0.1 does not repeat)")
+    if r.seam_energy is not None:
+        print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

@@ -22,7 +22,8 @@ def register(subparsers) -> None:
             "512 x 512 crop (said in the output). Nothing is written if anything fails."
         ),
     )
-    p.add_argument("photo", type=_common.existing_file, help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
+    p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",
+                   help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
                    help="output folder (made if missing; in an existing folder the five files replace "
                         "the earlier ones only when all are complete, and other files are left alone)")
@@ -44,58 +45,19 @@ _FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png"
 
 
 def _plots(folder, exemplar, same, large):
-    import numpy as np
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    from spectex.figures import plot_band_power, plot_histograms
 
-    from spectex.metrics import band_power
-
-    fig = Figure(figsize=(6.4, 4.4), dpi=100)
-    FigureCanvasAgg(fig)
-    ax = fig.add_subplot(1, 1, 1)
     h, w = exemplar.shape[:2]
     big = large[:1024, :1024] if min(large.shape[:2]) >= 1024 else large  # a fast FFT size
-    for img, label, style, seg in ((exemplar, "exemplar", "o-", None), (same, "render, same scale", "s--", (h, w)),
-                                   (big, "render, 8x the area", "^:", None)):
-        bands, power = band_power(img, segment=seg)
-        centre = np.sqrt(bands[:, 0] * np.minimum(bands[:, 1], 0.5))
-        ax.semilogx(1.0 / centre, power, style, label=label)
-    ax.set_xlabel("wavelength at the band centre (pixels)")
-    ax.set_ylabel("power per octave band (dB)")
-    ax.set_title("power per octave band: exemplar and fitted texture", fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=9)
-    fig.tight_layout()
-    fig.savefig(folder / "band_power.png", format="png")
-
-    fig = Figure(figsize=(9.6, 3.2), dpi=100)
-    FigureCanvasAgg(fig)
-    edges = np.linspace(0.0, 1.0, 65)
-    for c, name in enumerate(("red", "green", "blue")):
-        ax = fig.add_subplot(1, 3, c + 1)
-        for img, colour, label in ((exemplar, "0.2", "exemplar"), (same, f"C{c}", "render")):
-            counts, _ = np.histogram(img[:, :, c], bins=edges, density=True)
-            ax.stairs(counts, edges, color=colour, label=label)
-        ax.set_title(name, fontsize=10)
-        ax.set_xlabel("value")
-        if c == 0:
-            ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(folder / "histograms.png", format="png")
+    plot_band_power(folder / "band_power.png", [exemplar, same, big],
+                    ["exemplar", "render, same scale", "render, 8x the area"], segments=[None, (h, w), None])
+    plot_histograms(folder / "histograms.png", [exemplar, same], ["exemplar", "render"])
 
 
 def _comparison(exemplar, same, large):
-    import numpy as np
+    from spectex.figures import montage
 
-    H = large.shape[0]
-    gap = 8
-    width = exemplar.shape[1] + same.shape[1] + large.shape[1] + 2 * gap
-    out = np.ones((H, width, 3), dtype=np.float32)
-    x = 0
-    for img in (exemplar, same, large):
-        out[:img.shape[0], x:x + img.shape[1]] = img
-        x += img.shape[1] + gap
-    return out
+    return montage([exemplar, same, large], ["exemplar", "render", "render, 8x the area"], background=1.0)
 
 
 def _write_fast_png(path, image):
@@ -112,7 +74,7 @@ def run(args) -> int | None:
     import time
 
     from spectex._output import OutputSet
-    from spectex.fitting import fit, prepare_exemplar
+    from spectex.fitting import fit_result, prepare_exemplar
     from spectex.io import read_image
 
     start = time.perf_counter()
@@ -121,29 +83,24 @@ def run(args) -> int | None:
                          f"got {args.pixel_size:g}")
     # Every file checked before the work (none may be the photo); all five replace the earlier
     # ones only when complete.
-    outputs = OutputSet(args.output, _FILES, inputs=[args.photo])
+    outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
-    photo = read_image(args.photo, name="photo")
+    photo = read_image(args.exemplar, name="EXEMPLAR")
     exemplar, notes = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
-        result = fit(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
+        result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
                      opacity=args.opacity,
-                     seed=args.seed, progress=bar, return_result=True)
+                     seed=args.seed, progress=bar)
     fit_seconds = time.perf_counter() - start
     texture = result.texture
     h, w = exemplar.shape[:2]
     same = texture.bake((h, w), pixel_size=args.pixel_size)
     side = math.sqrt(8.0)
     large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=args.pixel_size)
-    # the numbers from the renders made anyway (fit_report bakes its own region)
-    from spectex.analysis import cross_scale
-    from spectex.metrics import band_power_distance, histogram_w1
+    # the numbers, on the render of 8x the area that comparison.png shows
+    from spectex.fitting import fit_report
 
-    region = large[:2 * h, :2 * w]  # twice the exemplar's side, as fit_report and the tests
-    numbers = {"band_power_distance_db": band_power_distance(exemplar, region),
-               "histogram_w1": histogram_w1(exemplar, region[::2, ::2]).tolist(),
-               "cross_scale_texture": cross_scale(same, fine=cross_scale(exemplar)["fine"])["value"],
-               "cross_scale_exemplar": result.params["target_cross_scale"]}
+    numbers = fit_report(texture, photo, pixel_size=args.pixel_size, bake=large)
 
     with outputs as stage:
         texture.save(stage / "texture.toml")
@@ -153,13 +110,13 @@ def run(args) -> int | None:
         _common.report(f"note: {note}")
     pr = result.params
     _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
-                   f"{args.photo} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
+                   f"{args.exemplar} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
     _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
-    w1 = max(numbers["histogram_w1"])
-    _common.report(f"  at the exemplar's scale (render of 4x the area): band power "
-                   f"{numbers['band_power_distance_db']:.2f} dB RMS, "
-                   f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers['cross_scale_texture']:+.2f} "
-                   f"(exemplar {numbers['cross_scale_exemplar']:+.2f})")
+    w1 = max(numbers.histogram_w1)
+    _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
+                   f"{numbers.band_power_distance_db:.2f} dB RMS, "
+                   f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
+                   f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0

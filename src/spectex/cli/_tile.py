@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 from . import _common
 
 _METHODS = ("spectral", "octaves", "noise")
@@ -37,7 +39,7 @@ def register(subparsers) -> None:
     p.add_argument("--size", type=_common.size, default=None, metavar="N|WxH",
                    help="tile size (default: 512; with --from: the whole photograph)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
-    p.add_argument("--from", dest="source", default=None, metavar="IMAGE",
+    p.add_argument("--from", dest="source", default=None, metavar="EXEMPLAR",
                    help="make this photograph tileable instead of making noise")
     p.add_argument("--seam", choices=("matched", "moisan"), default="matched",
                    help="with --from: join the wrap edges with detail like their neighbourhood "
@@ -53,8 +55,10 @@ def register(subparsers) -> None:
     p.add_argument("--low", type=_common.positive_float, default=None,
                    help="spectral: low cut-off of the noise, cycles per pixel (default: none)")
     p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves and noise: how many octaves (default: octaves, as many as the tile holds; noise, 6)")
-    p.add_argument("--filter", choices=_FILTERS, default="bspline",
-                   help="octaves: magnification filter (default: bspline)")
+    p.add_argument("--kernel", choices=_FILTERS, default="bspline",
+                   help="octaves: magnification kernel that enlarges each octave (default: bspline)")
+    p.add_argument("--filter", dest="kernel", choices=_FILTERS, default=argparse.SUPPRESS,
+                   help=argparse.SUPPRESS)  # the old name, deprecated: one line on stderr says so
     p.add_argument("--azimuth", type=_common.finite_float, default=135.0,
                    help="emboss: light direction, degrees counter-clockwise from +x (default: 135)")
     p.add_argument("--strength", type=_common.finite_float, default=1.0,
@@ -74,6 +78,7 @@ def run(args) -> int | None:
     from spectex.io import check_output_path, read_image, write_image
     from spectex.tiles import make_seamless, make_tile, preview as make_preview
 
+    _common.deprecated_alias(args, "kernel", "--filter", "--kernel")
     _refuse_unused(args)
     inputs = [args.source] if args.source is not None else []
     output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
@@ -98,12 +103,12 @@ def run(args) -> int | None:
             what = f"from {args.source}"
         else:
             if args.alpha == "keep":
-                raise ValueError("--alpha keep needs --from IMAGE (a photograph with an alpha channel)")
+                raise ValueError("--alpha keep needs --from EXEMPLAR (a photograph with an alpha channel)")
             steps.step(f"making {args.method} noise")
             tile = make_tile(512 if args.size is None else args.size, rng=args.seed, method=args.method,
                              alpha=args.alpha or "emboss", colormap=args.colormap,
                              cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
-                             low=args.low, octaves=args.octaves, filter=args.filter,
+                             low=args.low, octaves=args.octaves, filter=args.kernel,
                              azimuth=args.azimuth, strength=args.strength,
                              alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
             what = f"{args.method} noise"
@@ -130,7 +135,7 @@ def run(args) -> int | None:
 def _refuse_unused(args) -> None:
     """Refuse, in one line, options that would do nothing for this source, method and alpha."""
     if args.source is not None:
-        _common.refuse(args, ["method", "colormap", "beta", "low", "octaves", "filter"],
+        _common.refuse(args, ["method", "colormap", "beta", "low", "octaves", "kernel"],
                        "with --from (a photograph has its own colours and spectrum)")
         alpha = args.alpha or "none"
     else:
@@ -144,7 +149,7 @@ def _refuse_unused(args) -> None:
         if method == "spectral":
             _common.refuse(args, ["octaves"], "to --method spectral (only to octaves and noise)")
         if method != "octaves":
-            _common.refuse(args, ["filter"], f"to --method {method} (only to octaves)")
+            _common.refuse(args, ["kernel"], f"to --method {method} (only to octaves)")
     if alpha != "emboss":
         _common.refuse(args, ["azimuth", "strength"], f"to --alpha {alpha} (only to emboss)")
     if alpha != "none":

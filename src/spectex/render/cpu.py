@@ -13,11 +13,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..shading.camera import check_size, view_params
+from . import DEFAULT_ANISOTROPY
 
 __all__ = ["render_cpu"]
 
 
-def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, supersample=1,
+def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, supersample=1,
                atmosphere=None, enabled=None):
     """Render ``texture`` on the ground plane as seen by ``camera``.
 
@@ -31,7 +32,9 @@ def render_cpu(texture, camera, size, *, filter="trilinear", anisotropy=1.0, sup
         Minification filter (``spectex.sampling.FILTERS``, or "trilinear");
         ``"linear"`` or ``"nearest"`` sample level 0 only (no mip-mapping).
     anisotropy : float
-        Maximum anisotropy, 1 (off) to 16.
+        Maximum anisotropy, 1 (off) to 16; default ``DEFAULT_ANISOTROPY``
+        (8, see :data:`spectex.render.DEFAULT_ANISOTROPY`). 1 runs the fast
+        isotropic kernel, about 10x faster on the CPU.
     supersample : int
         ``n x n`` samples per pixel, box-filtered (each with its own, ``n``
         times smaller, footprint).

@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..shading.camera import check_size, view_params
+from . import DEFAULT_ANISOTROPY
 
 __all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
 
@@ -301,9 +302,14 @@ class GLRenderer:
         return False
 
     # ---------------------------------------------------------------- drawing
-    def prepare(self, camera, size, *, filter="trilinear", anisotropy=1.0, atmosphere=None, enabled=None,
+    def prepare(self, camera, size, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None, enabled=None,
                 sky_only=False):
-        """Set the uniforms and sampler state for a frame of ``size = (height, width)``."""
+        """Set the uniforms and sampler state for a frame of ``size = (height, width)``.
+
+        ``anisotropy`` defaults to 8 (:data:`spectex.render.DEFAULT_ANISOTROPY`), as in
+        :func:`spectex.render.cpu.render_cpu`; ``draw``, ``render`` and ``time_frames``
+        pass their keywords here.
+        """
         from ..shading.constants import FILTERS, FILTER_NEAREST
         from ..shading.tables import pack
 

@@ -30,6 +30,7 @@ import time
 import numpy as np
 
 from ..shading.camera import Atmosphere, Camera
+from . import DEFAULT_ANISOTROPY
 
 __all__ = ["NoDisplay", "check_display", "run_viewer", "Flight"]
 
@@ -226,7 +227,7 @@ def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
             ctx.screen.use()
             ctx.viewport = (0, 0, fb_w, fb_h)
             renderer.draw(flight.camera, (fb_h, fb_w), filter="trilinear" if flight.mipmaps else "linear",
-                          anisotropy=8.0 if flight.anisotropy else 1.0, enabled=flight.enabled,
+                          anisotropy=DEFAULT_ANISOTROPY if flight.anisotropy else 1.0, enabled=flight.enabled,
                           atmosphere=None if flight.haze else no_haze)
             fps_n += 1
             if now - fps_t >= 0.5:
