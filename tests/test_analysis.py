@@ -103,7 +103,7 @@ def test_results_are_typed_and_the_old_dict_access_is_deprecated():
     from spectex.analysis import ColourStats, CrossScale, OctavePower
     from spectex.spectral import spectral_noise
     from spectex.metrics import BandPower, band_power
-    from spectex.spectral import RadialSpectrum, radial_power_spectrum
+    from spectex.spectrum import RadialSpectrum, radial_power_spectrum
 
     img = spectral_noise((128, 128), beta=2.0, rng=1)
     op = octave_power(img)

@@ -44,8 +44,8 @@ def test_octave_power_reference_values_of_main():
     from spectex.analysis import octave_power
 
     op = octave_power(A)
-    assert op["slope_db"] == pytest.approx(-6.9581044763028315, abs=1e-10)
-    assert op["intercept_db"] == pytest.approx(-20.17517652288523, abs=1e-10)
+    assert op.slope_db == pytest.approx(-6.9581044763028315, abs=1e-10)
+    assert op.intercept_db == pytest.approx(-20.17517652288523, abs=1e-10)
 
 
 @pytest.mark.parametrize("window, total, ring3, last", [
