@@ -18,6 +18,7 @@ import pytest
 
 from spectex.export import export
 from spectex.export._shader import GLSL_TARGETS
+from spectex.export.host import draw_glsl_export, texture_uniforms
 from spectex.io import read_image
 from spectex.render import Camera
 from spectex.render.cpu import render_cpu
@@ -120,83 +121,6 @@ def test_stochastic_table_files_are_the_renderers_arrays(exported):
     assert table["stochastic"]["level_shapes"] == [list(lv.shape[:2]) for lv in texture.stochastic_tables()[0].gaussian]
 
 
-def frame_uniforms(table, camera: Camera, h: int, w: int) -> dict:
-    """The README's per-frame uniforms, from the exported table (as spectex_uniforms.js computes them)."""
-    x, y, z = camera.position
-    yaw, pitch = math.radians(camera.yaw), math.radians(camera.pitch)
-    fwd = np.array([math.cos(pitch) * math.sin(yaw), math.cos(pitch) * math.cos(yaw), math.sin(pitch)])
-    right = np.array([math.cos(yaw), -math.sin(yaw), 0.0])
-    up = np.cross(right, fwd)
-    tan_y = math.tan(math.radians(camera.fov) / 2)
-    tan_x = tan_y * w / h
-    anchor, ganchor, gbase = [], [], []
-    for layer in table["layers"]:
-        m = layer["matrix"]
-        dx, dy = x - layer["offset"][0], y - layer["offset"][1]
-        s, t = m[0] * dx + m[1] * dy, m[2] * dx + m[3] * dy
-        anchor.append((s % 2.0, t % 2.0))
-        # the README's formula for stochastic layers: the grid position of the unreduced (s, t)
-        g = layer.get("grid", [0.0, 0.0, 0.0, 0.0])
-        kx, ky = g[0] * s + g[1] * t, g[2] * s + g[3] * t
-        ganchor.append((kx - math.floor(kx), ky - math.floor(ky)))
-        gbase.append((math.floor(kx) % 2 ** 32, math.floor(ky) % 2 ** 32))
-    atm = table["atmosphere"]
-    return {"u_size": (w, h), "u_height": z, "u_fwd": tuple(fwd), "u_right": tuple(right), "u_up": tuple(up),
-            "u_tan": (tan_x, tan_y), "u_ddx": tuple(right * 2 * tan_x / w), "u_ddy": tuple(-up * 2 * tan_y / h),
-            "u_horizon": tuple(atm["horizon"]), "u_zenith": tuple(atm["zenith"]), "u_haze": atm["haze_distance"],
-            "u_far": 50 * atm["haze_distance"], "u_anchor": anchor, "u_ganchor": ganchor, "u_gbase": gbase}
-
-
-def stochastic_uniforms(table) -> dict:
-    """The README's texture uniforms of the stochastic layers, from the exported table."""
-    layers = table["layers"]
-    if table["stochastic"] is None:
-        return {}
-
-    def pick(layer, name, zero):
-        return layer[name] if layer["tiling"] == "stochastic" else zero
-
-    return {"u_lut_rows": float(table["stochastic"]["lut_rows"]), "u_lut_q": float(table["stochastic"]["lut_q"]),
-            "u_grid": [tuple(pick(layer, "grid", [0.0] * 4)) for layer in layers],
-            "u_key": [pick(layer, "key", 0) for layer in layers],
-            "u_lut_row": [float(pick(layer, "lut_row", 0)) for layer in layers],
-            "u_basis": [tuple(np.reshape(pick(layer, "basis", [0.0] * 9), (3, 3)).T.reshape(-1)) for layer in layers],
-            "u_origin": [tuple(pick(layer, "origin", [0.0] * 3)) for layer in layers]}
-
-
-def upload_stochastic(gl, folder: Path, table, n_tiles: int) -> list:
-    """The README's stochastic textures from the raw files alone: units n .. 2n - 1 and 2n."""
-    import moderngl
-
-    from spectex.shading.constants import LUT_SIZE
-
-    shapes = [tuple(v) for v in table["stochastic"]["level_shapes"]]
-    out = []
-    names = ["gauss.rgba16f"] if n_tiles == 1 else [f"gauss{i}.rgba16f" for i in range(n_tiles)]
-    for i, name in enumerate(names):
-        data = np.fromfile(folder / name, dtype="<f2")
-        sizes = [h * w * 4 for h, w in shapes]
-        assert data.size == sum(sizes)
-        parts = np.split(data, np.cumsum(sizes)[:-1])
-        tex = gl.texture(shapes[0][::-1], 4, parts[0].tobytes(), dtype="f2", alignment=1)
-        tex.build_mipmaps(0, len(shapes) - 1)
-        for d, part in enumerate(parts[1:], start=1):
-            tex.write(part.tobytes(), level=d, alignment=1)
-        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-        tex.repeat_x = tex.repeat_y = True
-        tex.use(location=n_tiles + i)
-        out.append(tex)
-    data = np.fromfile(folder / "spectex_lut.r16f", dtype="<f2")
-    rows = 4 * table["stochastic"]["lut_rows"]
-    assert data.size == rows * LUT_SIZE
-    lut = gl.texture((LUT_SIZE, rows), 1, data.tobytes(), dtype="f2", alignment=1)
-    lut.filter = (moderngl.NEAREST, moderngl.NEAREST)
-    lut.repeat_x = lut.repeat_y = False
-    lut.use(location=2 * n_tiles)
-    out.append(lut)
-    return out
-
-
 @pytest.mark.gl
 @pytest.mark.parametrize("camera, anisotropy", [
     (Camera((0.0, 0.0, 2.0), yaw=0.0, pitch=-10.0), 1.0),
@@ -229,7 +153,7 @@ def test_stochastic_controls_fail(gl):
         table = json.loads((folder / "spectex_texture.json").read_text())
         n = len(table["layers"])
         for override in ({"u_gbase": [(0, 0)] * n},
-                         {"u_key": [(v + 1) % 2 ** 32 for v in stochastic_uniforms(table)["u_key"]]}):
+                         {"u_key": [(v + 1) % 2 ** 32 for v in texture_uniforms(table, len(texture.tiles))["u_key"]]}):
             wrong = draw_exported(gl, texture, folder, camera, 8.0, (120, 200), override)
             assert psnr(wrong, reference) < 30.0
 
@@ -239,59 +163,10 @@ def psnr(image, reference) -> float:
 
 
 def draw_exported(gl, texture, folder, camera, anisotropy, size, override=None):
-    """Draw ground.330.* with the exported files alone (uniforms as the README says; ``override``
-    replaces some); (h, w, 3) in [0, 1], row 0 at the top."""
-    import moderngl
-
-    table = json.loads((folder / "spectex_texture.json").read_text())
-    program = gl.program(vertex_shader=(folder / "ground.330.vert").read_text(),
-                         fragment_shader=(folder / "ground.330.frag").read_text())
-    names = ["tile"] if len(texture.tiles) == 1 else [f"tile{i}" for i in range(len(texture.tiles))]
-    textures = []
-    for unit, name in enumerate(names):
-        levels = sorted(folder.joinpath("mips").glob(f"{name}.level*.png"), key=lambda p: int(p.stem.split("level")[1]))
-        images = [read_image(p) for p in levels]
-        tex = gl.texture(images[0].shape[1::-1], 4, np.floor(images[0] * 255 + 0.5).astype(np.uint8).tobytes(),
-                         alignment=1)
-        tex.build_mipmaps(0, len(images) - 1)
-        for d, img in enumerate(images[1:], start=1):
-            tex.write(np.floor(img * 255 + 0.5).astype(np.uint8).tobytes(), level=d, alignment=1)
-        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-        tex.repeat_x = tex.repeat_y = True
-        tex.use(location=unit)
-        textures.append(tex)
-    if table["stochastic"] is not None:
-        textures += upload_stochastic(gl, folder, table, len(names))
-    h, w = size
-    values = {"u_tile": list(range(len(names))), "u_tex_size": (table["tile_shape"][1], table["tile_shape"][0]),
-              "u_mat": [tuple(layer["matrix"]) for layer in table["layers"]],
-              "u_opacity": [layer["opacity"] for layer in table["layers"]],
-              "u_lod_off": [layer["lod_offset"] for layer in table["layers"]],
-              "u_mean": [tuple(layer["mean"]) for layer in table["layers"]],
-              "u_max_aniso": anisotropy, **frame_uniforms(table, camera, h, w), **stochastic_uniforms(table),
-              "u_gauss": [len(names) + i for i in range(len(names))], "u_lut": 2 * len(names), **(override or {})}
-    for name, value in values.items():
-        if name not in program:  # optimised away
-            continue
-        if isinstance(value, list):  # the compiler may trim an array after its last used element
-            value = value[:program[name].array_length]
-            value = value[0] if len(value) == 1 else value
-        program[name].value = value
-    rb = gl.renderbuffer((w, h), 4)
-    fbo = gl.framebuffer(color_attachments=[rb])
-    vao = gl.vertex_array(program, [])
-    try:
-        fbo.use()
-        fbo.viewport = (0, 0, w, h)
-        vao.render(moderngl.TRIANGLES, vertices=3)
-        image = np.frombuffer(fbo.read(components=3, alignment=1), np.uint8).reshape(h, w, 3)[::-1] / 255.0
-    finally:
-        from spectex.render.gl import park_framebuffer
-
-        park_framebuffer(gl)
-        for obj in (vao, fbo, rb, program, *textures):
-            obj.release()
-    return image
+    """Draw ground.330.* with the exported files alone (``spectex.export.host``: uniforms as the
+    README says; ``override`` replaces some); (h, w, 3) in [0, 1], row 0 at the top."""
+    assert len(texture.tiles) == len(list(folder.joinpath("mips").glob("*.level0.png")))
+    return draw_glsl_export(folder, camera, size, ctx=gl, anisotropy=anisotropy, override=override)
 
 
 def test_readme_names_three_js_settings(exported):

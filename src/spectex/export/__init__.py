@@ -12,7 +12,9 @@ One folder per export, every format in it written from the same texture:
 
 Every shader is the renderer's own text (:mod:`spectex.export._shader`),
 with the first lines each target needs. ``docs/export.md`` says what matches
-spectex exactly in each target and what differs.
+spectex exactly in each target and what differs. :mod:`spectex.export.host`
+draws a ``glsl/`` export from its files alone with moderngl, the way its
+README tells any OpenGL program to.
 
 The folder is written all or nothing: into a temporary folder beside it,
 moved into place when complete (:class:`spectex._output.OutputFolder`, with
