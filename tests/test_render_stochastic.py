@@ -54,6 +54,34 @@ def test_stochastic_gl_matches_cpu_mixed_anisotropy_toggles(gl):
 
 
 @pytest.mark.gl
+def test_gl_constants_and_uniforms_draw_the_same(gl):
+    # the renderer writes the texture's static uniforms into the shader as constants; the exports set
+    # them as uniforms: two routes to the same picture (periodic and stochastic layers, variance blend,
+    # anisotropy, a layer off), and a control that changes one constant must change it
+    from spectex.render.gl import GLRenderer
+    from spectex.shading import glsl
+
+    base = SpectralTexture.paper_preset(make_tile(128, rng=4), blend="variance", tiling="stochastic")
+    layers = [Layer(**{**lay.__dict__, "tiling": "periodic"}) if k == 2 else lay for k, lay in enumerate(base.layers)]
+    tex = SpectralTexture(base.tiles, layers)
+    cam = VIEWS["grazing"]
+    kw = dict(anisotropy=4.0, enabled=[True, True, True, False, True])
+    with GLRenderer(tex, ctx=gl) as a, GLRenderer(tex, ctx=gl, constants=False) as b:
+        ga = a.render(cam, SIZE, **kw)
+        gb = b.render(cam, SIZE, **kw)
+        assert np.array_equal(ga, gb)
+    from spectex.shading.tables import pack
+
+    tables = pack(tex)
+    text = glsl.fragment_source(tables, 1, constants=True)
+    assert "uniform mat3 u_basis" not in text and "const mat3 u_basis[N_LAYERS] = mat3[](" in text
+    assert "uniform vec2 u_anchor[N_LAYERS];" in text  # what moves with the camera stays a uniform
+    changed = tables._replace(opacity=tables.opacity * 0.5)
+    assert glsl.fragment_source(changed, 1, constants=True) != text
+    assert glsl.fragment_source(changed, 1) == glsl.fragment_source(tables, 1)
+
+
+@pytest.mark.gl
 def test_stochastic_mipmapping_is_alias_free(gl, stochastic):
     """Mip-mapped stochastic renders against 8 x 8 supersampled, box-filtered
     CPU renders without mip-maps (level 0 and its level-0 table); a

@@ -108,11 +108,15 @@ class GLRenderer:
     ctx : moderngl.Context, optional
         A context to draw with (a window's, for the viewer); by default a
         headless EGL context is made and released with the renderer.
+    constants : bool
+        Write the texture's static uniforms into the shader as constants
+        (``shading.glsl.fragment_source``; the default: faster on llvmpipe,
+        the same picture); False sets them as uniforms, as the exports do.
 
     Use as a context manager, or call :meth:`release`.
     """
 
-    def __init__(self, texture, ctx=None):
+    def __init__(self, texture, ctx=None, *, constants=True):
         from ..texture import SpectralTexture
 
         if not isinstance(texture, SpectralTexture):
@@ -122,6 +126,7 @@ class GLRenderer:
         import moderngl
 
         self._mgl = moderngl
+        self.constants = bool(constants)
         self.texture = texture
         self._programs = {}
         self.program = self.vao = None
@@ -152,7 +157,7 @@ class GLRenderer:
                 vertex_shader=vertex_source("330"),
                 fragment_shader=fragment_source(tables, len(texture.tiles), target="330", anisotropic=anisotropic,
                                                 iso_lod=texture.tile_shape[0] == texture.tile_shape[1],
-                                                sky_only=sky_only))
+                                                sky_only=sky_only, constants=self.constants))
             self._programs[key] = (program, self.ctx.vertex_array(program, []))
             self.program, self.vao = self._programs[key]
             self._set_static_uniforms(tables)
