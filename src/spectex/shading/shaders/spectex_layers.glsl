@@ -104,7 +104,7 @@ float spectex_lut_level(float lam, int min_filter, float q) {
 // The inverse tables at Gaussian values g (one per channel), at a
 // (fractional) level: the nearest of the SPX_LUT_SUBROWS rows per level step
 // from row `row0` and the nearest of the SPX_LUT_SIZE entries. The table
-// texture is one channel (R16F, NEAREST-filtered; stochastic.expand_lut),
+// texture is one channel (half-float values, R16F or R32F, NEAREST-filtered; stochastic.expand_lut),
 // SPX_LUT_SIZE wide and 4 `rows` high: channel c's rows are the c-th quarter
 // (a one-channel fetch costs llvmpipe less than an RGBA one).
 vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) {
