@@ -22,7 +22,9 @@ exact derivatives of the ground point and samples with ``textureLod``:
 trilinear filtering, and optional anisotropic filtering by the
 EXT_texture_filter_anisotropic recipe in the shader, so that it is the same
 on every driver. The uniforms come from the core's typed structures
-(``ShadingTables``, ``ViewParams``), one uniform per field.
+(``ShadingTables``, ``ViewParams``), one uniform per field; those that
+depend on the texture alone are written into the shader as constants
+(``GLRenderer(constants=True)``, the default: llvmpipe runs it faster).
 """
 
 from __future__ import annotations
@@ -231,6 +233,7 @@ class GLRenderer:
         n = len(self.textures)
         if 2 * n + 1 > 2 * MAX_TILES:
             raise ValueError(f"stochastic layers on the GPU allow at most {MAX_TILES - 1} tiles, got {n}")
+
         def half(values):
             return np.ascontiguousarray(np.asarray(values).astype(np.float16).astype(np.float32)).tobytes()
 

@@ -85,7 +85,7 @@ def _vec(values) -> str:
     return flat[0] if len(flat) == 1 else f"vec{len(flat)}({', '.join(flat)})"
 
 
-def _static_values(tables) -> dict:
+def _static_values(tables) -> tuple[dict, dict]:
     """The values of the uniforms that depend on the texture only, as GLSL constant expressions.
 
     Per-layer arrays: name -> (element type, one expression per layer);
