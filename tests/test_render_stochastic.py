@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from spectex.metrics import repeat_peak
+from spectex.render import Camera
 from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture
 from spectex.tiles import make_tile
@@ -51,6 +52,34 @@ def test_stochastic_gl_matches_cpu_mixed_anisotropy_toggles(gl):
     c = render_cpu(tex, cam, SIZE, **kw)
     assert psnr(g, c) >= 40.0
     assert psnr(g, full) < 35.0  # the toggles and anisotropy did change the picture
+
+
+@pytest.mark.gl
+def test_gl_constants_and_uniforms_draw_the_same(gl):
+    # the renderer writes the texture's static uniforms into the shader as constants; the exports set
+    # them as uniforms: two routes to the same picture (periodic and stochastic layers, variance blend,
+    # anisotropy, a layer off), and a control that changes one constant must change it
+    from spectex.render.gl import GLRenderer
+    from spectex.shading import glsl
+
+    base = SpectralTexture.paper_preset(make_tile(128, rng=4), blend="variance", tiling="stochastic")
+    layers = [Layer(**{**lay.__dict__, "tiling": "periodic"}) if k == 2 else lay for k, lay in enumerate(base.layers)]
+    tex = SpectralTexture(base.tiles, layers)
+    cam = VIEWS["grazing"]
+    kw = dict(anisotropy=4.0, enabled=[True, True, True, False, True])
+    with GLRenderer(tex, ctx=gl) as a, GLRenderer(tex, ctx=gl, constants=False) as b:
+        ga = a.render(cam, SIZE, **kw)
+        gb = b.render(cam, SIZE, **kw)
+        assert np.array_equal(ga, gb)
+    from spectex.shading.tables import pack
+
+    tables = pack(tex)
+    text = glsl.fragment_source(tables, 1, constants=True)
+    assert "uniform mat3 u_basis" not in text and "const mat3 u_basis[N_LAYERS] = mat3[](" in text
+    assert "uniform vec2 u_anchor[N_LAYERS];" in text  # what moves with the camera stays a uniform
+    changed = tables._replace(opacity=tables.opacity * 0.5)
+    assert glsl.fragment_source(changed, 1, constants=True) != text
+    assert glsl.fragment_source(changed, 1) == glsl.fragment_source(tables, 1)
 
 
 @pytest.mark.gl
@@ -115,3 +144,38 @@ def test_layer_tiling_options_are_checked():
     with pytest.raises(TypeError, match="seed"):
         Layer(size=1.0, seed=1.5)
     assert Layer(size=1.0).tiling == "periodic"
+
+
+@pytest.mark.parametrize("blend", ["alpha", "variance"])
+def test_render_cpu_fast_path_matches_general_stochastic(blend):
+    """The fast kernel with stochastic layers (mixed with periodic ones) against the general
+    sampler on random views (near and far from the origin, 0.3 m to 3 km up, straight down to
+    the horizon; supersampling and toggles). The two compute the Gaussian blend in different
+    precisions, so a table entry can flip where the blend falls on a bin's edge: equal to 1e-5
+    but for a few such samples, none far off."""
+    from spectex.shading import pack, view_params
+    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
+
+    rng = np.random.default_rng(11)
+    base = SpectralTexture.paper_preset(make_tile(64, rng=3), blend=blend, tiling="stochastic")
+    layers = [Layer(**{**lay.__dict__, "tiling": "periodic"}) if k in (1, 3) else lay
+              for k, lay in enumerate(base.layers)]
+    tex = SpectralTexture(base.tiles, layers)
+    assert pack(tex).fast
+    assert not pack(tex, filter="bilinear").fast  # the control: another sampler state takes the general kernel
+    for k in range(6):
+        cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
+                     yaw=rng.uniform(0.0, 360.0), pitch=rng.uniform(-90.0, 5.0), fov=rng.uniform(20.0, 90.0))
+        n = 1 + k % 2
+        tables = pack(tex, enabled=rng.random(5) < 0.8 if k >= 3 else None)
+        view = view_params(cam, (24, 40), supersample=n)
+        anchor = tex.anchor_coords(*cam.position[:2])
+        fast = np.empty((24, 40, 3), np.float32)
+        general = np.empty((24, 40, 3), np.float32)
+        render_kernel_fast(tables, anchor, view, row_order(24), fast)
+        render_kernel(tables, anchor, view, row_order(24), general)
+        np.testing.assert_array_equal(render_cpu(tex, cam, (24, 40), supersample=n,
+                                                 enabled=[bool(v) for v in tables.on]), fast)
+        diff = np.abs(fast - general)
+        assert np.mean(diff > 1e-5) <= 0.01 and diff.max() <= 0.03, (k, np.mean(diff > 1e-5), diff.max())
+        assert general.std() > 0.01  # a textured picture, not a blank one

@@ -22,7 +22,9 @@ exact derivatives of the ground point and samples with ``textureLod``:
 trilinear filtering, and optional anisotropic filtering by the
 EXT_texture_filter_anisotropic recipe in the shader, so that it is the same
 on every driver. The uniforms come from the core's typed structures
-(``ShadingTables``, ``ViewParams``), one uniform per field.
+(``ShadingTables``, ``ViewParams``), one uniform per field; those that
+depend on the texture alone are written into the shader as constants
+(``GLRenderer(constants=True)``, the default: llvmpipe runs it faster).
 """
 
 from __future__ import annotations
@@ -109,11 +111,15 @@ class GLRenderer:
     ctx : moderngl.Context, optional
         A context to draw with (a window's, for the viewer); by default a
         headless EGL context is made and released with the renderer.
+    constants : bool
+        Write the texture's static uniforms into the shader as constants
+        (``shading.glsl.fragment_source``; the default: faster on llvmpipe,
+        the same picture); False sets them as uniforms, as the exports do.
 
     Use as a context manager, or call :meth:`release`.
     """
 
-    def __init__(self, texture, ctx=None):
+    def __init__(self, texture, ctx=None, *, constants=True):
         from ..texture import SpectralTexture
 
         if not isinstance(texture, SpectralTexture):
@@ -123,6 +129,7 @@ class GLRenderer:
         import moderngl
 
         self._mgl = moderngl
+        self.constants = bool(constants)
         self.texture = texture
         self._programs = {}
         self.program = self.vao = None
@@ -153,7 +160,7 @@ class GLRenderer:
                 vertex_shader=vertex_source("330"),
                 fragment_shader=fragment_source(tables, len(texture.tiles), target="330", anisotropic=anisotropic,
                                                 iso_lod=texture.tile_shape[0] == texture.tile_shape[1],
-                                                sky_only=sky_only))
+                                                sky_only=sky_only, constants=self.constants))
             self._programs[key] = (program, self.ctx.vertex_array(program, []))
             self.program, self.vao = self._programs[key]
             self._set_static_uniforms(tables)
@@ -213,32 +220,39 @@ class GLRenderer:
     def _upload_stochastic(self):
         """The stochastic layers' textures (section 6b): per tile its Gaussianised levels, and the tables.
 
-        Both hold half floats (``RGBA16F``; the CPU holds the same values as
-        float32): the Gaussian tiles mip-mapped and filtered like the tiles,
-        the tables (expanded) as one channel, ``SPX_LUT_SIZE`` x ``4 rows``
-        (channel ``c``'s rows in the ``c``-th quarter), point-sampled, clamped.
+        Both hold the tables' half-float values (``stochastic_tables`` rounds
+        them to half floats, the CPU holds them as float32), uploaded as
+        float32 (``RGBA32F``, ``R32F``: the same numbers; llvmpipe filters
+        float32 texels faster than half floats, about 5 % of a stochastic
+        frame; the exports upload half floats, which WebGL2 filters): the
+        Gaussian tiles mip-mapped and filtered like the tiles, the tables
+        (expanded) as one channel, ``SPX_LUT_SIZE`` x ``4 rows`` (channel
+        ``c``'s rows in the ``c``-th quarter), point-sampled, clamped.
         """
         from ..shading.constants import MAX_TILES
 
         n = len(self.textures)
         if 2 * n + 1 > 2 * MAX_TILES:
             raise ValueError(f"stochastic layers on the GPU allow at most {MAX_TILES - 1} tiles, got {n}")
+
+        def half(values):
+            return np.ascontiguousarray(np.asarray(values).astype(np.float16).astype(np.float32)).tobytes()
+
         for tb in self.texture.stochastic_tables():
             levels = tb.gaussian
             h, w = levels[0].shape[:2]
-            tex = self.ctx.texture((w, h), 4, levels[0].astype(np.float16).tobytes(), dtype="f2", alignment=1)
+            tex = self.ctx.texture((w, h), 4, half(levels[0]), dtype="f4", alignment=1)
             if len(levels) > 1:
                 tex.build_mipmaps(0, len(levels) - 1)
                 for d, level in enumerate(levels[1:], start=1):
-                    tex.write(np.ascontiguousarray(level.astype(np.float16)).tobytes(), level=d, alignment=1)
+                    tex.write(half(level), level=d, alignment=1)
             tex.repeat_x = True
             tex.repeat_y = True
             self.gauss_textures.append(tex)
         _, lut, _ = self.texture.stochastic_store()
         rows, size = lut.shape[:2]
-        planar = np.concatenate([lut[:, :, c] for c in range(4)], axis=0).astype(np.float16)  # channel c: rows c*rows..
-        self.lut_texture = self.ctx.texture((size, 4 * rows), 1, np.ascontiguousarray(planar).tobytes(), dtype="f2",
-                                            alignment=1)
+        planar = np.concatenate([lut[:, :, c] for c in range(4)], axis=0)  # channel c: rows c*rows..
+        self.lut_texture = self.ctx.texture((size, 4 * rows), 1, half(planar), dtype="f4", alignment=1)
         self.lut_texture.filter = (self._mgl.NEAREST, self._mgl.NEAREST)
         self.lut_texture.repeat_x = False
         self.lut_texture.repeat_y = False

@@ -25,9 +25,9 @@ import math
 import numba
 import numpy as np
 
-from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST, TILING_STOCHASTIC
+from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST, GAUSS_MEAN, TILING_STOCHASTIC
 from .sampler import sample_grad
-from .stochastic import sample_stochastic_grad
+from .stochastic import lut_lookup, sample_stochastic_grad, triangle_vertices, vertex_offset
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
@@ -224,12 +224,76 @@ def _sample_row(flat, base, offsets, size0, mats, anchor, k, off_k, px, py, lamw
 
 
 @_jit_inline
+def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
+    """Trilinear at levels ``d1`` and ``min(d1 + 1, q)`` (weight ``beta``), REPEAT, square power-of-two levels."""
+    r, g, b, a = bilinear_repeat(flat, base + offsets[d1], size0 >> d1, s, t)
+    d2 = min(d1 + 1, q)
+    r2, g2, b2, a2 = bilinear_repeat(flat, base + offsets[d2], size0 >> d2, s, t)
+    return r + beta * (r2 - r), g + beta * (g2 - g), b + beta * (b2 - b), a + beta * (a2 - a)
+
+
+@_jit_inline
+def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key, lut, row0, basis, origin, k,
+                           off_k, px, py, lamw, lr, lg, lb, la, m):
+    """Section 6b on ``m`` samples of a row (the fast path's sampler state): layer ``k``'s
+    histogram-preserving sample at the world lambda plus ``off_k``, the numbers of
+    :func:`~spectex.shading.stochastic.sample_stochastic_at_lod` (to float rounding), with the
+    Gaussian levels ``gflat`` (laid out as the texel store) read by :func:`bilinear_repeat`."""
+    q = offsets.shape[0] - 1
+    qf = np.float64(q)
+    w0 = np.float64(size0)
+    bi = np.int64(anchor[k, 4])
+    bj = np.int64(anchor[k, 5])
+    for x in range(m):
+        dx = px[x]
+        dy = py[x]
+        sr = mats[k, 0, 0] * dx + mats[k, 0, 1] * dy
+        tr = mats[k, 1, 0] * dx + mats[k, 1, 1] * dy
+        s = anchor[k, 0] + sr
+        t = anchor[k, 1] + tr
+        kx = anchor[k, 2] + (grid[k, 0, 0] * sr + grid[k, 0, 1] * tr)
+        ky = anchor[k, 3] + (grid[k, 1, 0] * sr + grid[k, 1, 1] * tr)
+        # trilinear at a lambda clamped to [0, q] is OpenGL's LINEAR_MIPMAP_LINEAR / LINEAR (section 4)
+        lam = min(max(lamw[x] + off_k, 0.0), qf)
+        fd = math.floor(lam)
+        beta = np.float32(lam - fd)
+        d1 = np.int64(fd)
+        i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+        ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0)
+        r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+        ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0)
+        r2, g2, b2, a2 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+        ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, w0)
+        r3, g3, b3, a3 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+        inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
+        mu = GAUSS_MEAN
+        v0 = mu + (w1 * (r1 - mu) + w2 * (r2 - mu) + w3 * (r3 - mu)) * inv
+        v1 = mu + (w1 * (g1 - mu) + w2 * (g2 - mu) + w3 * (g3 - mu)) * inv
+        v2 = mu + (w1 * (b1 - mu) + w2 * (b2 - mu) + w3 * (b3 - mu)) * inv
+        v3 = mu + (w1 * (a1 - mu) + w2 * (a2 - mu) + w3 * (a3 - mu)) * inv
+        # the table level of LINEAR_MIPMAP_LINEAR (stochastic.lut_level): lambda itself, 0 in magnification
+        x0 = lut_lookup(lut, row0, lam, v0, 0)
+        x1 = lut_lookup(lut, row0, lam, v1, 1)
+        x2 = lut_lookup(lut, row0, lam, v2, 2)
+        al = lut_lookup(lut, row0, lam, v3, 3)
+        lr[x] = min(max(origin[k, 0] + basis[k, 0, 0] * x0 + basis[k, 0, 1] * x1 + basis[k, 0, 2] * x2, 0.0), 1.0)
+        lg[x] = min(max(origin[k, 1] + basis[k, 1, 0] * x0 + basis[k, 1, 1] * x1 + basis[k, 1, 2] * x2, 0.0), 1.0)
+        lb[x] = min(max(origin[k, 2] + basis[k, 2, 0] * x0 + basis[k, 2, 1] * x1 + basis[k, 2, 2] * x2, 0.0), 1.0)
+        la[x] = min(max(al, 0.0), 1.0)
+    return 0
+
+
+@_jit_inline
 def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off, anchor,
-              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m):
+              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic):
     """Section 6 on ``m`` samples of a row (the fast path): world points
     ``(px, py)`` relative to the anchor, world lambda ``lamw`` (between
     ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
-    (not clamped); ``lr .. la`` are float32 scratch.
+    (not clamped); ``lr .. la`` are float32 scratch. ``stochastic`` is
+    ``(tiling, gflat, grid, key, lut, lut_rows, basis, origin)`` (one tuple:
+    CPython passes a call of more than 30 arguments as ``*args``, which
+    numba cannot inline): stochastic layers (``tiling``) read the Gaussian
+    levels ``gflat`` and the tables ``lut`` (:func:`_sample_row_stochastic`).
 
     The arrays of :class:`ShadingTables` come one by one, unpacked by the
     kernel before its parallel loop: numba marks only plain array arguments
@@ -241,12 +305,18 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
         cg[x] = 0.0
         cb[x] = 0.0
     q = offsets.shape[0] - 1
+    tiling, gflat, grid, key, lut, lut_rows, basis, origin = stochastic
     for k in range(tile.shape[0]):
         if on[k] == 0:
             continue
-        two = 0 if lam_hi + lod_off[k] <= 0.0 or lam_lo + lod_off[k] >= q else 1
-        _sample_row(flat, tile[k] * stride, offsets, size0, mats, anchor, k, lod_off[k], px, py, lamw,
-                    lr, lg, lb, la, m, two)
+        if tiling[k] == TILING_STOCHASTIC:
+            _sample_row_stochastic(gflat, tile[k] * stride, offsets, size0, mats, anchor, grid, key[k], lut,
+                                   tile[k] * lut_rows, basis, origin, k, lod_off[k], px, py, lamw, lr, lg, lb, la,
+                                   m)
+        else:
+            two = 0 if lam_hi + lod_off[k] <= 0.0 or lam_lo + lod_off[k] >= q else 1
+            _sample_row(flat, tile[k] * stride, offsets, size0, mats, anchor, k, lod_off[k], px, py, lamw,
+                        lr, lg, lb, la, m, two)
         op = opacity[k]
         code = blend_code[k]
         if code == BLEND_FIRST:

@@ -144,7 +144,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     mag = FILTER_NEAREST if code == FILTER_NEAREST else FILTER_LINEAR
     size0 = int(widths[0])
     fast = bool(code == FILTER_LINEAR_MIPMAP_LINEAR and aniso == 1.0 and h0 == w0 and size0 & (size0 - 1) == 0
-                and widths.shape[0] == size0.bit_length() and all(t == 0 for t in tiling))
+                and widths.shape[0] == size0.bit_length())
     grid = np.zeros((n, 2, 2), dtype=np.float64)
     key = np.zeros(n, dtype=np.int64)
     basis = np.zeros((n, 3, 3), dtype=np.float64)

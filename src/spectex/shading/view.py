@@ -242,6 +242,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
     opacity = T.opacity
     on = T.on
     lod_off = T.lod_off
+    stochastic = (T.tiling, T.gauss.reshape(-1), T.grid, T.key, T.lut, T.lut_rows, T.basis, T.origin)
     height = V.height
     right = V.right
     tan_x = V.tan_x
@@ -321,7 +322,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
                     cb[x] = 0.0
             else:
                 shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off,
-                          anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m)
+                          anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic)
             for i in range(n):
                 for c in range(W):
                     x = c * n + i

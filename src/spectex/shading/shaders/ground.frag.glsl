@@ -34,8 +34,8 @@ uniform float u_opacity[N_LAYERS]; // per layer: alpha = opacity * tile alpha
 uniform float u_lod_off[N_LAYERS]; // per layer: log2(tile width / layer size), texels per metre
 
 #if STOCHASTIC
-uniform sampler2D u_gauss[N_TILES]; // per tile: its Gaussianised levels (RGBA16F)
-uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x 4 u_lut_rows (R16F, NEAREST)
+uniform sampler2D u_gauss[N_TILES]; // per tile: its Gaussianised levels (half-float values)
+uniform sampler2D u_lut;           // the inverse tables, SPX_LUT_SIZE x 4 u_lut_rows (one channel, NEAREST)
 uniform float u_lut_rows;          // rows of u_lut per channel
 uniform float u_lut_q;             // the last mip level (rows per tile - 1 with mip-maps, else 0)
 uniform vec4 u_grid[N_LAYERS];     // per layer: tile coords -> skewed grid coords (m00, m01, m10, m11)

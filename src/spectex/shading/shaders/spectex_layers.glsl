@@ -75,12 +75,18 @@ SPX_UINT spectex_hash(SPX_UINT x) {
     return x;
 }
 
+// The offset that goes with a vertex's hash h: (h & 0xFFFF, h >> 16) / 65536
+// tile units, snapped down to whole texels of level 0 (tex_size texels,
+// inv_size = 1 / tex_size); the 16-bit halves converted as int (the same
+// numbers; a native conversion where the CPU has none for uint).
+vec2 spectex_hash_offset(SPX_UINT h, vec2 tex_size, vec2 inv_size) {
+    return floor(vec2(float(int(h & 65535u)), float(int(h >> 16u))) * (1.0 / 65536.0) * tex_size) * inv_size;
+}
+
 // The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under
-// a layer's key, snapped down to whole texels of level 0 (tex_size texels,
-// inv_size = 1 / tex_size).
+// a layer's key: h = lowbias32(i ^ lowbias32(j ^ key)).
 vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size, vec2 inv_size) {
-    SPX_UINT h = spectex_hash(i ^ spectex_hash(j ^ key));
-    return floor(vec2(float(h & 65535u), float(h >> 16u)) * (1.0 / 65536.0) * tex_size) * inv_size;
+    return spectex_hash_offset(spectex_hash(i ^ spectex_hash(j ^ key)), tex_size, inv_size);
 }
 
 // The table row (fractional: row d1 + beta) that goes with the levels a
@@ -98,12 +104,12 @@ float spectex_lut_level(float lam, int min_filter, float q) {
 // The inverse tables at Gaussian values g (one per channel), at a
 // (fractional) level: the nearest of the SPX_LUT_SUBROWS rows per level step
 // from row `row0` and the nearest of the SPX_LUT_SIZE entries. The table
-// texture is one channel (R16F, NEAREST-filtered; stochastic.expand_lut),
+// texture is one channel (half-float values, R16F or R32F, NEAREST-filtered; stochastic.expand_lut),
 // SPX_LUT_SIZE wide and 4 `rows` high: channel c's rows are the c-th quarter
 // (a one-channel fetch costs llvmpipe less than an RGBA one).
 vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) {
     float v = (row0 + floor(level * float(SPX_LUT_SUBROWS) + 0.5) + 0.5) / (4.0 * rows);
-    vec4 u = (floor(clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) + 0.5) / float(SPX_LUT_SIZE);
+    vec4 u = (floor(clamp(g, 0.0, 1.0) * float(SPX_LUT_SIZE - 1) + 0.5) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
     return vec4(SPX_LOD(lut, vec2(u.x, v), 0.0).x, SPX_LOD(lut, vec2(u.y, v + 0.25), 0.0).x,
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
@@ -119,24 +125,27 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                SPX_UINT base_j, SPX_UINT key, vec2 tex_size, float lam, int min_filter, float q,
                                float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
+    // The triangle (docs/sampling.md, 6b): lower (f.x + f.y < 1) with vertices
+    // (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1), (0, 1), (1, 0);
+    // as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
+    // share their row's hash. The weights as |.| of one expression for both.
     vec2 c = floor(g);
     vec2 f = g - c;
-    int ci = int(c.x);
-    int cj = int(c.y);
-    bool lower = f.x + f.y < 1.0;
-    int i1 = lower ? ci : ci + 1;
-    int j1 = lower ? cj : cj + 1;
-    int i2 = lower ? ci + 1 : ci;
-    int j2 = lower ? cj : cj + 1;
-    int i3 = lower ? ci : ci + 1;
-    int j3 = lower ? cj + 1 : cj;
-    vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
+    float fs = f.x + f.y;
+    bool lower = fs < 1.0;
+    SPX_UINT d = lower ? 0u : 1u;
+    float e = lower ? 0.0 : 1.0;
+    SPX_UINT i0 = SPX_UINT(int(c.x)) + base_i;
+    SPX_UINT j0 = SPX_UINT(int(c.y)) + base_j;
+    SPX_UINT hj = spectex_hash((j0 + d) ^ key);
+    SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
+    vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
     vec2 inv_size = 1.0 / tex_size;
-    vec4 x1 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i1) + base_i, SPX_UINT(j1) + base_j, key, tex_size, inv_size), lam);
-    vec4 x2 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i2) + base_i, SPX_UINT(j2) + base_j, key, tex_size, inv_size), lam);
-    vec4 x3 = SPX_LOD(gauss, st + spectex_vertex_offset(SPX_UINT(i3) + base_i, SPX_UINT(j3) + base_j, key, tex_size, inv_size), lam);
-    vec4 m = vec4(SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN, SPX_GAUSS_MEAN);
-    vec4 gb = m + (w.x * (x1 - m) + w.y * (x2 - m) + w.z * (x3 - m)) / length(w);
+    vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size), lam);
+    vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size), lam);
+    vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size), lam);
+    // the weights sum to 1: sum w_i (x_i - m) = sum w_i x_i - m
+    vec4 gb = (w.x * x1 + w.y * x2 + w.z * x3 - SPX_GAUSS_MEAN) * (1.0 / length(w)) + SPX_GAUSS_MEAN;
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
     return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
 }
