@@ -76,13 +76,15 @@ def register(subparsers) -> None:
 def run(args) -> int | None:
     from spectex._output import OutputSet
     from spectex.io import check_output_path, read_image, write_image
+    from spectex._validate import check_shape
     from spectex.tiles import MAX_SIZE, make_seamless, make_tile, preview as make_preview
 
     _common.deprecated_alias(args, "kernel", "--filter", "--kernel")
     _refuse_unused(args)
-    if args.size is not None and not 8 <= min(args.size) <= max(args.size) <= MAX_SIZE:
-        raise ValueError(f"--size must be between 8 and {MAX_SIZE} on each side, "
-                         f"got {args.size[1]}x{args.size[0]}")
+    if args.size is not None:  # checked here to name --size (the library says shape=)
+        h, w = check_shape("--size", args.size)
+        if not 8 <= min(h, w) <= max(h, w) <= MAX_SIZE:
+            raise ValueError(f"--size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
     inputs = [args.source] if args.source is not None else []
     output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
