@@ -82,9 +82,9 @@ def main(argv=None):
         x = rng.standard_normal((n, n)).astype(np.float32)
         m = big // n
         reps = args.repeat * (3 if big <= 512 else 1)
-        cpu = best_of(lambda: magnify(x, m, filter=filt), reps)
-        blend = best_of(lambda: magnify_gl(x, m, filter=filt, multiply="blend", ctx=ctx), reps)
-        shader = best_of(lambda: magnify_gl(x, m, filter=filt, multiply="shader", ctx=ctx), reps)
+        cpu = best_of(lambda: magnify(x, m, kernel=filt), reps)
+        blend = best_of(lambda: magnify_gl(x, m, kernel=filt, multiply="blend", ctx=ctx), reps)
+        shader = best_of(lambda: magnify_gl(x, m, kernel=filt, multiply="shader", ctx=ctx), reps)
         passes = filter_passes(filt) ** 2
         print(f"{n:>7} -> {big:>4}^2   {filt:>12} {passes:>6} {cpu * 1e3:>8.2f} {blend * 1e3:>11.1f} "
               f"{shader * 1e3:>12.1f} {blend / cpu:>9.0f} {shader / cpu:>10.0f}")

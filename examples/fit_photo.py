@@ -44,7 +44,7 @@ def picture(size: int = 256, seed: int = 0) -> np.ndarray:
     idx = np.minimum((np.arange(size) * side) // size, side - 1)
     images, labels = [photo], ["photo (gravel)"]
     for tiling in ("auto", "periodic"):
-        texture = spectex.fit(photo, pixel_size=0.01, seed=seed, tiling=tiling)
+        texture = spectex.fit(photo, pixel_size=0.01, rng=seed, tiling=tiling)
         if tiling == "auto":
             images.append(texture.bake((size, size), pixel_size=0.01))
             labels.append("fit, at the photo scale")

@@ -23,7 +23,7 @@ def _crop(name, n=128):
 
 @pytest.fixture(scope="module")
 def fitted():
-    return {name: fit_result(_crop(name), seed=0) for name in NAMES}
+    return {name: fit_result(_crop(name), rng=0) for name in NAMES}
 
 
 @pytest.fixture(scope="module")
@@ -104,7 +104,7 @@ def test_fit_pixel_size_scales_the_layers_only():
 
 def test_fit_is_deterministic_and_lazy_name():
     img = _crop("brick", 48)
-    assert spectex.fit(img, seed=3, iterations=1) == fit(img, seed=3, iterations=1)
+    assert spectex.fit(img, rng=3, iterations=1) == fit(img, rng=3, iterations=1)
 
 
 def test_fit_progress_reaches_its_total():
@@ -174,7 +174,7 @@ def test_fit_never_repeats_by_default(fitted):
     near = res.texture.bake((1024, 1024))
     far = res.texture.bake((1024, 1024), pixel_size=8.0)
     assert repeat_peak(near) <= 0.1 and repeat_peak(far) <= 0.1
-    periodic = fit(_crop("gravel"), seed=0, tiling="periodic")
+    periodic = fit(_crop("gravel"), rng=0, tiling="periodic")
     assert all(layer.tiling == "periodic" for layer in periodic.layers)
     assert repeat_peak(periodic.bake((1024, 1024))) > 0.5
 

@@ -186,7 +186,7 @@ def test_help_lists_the_public_names():
 
     text = pydoc.render_doc(spectex, renderer=pydoc.plaintext)
     for entry in ("class SpectralTexture", "class Layer", "class Camera", "class Atmosphere", "fit(image",
-                  "make_tile(size", "make_seamless(image", "read_image(path", "render (package)",
+                  "make_tile(shape", "make_seamless(image", "read_image(path", "render (package)",
                   "spectrum\n", "fitting\n", "periodic\n"):
         assert entry in text, entry
     assert spectex.Layer is importlib.import_module("spectex.texture").Layer

@@ -128,7 +128,7 @@ def test_paper_preset_stochastic_never_repeats():
     for px in (64, 256):
         values = {}
         for tiling in ("periodic", "stochastic"):
-            tex = SpectralTexture.paper_preset(seed=1, tiling=tiling)
+            tex = SpectralTexture.paper_preset(rng=1, tiling=tiling)
             values[tiling] = repeat_peak(tex.bake((1024, 1024), pixel_size=tex.layers[0].size / px))
         assert values["stochastic"] <= 0.1, (px, values)
         assert values["periodic"] >= 0.7, (px, values)  # the control: the paper's method repeats

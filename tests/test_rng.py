@@ -1,4 +1,4 @@
-"""The ``rng`` keyword (issue 18; scikit-image's SPEC 7) of tiles, synthesis and spectral.
+"""The ``rng`` keyword (issue 18; scikit-image's SPEC 7) of tiles, synthesis, spectral, fit and the preset.
 
 Every function takes ``rng`` as an int (the same int gives the same result, the
 same as the old ``seed=``), a ``numpy.random.Generator`` (used and advanced) or
@@ -9,12 +9,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from skimage import data
 
-from spectex import spectral, synthesis
+from spectex import SpectralTexture, fit, fit_result, spectral, synthesis
 from spectex.tiles import make_seamless, make_tile
 
 _EXEMPLAR = np.random.default_rng(5).random((24, 24, 3)).astype(np.float32)
 _PHOTO = np.random.default_rng(6).random((40, 40, 3)).astype(np.float32)
+# Gravel, 48 x 48: a fit with a 64-texel tile quilts it (the fit's only randomness).
+_GRAVEL = np.repeat((data.gravel()[:48, :48].astype(np.float32) / 255.0)[..., None], 3, axis=2)
 _MODEL = synthesis.train_markov("the cat sat on the mat and the dog sat on the log " * 4, order=2)
 
 CALLS = {
@@ -29,11 +32,14 @@ CALLS = {
     "spectral_noise": lambda **kw: spectral.spectral_noise(16, **kw),
     "octave_sum": lambda **kw: spectral.octave_sum(16, **kw),
     "octave": lambda **kw: spectral.octave(16, 4, **kw),
+    "fit": lambda **kw: fit(_GRAVEL, iterations=1, tile_size=64, **kw),
+    "fit_result": lambda **kw: fit_result(_GRAVEL, iterations=1, tile_size=64, **kw).texture,
+    "paper_preset": lambda **kw: SpectralTexture.paper_preset(tile_size=32, **kw),
 }
 
 
 def _same(a, b):
-    if isinstance(a, str):
+    if isinstance(a, (str, SpectralTexture)):
         return a == b
     return np.array_equal(a, b)
 
@@ -62,3 +68,24 @@ def test_rng_bad_values_name_the_parameter(name, bad, error):
 
 def test_rng_none_draws_fresh_randomness():
     assert not np.array_equal(make_tile(16, rng=None), make_tile(16, rng=None))
+
+
+# Made on main before fit and paper_preset took rng (with seed=7 and seed=3): the
+# sum of the 8-bit tile's values and one texel. The same ints give the same textures.
+@pytest.mark.parametrize("call, reference", [
+    (lambda: SpectralTexture.paper_preset(rng=7, tile_size=32),
+     (1709.003969155252, [0.4627451002597809, 0.47058823704719543, 0.3450980484485626, 0.4000000059604645])),
+    (lambda: fit(_GRAVEL, rng=3, iterations=1, tile_size=64),
+     (8272.588508859277, [0.5529412031173706, 0.5529412031173706, 0.5529412031173706, 0.501960813999176])),
+], ids=["paper_preset", "fit"])
+def test_the_same_int_gives_the_texture_of_the_old_seed(call, reference):
+    tile = call().tiles[0]
+    total, texel = reference
+    assert float(tile.astype(np.float64).sum()) == pytest.approx(total, rel=1e-12)
+    assert tile[3, 5].tolist() == texel
+
+
+def test_fit_layers_keep_their_hash_seeds():
+    # Layer(seed=) is a stochastic layer's hash key, stored in files: not an rng, and not renamed.
+    layers = SpectralTexture.paper_preset(rng=np.random.default_rng(1), tile_size=16, tiling="stochastic").layers
+    assert [layer.seed for layer in layers] == [0, 1, 2, 3, 4]

@@ -49,10 +49,10 @@ def test_magnify_matches_direct_convolution_of_zero_stuffed_input(filt, m):
     x = np.random.default_rng(m).standard_normal((4, 6))
     taps, start = discrete_filter(filt, m)
     want = direct_convolution(x, m, taps, start)
-    got = magnify(x, m, filter=filt)
+    got = magnify(x, m, kernel=filt)
     assert got.dtype == np.float64 and got.shape == (4 * m, 6 * m)
     np.testing.assert_allclose(got, want, atol=1e-6, rtol=0)
-    got32 = magnify(x.astype(np.float32), m, filter=filt)
+    got32 = magnify(x.astype(np.float32), m, kernel=filt)
     assert got32.dtype == np.float32
     np.testing.assert_allclose(got32, want, atol=1e-5, rtol=0)
 
@@ -68,7 +68,7 @@ def test_magnify_matches_fft_route():
     for j, t in enumerate(taps):
         h1[(j + start) % 32] += t
     want = np.real(np.fft.ifft2(np.fft.fft2(u) * np.fft.fft2(np.outer(h1, h1))))
-    np.testing.assert_allclose(magnify(x, m, filter="catmull-rom"), want, atol=1e-9)
+    np.testing.assert_allclose(magnify(x, m, kernel="catmull-rom"), want, atol=1e-9)
 
 
 @pytest.mark.parametrize("filt", ["box", "tent", "bspline", "catmull-rom"])
@@ -83,7 +83,7 @@ def test_tent_is_gl_bilinear_and_box_is_gl_nearest():
     rng = np.random.default_rng(3)
     x = rng.random((4, 5))
     m = 4
-    y = magnify(x, m, filter="tent")
+    y = magnify(x, m, kernel="tent")
     # GL_LINEAR with GL_REPEAT at the output texel centres.
     u = (np.arange(5 * m) + 0.5) / m - 0.5
     v = (np.arange(4 * m) + 0.5) / m - 0.5
@@ -93,23 +93,23 @@ def test_tent_is_gl_bilinear_and_box_is_gl_nearest():
     want = ((1 - a) * (1 - b) * x[np.ix_(I0, J0)] + (1 - a) * b * x[np.ix_(I0, J1)]
             + a * (1 - b) * x[np.ix_(I1, J0)] + a * b * x[np.ix_(I1, J1)])
     np.testing.assert_allclose(y, want, atol=1e-12)
-    np.testing.assert_array_equal(magnify(x, m, filter="box"), np.kron(x, np.ones((m, m))))
+    np.testing.assert_array_equal(magnify(x, m, kernel="box"), np.kron(x, np.ones((m, m))))
 
 
 @pytest.mark.parametrize("filt", ["tent", "catmull-rom"])
 def test_interpolating_filters_pass_through_the_input(filt):
     x = np.random.default_rng(1).standard_normal((6, 6))
-    y = magnify(x, 3, filter=filt)  # odd factor: texel centres coincide
+    y = magnify(x, 3, kernel=filt)  # odd factor: texel centres coincide
     np.testing.assert_allclose(y[1::3, 1::3], x, atol=1e-12)
 
 
 @pytest.mark.parametrize("filt", FILTERS)
 def test_constant_stays_constant_and_output_tiles(filt):
-    np.testing.assert_allclose(magnify(np.full((3, 3), 0.7), 6, filter=filt), 0.7, atol=1e-12)
+    np.testing.assert_allclose(magnify(np.full((3, 3), 0.7), 6, kernel=filt), 0.7, atol=1e-12)
     x = np.random.default_rng(2).standard_normal((4, 4))
     # Shifting the input by one texel shifts the output by m texels: periodic.
-    np.testing.assert_allclose(magnify(np.roll(x, 1, axis=1), 5, filter=filt),
-                               np.roll(magnify(x, 5, filter=filt), 5, axis=1), atol=1e-12)
+    np.testing.assert_allclose(magnify(np.roll(x, 1, axis=1), 5, kernel=filt),
+                               np.roll(magnify(x, 5, kernel=filt), 5, axis=1), atol=1e-12)
 
 
 def test_passes_depend_on_footprint_only():
@@ -139,8 +139,8 @@ def test_octave_shape_checks_and_determinism():
     np.testing.assert_array_equal(a, octave(64, 8, rng=5))
     with pytest.raises(ValueError, match="multiple of cells"):
         octave(60, 8)
-    with pytest.raises(ValueError, match="filter"):
-        magnify(np.ones((2, 2)), 2, filter="lanczos")
+    with pytest.raises(ValueError, match="^kernel must be"):
+        magnify(np.ones((2, 2)), 2, kernel="lanczos")
     with pytest.raises(ValueError, match="factor"):
         magnify(np.ones((2, 2)), 0)
     with pytest.raises(ValueError, match="finite"):

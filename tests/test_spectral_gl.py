@@ -43,8 +43,8 @@ def _max_error(got, want, x):
 def test_gl_equals_cpu_to_float32_precision(gl, filt, sigma, shape, factor, multiply):
     rng = np.random.default_rng(sum(shape))
     x = rng.standard_normal(shape).astype(np.float32)
-    got = magnify_gl(x, factor, filter=filt, sigma=sigma, multiply=multiply, ctx=gl)
-    want = magnify(x.astype(np.float64), factor, filter=filt, sigma=sigma)
+    got = magnify_gl(x, factor, kernel=filt, sigma=sigma, multiply=multiply, ctx=gl)
+    want = magnify(x.astype(np.float64), factor, kernel=filt, sigma=sigma)
     assert got.image.shape == want.shape and got.image.dtype == np.float32
     assert _max_error(got.image, want, x) <= RTOL
     # Every output texel received filter weights summing to one, no more.
@@ -55,8 +55,8 @@ def test_gl_equals_cpu_to_float32_precision(gl, filt, sigma, shape, factor, mult
 @pytest.mark.parametrize("shape", [(24, 40), (25, 38)])
 def test_gl_at_larger_sizes(gl, filt, shape):
     x = np.random.default_rng(3).standard_normal(shape).astype(np.float32)
-    got = magnify_gl(x, 13, filter=filt, ctx=gl).image
-    want = magnify(x.astype(np.float64), 13, filter=filt)
+    got = magnify_gl(x, 13, kernel=filt, ctx=gl).image
+    want = magnify(x.astype(np.float64), 13, kernel=filt)
     assert _max_error(got, want, x) <= RTOL
 
 
@@ -65,8 +65,8 @@ def test_blend_and_shader_products_agree(gl, filt):
     """One float32 multiply either way, in the blender or in the shader: on
     llvmpipe the two give the same bits; elsewhere float32 precision."""
     x = np.random.default_rng(7).standard_normal((5, 7, 3)).astype(np.float32)
-    blend = magnify_gl(x, 3, filter=filt, multiply="blend", ctx=gl)
-    shader = magnify_gl(x, 3, filter=filt, multiply="shader", ctx=gl)
+    blend = magnify_gl(x, 3, kernel=filt, multiply="blend", ctx=gl)
+    shader = magnify_gl(x, 3, kernel=filt, multiply="shader", ctx=gl)
     if "llvmpipe" in gl.info["GL_RENDERER"]:
         np.testing.assert_array_equal(blend.image, shader.image)
     assert _max_error(blend.image, shader.image.astype(np.float64), x) <= RTOL
@@ -85,18 +85,18 @@ def test_gl_output_tiles_and_shifts_with_the_input(gl):
 
 def test_public_magnify_backend_gl_keeps_dtype(gl):
     x = np.random.default_rng(5).standard_normal((3, 5))
-    y = magnify(x, 3, filter="tent", backend="gl")  # makes and keeps its own context
+    y = magnify(x, 3, kernel="tent", backend="gl")  # makes and keeps its own context
     assert y.dtype == np.float64 and y.shape == (9, 15)
-    assert _max_error(y, magnify(x, 3, filter="tent"), x) <= RTOL
+    assert _max_error(y, magnify(x, 3, kernel="tent"), x) <= RTOL
     y32 = magnify(x.astype(np.float32), 3, backend="gl")
     assert y32.dtype == np.float32
-    yi = magnify(np.arange(6).reshape(2, 3), 2, filter="box", backend="gl")
+    yi = magnify(np.arange(6).reshape(2, 3), 2, kernel="box", backend="gl")
     assert yi.dtype == np.float64
     np.testing.assert_array_equal(yi, np.kron(np.arange(6).reshape(2, 3), np.ones((2, 2))))
     # magnify_gl makes the context it is given current and leaves it so: the
     # session's context is the current one again, for the fixture's check and
     # the tests after this one.
-    assert _max_error(magnify_gl(x, 3, filter="tent", ctx=gl).image, y, x) <= RTOL
+    assert _max_error(magnify_gl(x, 3, kernel="tent", ctx=gl).image, y, x) <= RTOL
 
 
 @pytest.mark.parametrize("filt,sigma,t", [("box", 0.5, 1), ("tent", 0.5, 2), ("gaussian", 0.5, 3),
@@ -110,7 +110,7 @@ def test_pass_count_is_footprint_squared_whatever_the_sizes(gl, filt, sigma, t):
         for multiply, draws_per_pass in (("blend", 3), ("shader", 1)):
             query = gl.query(primitives=True)
             with query:
-                got = magnify_gl(x, factor, filter=filt, sigma=sigma, multiply=multiply, ctx=gl)
+                got = magnify_gl(x, factor, kernel=filt, sigma=sigma, multiply=multiply, ctx=gl)
             assert got.passes == t * t and got.footprint == t and got.channel_groups == 1
             assert got.draws == draws_per_pass * t * t
             assert query.primitives == 2 * got.draws
@@ -118,7 +118,7 @@ def test_pass_count_is_footprint_squared_whatever_the_sizes(gl, filt, sigma, t):
 
 def test_channel_groups_repeat_the_passes(gl):
     x = np.zeros((4, 4, 7), dtype=np.float32)
-    got = magnify_gl(x, 2, filter="tent", ctx=gl)
+    got = magnify_gl(x, 2, kernel="tent", ctx=gl)
     assert (got.passes, got.channel_groups, got.draws) == (4, 3, 3 * 4 * 3)
 
 
@@ -165,8 +165,8 @@ def test_pass_offsets():
 
 def _control_error(gl, filt="bspline", multiply="blend"):
     x = np.random.default_rng(6).standard_normal((5, 6)).astype(np.float32)
-    got = magnify_gl(x, 4, filter=filt, multiply=multiply, ctx=gl)
-    return _max_error(got.image, magnify(x.astype(np.float64), 4, filter=filt), x), got
+    got = magnify_gl(x, 4, kernel=filt, multiply=multiply, ctx=gl)
+    return _max_error(got.image, magnify(x.astype(np.float64), 4, kernel=filt), x), got
 
 
 @pytest.mark.parametrize("filt", ["box", "bspline"])
@@ -224,16 +224,16 @@ def test_another_current_context_does_not_take_the_passes(gl):
 def test_bad_inputs(gl):
     with pytest.raises(ValueError, match="backend"):
         magnify(np.ones((2, 2)), 2, backend="vulkan")
-    with pytest.raises(ValueError, match="filter"):
-        magnify_gl(np.ones((2, 2)), 2, filter="lanczos", ctx=gl)
+    with pytest.raises(ValueError, match="^kernel must be"):
+        magnify_gl(np.ones((2, 2)), 2, kernel="lanczos", ctx=gl)
     with pytest.raises(ValueError, match="multiply"):
         magnify_gl(np.ones((2, 2)), 2, multiply="accum", ctx=gl)
     with pytest.raises(ValueError, match="image"):
         magnify_gl(np.array([[np.nan, 0.0]]), 2, ctx=gl)
     with pytest.raises(ValueError, match="GL_MAX_TEXTURE_SIZE"):
-        magnify_gl(np.ones((2, 2)), 9000, filter="box", ctx=gl)
+        magnify_gl(np.ones((2, 2)), 9000, kernel="box", ctx=gl)
     with pytest.raises(ValueError, match="filter texture"):
-        magnify_gl(np.ones((1, 1)), (5000, 1), filter="bspline", ctx=gl)
+        magnify_gl(np.ones((1, 1)), (5000, 1), kernel="bspline", ctx=gl)
 
 
 def test_missing_moderngl_names_what_to_install(monkeypatch):

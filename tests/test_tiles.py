@@ -152,9 +152,9 @@ def test_fit_range():
 
 
 @pytest.mark.parametrize("kwargs,match", [
-    (dict(size=7), "size"),
-    (dict(size=9000), "size"),
-    (dict(size=500, method="octaves"), "octaves"),
+    (dict(shape=7), "shape"),
+    (dict(shape=9000), "shape"),
+    (dict(shape=500, method="octaves"), "octaves"),
     (dict(method="perlin2"), "method"),
     (dict(alpha="bump"), "alpha"),
     (dict(cutoff=0.0), "cutoff"),
@@ -166,13 +166,13 @@ def test_fit_range():
     (dict(alpha_value=1.5), "alpha_value"),
 ])
 def test_make_tile_bad_input(kwargs, match):
-    kwargs = dict(dict(size=64), **kwargs)
+    kwargs = dict(dict(shape=64), **kwargs)
     with pytest.raises((ValueError, TypeError), match=match):
         make_tile(**kwargs)
 
 
 def test_octave_method_sizes():
-    t = make_tile(384, rng=0, method="octaves", filter="catmull-rom")
+    t = make_tile(384, rng=0, method="octaves", kernel="catmull-rom")
     assert t.shape == (384, 384, 4)
     assert np.all(energy_above(t, 0.25) < 1e-9)
 
@@ -241,28 +241,28 @@ def test_seamless_texture_photos_meet_the_issue_metric(name):
 
 
 def test_make_seamless_crop_alpha_and_cutoff(photo):
-    t = make_seamless(photo, size=(200, 256), alpha="emboss", cutoff=0.25)
+    t = make_seamless(photo, shape=(200, 256), alpha="emboss", cutoff=0.25)
     assert t.shape == (200, 256, 4)
     assert np.all(energy_above(t, 0.25) < 1e-9)
     assert np.all((seam_ratio(t) > 0.6) & (seam_ratio(t) < 1.25))
-    n = make_seamless(photo, size=128, alpha="noise", rng=3)
+    n = make_seamless(photo, shape=128, alpha="noise", rng=3)
     assert n[:, :, 3].std() > 0.1
     with pytest.raises(ValueError, match="smaller than the tile"):
-        make_seamless(photo, size=600)
+        make_seamless(photo, shape=600)
 
 
 def test_make_seamless_conversions():
     from skimage import data
 
     grey = data.brick()  # (512, 512) uint8
-    t = make_seamless(grey, size=128)
+    t = make_seamless(grey, shape=128)
     np.testing.assert_array_equal(t[:, :, 0], t[:, :, 1])
     # 16-bit keeps its precision: the same picture at 16 bits gives the same tile
-    t16 = make_seamless(grey.astype(np.uint16) * 257, size=128)
+    t16 = make_seamless(grey.astype(np.uint16) * 257, shape=128)
     np.testing.assert_allclose(t16, t, atol=1e-6)
     # RGBA: own alpha dropped, or kept and made seamless
     rgba = np.dstack([grey, grey, grey, np.tile(np.linspace(0, 255, 512).astype(np.uint8), (512, 1))])
-    assert np.all(make_seamless(rgba, size=128)[:, :, 3] == 1.0)
+    assert np.all(make_seamless(rgba, shape=128)[:, :, 3] == 1.0)
     kept = make_seamless(rgba, alpha="keep")
     assert seam_ratio(rgba[:, :, 3:] / 255.0)[0] > 50  # a horizontal ramp: a big seam
     assert seam_ratio(kept[:, :, 3:])[0] < 1.1

@@ -454,7 +454,7 @@ def write_docs_picture(path: Path) -> None:
 
     import tempfile
 
-    texture = SpectralTexture.paper_preset(seed=0)
+    texture = SpectralTexture.paper_preset(rng=0)
     with tempfile.TemporaryDirectory() as tmp:
         html = export(texture, Path(tmp) / "web", formats="web").folder / "index.html"
         with sync_playwright() as p:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._results import DictAccess
-from ._validate import DEPRECATED, check_float, check_image, check_int, check_seed
+from ._validate import DEPRECATED, check_float, check_image, check_int, check_rng, rng_or_seed
 from .analysis import cross_scale
 from .color import luma
 
@@ -358,8 +358,9 @@ def _pick_gain(gains, values, target) -> float:
 
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
-        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED):
+        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
+        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED,
+        seed=DEPRECATED):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -452,8 +453,12 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         it is the exemplar's central crop made seamless.
     max_size : int
         Larger exemplars are analysed on a central crop of this size.
-    seed : int
-        Seed of the quilting (equal inputs and seed give equal textures).
+    rng : int, numpy.random.Generator or None
+        Randomness of the quilting (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give
+        equal textures; a Generator is used (and advanced); None draws fresh
+        randomness. ``seed=``, the old name, still works for one release
+        with a ``DeprecationWarning``.
     tiling : {"auto", "stochastic", "periodic"}
         ``"periodic"``: every layer periodic (the fit before stochastic
         layers; the texture repeats the tile). ``"stochastic"``: every layer
@@ -491,7 +496,8 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
        a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
     """
     kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
-                  tile_size=tile_size, max_size=max_size, seed=seed, tiling=tiling, patch=patch, progress=progress)
+                  tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch, progress=progress,
+                  rng=rng_or_seed(rng, seed, where="fit"))
     if return_result is not DEPRECATED:
         import warnings
 
@@ -503,11 +509,12 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
 
 
 def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, seed=0,
-               tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
+               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
+               tiling: str = "auto", patch: float | None = None, progress=None, seed=DEPRECATED) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
-    The parameters are :func:`fit`'s; the same inputs give the same texture.
+    The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
+    give the same texture.
 
     Returns
     -------
@@ -528,7 +535,7 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
     ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
-    seed = check_seed("seed", seed)
+    rng = check_rng(rng, seed=seed, where="fit_result")
     from ._validate import check_choice
     from .shading.constants import DEFAULT_PATCH
 
@@ -560,13 +567,13 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
         tile_size = max(min(h, w), min(512, 4 * min(h, w)))
     n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
     if n <= min(h, w):
-        tile0 = make_seamless(exemplar, size=(n, n))[:, :, :3].astype(np.float64)
+        tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
         tile_method = "seamless crop"
     else:
         from .synthesis import quilt
 
         block = int(np.clip(min(h, w) // 4, 16, 64))
-        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=seed).astype(np.float64)
+        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng).astype(np.float64)
         tile_method = f"tileable quilt (block {block})"
     tick()
     region = (min(h, 256), min(w, 256))

@@ -90,7 +90,7 @@ def run(args) -> int | None:
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
                      opacity=args.opacity,
-                     seed=args.seed, progress=bar)
+                     rng=args.seed, progress=bar)
     fit_seconds = time.perf_counter() - start
     texture = result.texture
     h, w = exemplar.shape[:2]

@@ -77,7 +77,7 @@ def run(args) -> int:
     if not animated:
         _common.refuse(args, ["to", "fps"], "to a single picture (only with --frames 2 or more)")
     output = check_output_path("output", args.output, _ANIM if animated else _IMAGE, inputs=[args.texture])
-    h, w = check_size(args.size, args.supersample)
+    h, w = check_size(args.size, args.supersample, name="--size")
     if animated and output.suffix.lower() == ".mp4":
         check_mp4_size(h, w)
     start = Camera.from_tuple(args.camera, fov=args.fov)

@@ -76,10 +76,15 @@ def register(subparsers) -> None:
 def run(args) -> int | None:
     from spectex._output import OutputSet
     from spectex.io import check_output_path, read_image, write_image
-    from spectex.tiles import make_seamless, make_tile, preview as make_preview
+    from spectex._validate import check_shape
+    from spectex.tiles import MAX_SIZE, make_seamless, make_tile, preview as make_preview
 
     _common.deprecated_alias(args, "kernel", "--filter", "--kernel")
     _refuse_unused(args)
+    if args.size is not None:  # checked here to name --size (the library says shape=)
+        h, w = check_shape("--size", args.size)
+        if not 8 <= min(h, w) <= max(h, w) <= MAX_SIZE:
+            raise ValueError(f"--size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
     inputs = [args.source] if args.source is not None else []
     output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
@@ -96,7 +101,7 @@ def run(args) -> int | None:
             steps.step(f"reading {args.source}")
             photo = read_image(args.source, name="--from image")
             steps.step("making it tileable")
-            tile = make_seamless(photo, size=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
+            tile = make_seamless(photo, shape=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
                                  rng=args.seed, seam=args.seam, azimuth=args.azimuth,
                                  strength=args.strength,
                                  alpha_value=1.0 if args.alpha_value is None else args.alpha_value)
@@ -108,7 +113,7 @@ def run(args) -> int | None:
             tile = make_tile(512 if args.size is None else args.size, rng=args.seed, method=args.method,
                              alpha=args.alpha or "emboss", colormap=args.colormap,
                              cutoff=0.25 if args.cutoff is None else args.cutoff, beta=args.beta,
-                             low=args.low, octaves=args.octaves, filter=args.kernel,
+                             low=args.low, octaves=args.octaves, kernel=args.kernel,
                              azimuth=args.azimuth, strength=args.strength,
                              alpha_value=0.5 if args.alpha_value is None else args.alpha_value)
             what = f"{args.method} noise"

@@ -30,7 +30,7 @@ def run(args) -> int:
     from spectex.render.viewer import check_display, run_viewer
     from spectex.texture import SpectralTexture
 
-    check_size(args.size)  # the render budget; X and GL refuse larger windows with a traceback
+    check_size(args.size, name="--size")  # the render budget; X and GL refuse larger windows with a traceback
     camera = Camera.from_tuple(args.camera, fov=args.fov)
     texture = SpectralTexture.load(args.texture)  # a bad file is named before a missing display
     check_display()

@@ -32,7 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..shading.camera import check_size, view_params
-from . import DEFAULT_ANISOTROPY
+from .._validate import DEPRECATED, renamed
+from . import DEFAULT_ANISOTROPY, _required
 
 __all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
 
@@ -316,9 +317,9 @@ class GLRenderer:
         return False
 
     # ---------------------------------------------------------------- drawing
-    def prepare(self, camera, size, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None, enabled=None,
-                sky_only=False):
-        """Set the uniforms and sampler state for a frame of ``size = (height, width)``.
+    def prepare(self, camera, shape=DEPRECATED, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None,
+                enabled=None, sky_only=False, size=DEPRECATED):
+        """Set the uniforms and sampler state for a frame of ``shape = (height, width)``.
 
         ``anisotropy`` defaults to 8 (:data:`spectex.render.DEFAULT_ANISOTROPY`), as in
         :func:`spectex.render.cpu.render_cpu`; ``draw``, ``render`` and ``time_frames``
@@ -327,7 +328,8 @@ class GLRenderer:
         from ..shading.constants import FILTERS, FILTER_NEAREST
         from ..shading.tables import pack
 
-        view = view_params(camera, size, atmosphere=atmosphere)
+        shape = _required(renamed("GLRenderer.prepare", "shape", shape, "size", size), "GLRenderer.prepare", "shape")
+        view = view_params(camera, shape, atmosphere=atmosphere)
         tables = pack(self.texture, filter=filter, anisotropy=anisotropy, enabled=enabled)
         name = FILTERS[tables.min_filter]
         if name != self._filter:
@@ -337,7 +339,7 @@ class GLRenderer:
                 tex.filter = (min_f, mag_f)
             self._filter = name
         self._use_program(tables, anisotropic=tables.max_aniso > 1.0 and "mipmap" in name, sky_only=sky_only)
-        h, w = size
+        h, w = shape
         anchor = self.texture.anchor_coords(*camera.position[:2])
         self._set_uniform("u_size", (float(w), float(h)))
         self._set_uniform("u_height", view.height)
@@ -357,7 +359,7 @@ class GLRenderer:
             self._set_uniform("u_ganchor", [(float(a[2]), float(a[3])) for a in anchor])
             self._set_uniform("u_gbase", [(int(a[4]), int(a[5])) for a in anchor])
 
-    def draw(self, camera, size, **kwargs):
+    def draw(self, camera, shape=DEPRECATED, *, size=DEPRECATED, **kwargs):
         """Draw one frame into the currently bound framebuffer (the viewer's window).
 
         The rows that see only sky (above the horizon, found on the host) are
@@ -365,7 +367,8 @@ class GLRenderer:
         under a scissor: llvmpipe evaluates both sides of the shader's branch
         for every pixel, so without this the sky costs as much as the ground.
         """
-        h, w = size
+        shape = _required(renamed("GLRenderer.draw", "shape", shape, "size", size), "GLRenderer.draw", "shape")
+        h, w = shape
         sky_rows = sky_row_count(camera, h, w)
         for unit, tex in enumerate(self.textures + self.gauss_textures):
             tex.use(location=unit)
@@ -374,23 +377,27 @@ class GLRenderer:
         try:
             if sky_rows > 0:
                 self.ctx.scissor = (0, h - sky_rows, w, sky_rows)  # GL's y counts from the bottom
-                self.prepare(camera, size, sky_only=True, **kwargs)
+                self.prepare(camera, shape, sky_only=True, **kwargs)
                 self.vao.render(self._mgl.TRIANGLES, vertices=3)
             if sky_rows < h:
                 self.ctx.scissor = (0, 0, w, h - sky_rows)
-                self.prepare(camera, size, **kwargs)
+                self.prepare(camera, shape, **kwargs)
                 self.vao.render(self._mgl.TRIANGLES, vertices=3)
         finally:
             self.ctx.scissor = None
 
-    def render(self, camera, size, *, supersample=1, **kwargs):
+    def render(self, camera, shape=DEPRECATED, *, supersample=1, size=DEPRECATED, **kwargs):
         """Render to an image: ``(H, W, 3)`` float32 in [0, 1], row 0 at the top.
+
+        ``shape`` is the picture's ``(height, width)`` (``size=``, the old
+        name, still works for one release with a ``DeprecationWarning``).
 
         ``supersample = n`` draws an ``n``-times larger picture (each pixel's
         footprint ``n`` times smaller) and box-filters it down, which is what
         the CPU renderer's ``n x n`` samples per pixel compute.
         """
-        h, w = check_size(size, supersample)
+        shape = _required(renamed("GLRenderer.render", "shape", shape, "size", size), "GLRenderer.render", "shape")
+        h, w = check_size(shape, supersample)
         n = int(supersample)
         self._make_current()
         fbo = self._framebuffer(h * n, w * n)
@@ -404,11 +411,13 @@ class GLRenderer:
             img = img.reshape(h, n, w, n, 3).mean(axis=(1, 3), dtype=np.float32)
         return np.ascontiguousarray(img)
 
-    def time_frames(self, camera, size, frames=20, **kwargs):
-        """Seconds per frame drawing ``size`` offscreen (no read-back), after one warm-up frame."""
+    def time_frames(self, camera, shape=DEPRECATED, frames=20, *, size=DEPRECATED, **kwargs):
+        """Seconds per frame drawing ``shape = (height, width)`` offscreen (no read-back), after one warm-up frame."""
         import time
 
-        h, w = check_size(size)
+        shape = _required(renamed("GLRenderer.time_frames", "shape", shape, "size", size), "GLRenderer.time_frames",
+                          "shape")
+        h, w = check_size(shape)
         self._make_current()
         fbo = self._framebuffer(h, w)
         fbo.use()

@@ -32,17 +32,21 @@ MAX_RENDER_PIXELS = 1 << 26
 MAX_RENDER_SIDE = 16384
 
 
-def check_size(size, supersample=1) -> tuple[int, int]:
-    """``(height, width)`` of a render, checked against the memory budget."""
+def check_size(shape, supersample=1, *, name: str = "shape") -> tuple[int, int]:
+    """``(height, width)`` of a render, checked against the memory budget.
+
+    ``name`` is the parameter named in the errors (the command line passes
+    ``"--size"``).
+    """
     from .._validate import check_int, check_shape
 
     n = check_int("supersample", supersample, minimum=1, maximum=16)
-    h, w = check_shape("size", size, maximum_pixels=MAX_RENDER_PIXELS)
+    h, w = check_shape(name, shape, maximum_pixels=MAX_RENDER_PIXELS)
     if h * w * n * n > MAX_RENDER_PIXELS:
-        raise ValueError(f"size {w}x{h} with supersample {n} is {h * w * n * n} samples, over the budget "
+        raise ValueError(f"{name} {w}x{h} with supersample {n} is {h * w * n * n} samples, over the budget "
                          f"of {MAX_RENDER_PIXELS} (about 1 GiB of work memory)")
     if max(h, w) * n > MAX_RENDER_SIDE:
-        raise ValueError(f"size {w}x{h} with supersample {n} has a side over {MAX_RENDER_SIDE} pixels")
+        raise ValueError(f"{name} {w}x{h} with supersample {n} has a side over {MAX_RENDER_SIDE} pixels")
     return h, w
 
 

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import check_choice
+from .._validate import DEPRECATED, check_choice, renamed
 from ._octaves import _check_filter, _check_image, _factors, discrete_filter, filter_passes
 
 #: How a pass multiplies texel by weight: the seed's blend, or the shader.
@@ -263,12 +263,12 @@ def _programs(ctx) -> _Programs:
     return entry
 
 
-def _filter_window(filter: str, m: int, sigma: float, footprint: int):
-    """``(h, start)``: the discretised filter over its window of ``T m`` texels."""
-    taps, start = discrete_filter(filter, m, sigma=sigma)
+def _filter_window(kernel: str, m: int, sigma: float, footprint: int):
+    """``(h, start)``: the discretised kernel over its window of ``T m`` texels."""
+    taps, start = discrete_filter(kernel, m, sigma=sigma)
     window = footprint * m
     if taps.size > window:  # cannot happen: the taps lie within T m texels
-        raise AssertionError(f"filter {filter!r} has {taps.size} taps for a window of {window}")
+        raise AssertionError(f"kernel {kernel!r} has {taps.size} taps for a window of {window}")
     h = np.zeros(window)
     h[:taps.size] = taps
     return h, start
@@ -320,8 +320,8 @@ def redistribute(x: np.ndarray, footprint: int, factor=(1, 1), start=(0, 0)) -> 
     return subs
 
 
-def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
-               multiply: str = "blend", ctx=None) -> GLMagnification:
+def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
+               multiply: str = "blend", ctx=None, filter=DEPRECATED) -> GLMagnification:
     """Magnify a small periodic image on the GPU, the seed's multi-pass way.
 
     The same result as :func:`~spectex.spectral.magnify` (to float32
@@ -337,8 +337,10 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         The small image, one period of a periodic signal.
     factor : int or (int, int)
         Magnification ``m`` along rows and columns.
-    filter : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
-        As for :func:`~spectex.spectral.magnify`.
+    kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+        The magnification kernel, as for :func:`~spectex.spectral.magnify`.
+        ``filter=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     multiply : {'blend', 'shader'}
@@ -374,14 +376,15 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
-    filter, sigma = _check_filter(filter, sigma)
+    kernel = renamed("magnify_gl", "kernel", kernel, "filter", filter, default="bspline")
+    kernel, sigma = _check_filter(kernel, sigma)
     multiply = check_choice("multiply", multiply, MULTIPLY)
     m0, m1 = _factors(factor)
     x = _check_image(image)
     out_dtype = x.dtype
     planes = x[:, :, None] if x.ndim == 2 else x
     n0, n1, channels = planes.shape
-    t = filter_passes(filter, sigma=sigma)
+    t = filter_passes(kernel, sigma=sigma)
     if ctx is None:
         ctx = default_context()
     _make_current(ctx)
@@ -394,8 +397,8 @@ def magnify_gl(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         raise ValueError(f"factor {factor!r} needs a filter texture of {t * m0}x{t * m1} "
                          f"texels, over this context's GL_MAX_TEXTURE_SIZE {limit}")
 
-    h0, s0 = _filter_window(filter, m0, sigma, t)
-    h1, s1 = (h0, s0) if m1 == m0 else _filter_window(filter, m1, sigma, t)
+    h0, s0 = _filter_window(kernel, m0, sigma, t)
+    h1, s1 = (h0, s0) if m1 == m0 else _filter_window(kernel, m1, sigma, t)
     passes = pass_offsets(t, (m0, m1), (s0, s1))
     groups = -(-channels // 3)
     result = np.empty((big0, big1, channels), dtype=np.float32)

@@ -55,7 +55,7 @@ import numbers
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng
+from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng, renamed
 
 FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
 
@@ -88,10 +88,10 @@ def _kernel(name: str, sigma: float):
     return (lambda t: np.where(np.abs(t) < radius, np.exp(-0.5 * (t / sigma) ** 2), 0.0)), radius
 
 
-def _check_filter(filter, sigma):
-    filter = check_choice("filter", filter, FILTERS)
+def _check_filter(kernel, sigma):
+    kernel = check_choice("kernel", kernel, FILTERS)
     sigma = check_float("sigma", sigma, minimum=0.05, maximum=64.0)
-    return filter, sigma
+    return kernel, sigma
 
 
 def _phase_weights(filter: str, factor: int, sigma: float):
@@ -113,23 +113,27 @@ def _phase_weights(filter: str, factor: int, sigma: float):
     return w, first
 
 
-def filter_passes(filter: str = "bspline", *, sigma: float = 0.5) -> int:
-    """Number of passes per axis that :func:`magnify` makes with ``filter``.
+def filter_passes(kernel: str = "bspline", *, sigma: float = 0.5, filter=DEPRECATED) -> int:
+    """Number of passes per axis that :func:`magnify` makes with ``kernel``.
 
-    It is the number of input texels under the filter's footprint,
+    It is the number of input texels under the kernel's footprint,
     ``ceil(2 * radius)``, independent of the input size and of the
-    magnification (see the module's cost model).
+    magnification (see the module's cost model). ``filter=``, the old name
+    of ``kernel``, still works for one release with a ``DeprecationWarning``.
     """
-    filter, sigma = _check_filter(filter, sigma)
-    return int(math.ceil(2.0 * _kernel(filter, sigma)[1]))
+    kernel = renamed("filter_passes", "kernel", kernel, "filter", filter, default="bspline")
+    kernel, sigma = _check_filter(kernel, sigma)
+    return int(math.ceil(2.0 * _kernel(kernel, sigma)[1]))
 
 
-def discrete_filter(filter: str, factor: int, *, sigma: float = 0.5):
-    """The filter discretised for magnification by ``factor``.
+def discrete_filter(kernel=DEPRECATED, factor=DEPRECATED, *, sigma: float = 0.5, filter=DEPRECATED):
+    """The magnification kernel discretised for magnification by ``factor``.
 
     Parameters
     ----------
-    filter : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+    kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+        ``filter=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     factor : int
         Magnification ``m`` (output texels per input texel), >= 1.
     sigma : float
@@ -145,9 +149,13 @@ def discrete_filter(filter: str, factor: int, *, sigma: float = 0.5):
     start : int
         The offset of ``taps[0]``.
     """
-    filter, sigma = _check_filter(filter, sigma)
+    kernel = renamed("discrete_filter", "kernel", kernel, "filter", filter)
+    for name, value in (("kernel", kernel), ("factor", factor)):
+        if value is DEPRECATED:
+            raise TypeError(f"discrete_filter() missing required argument: '{name}'")
+    kernel, sigma = _check_filter(kernel, sigma)
     m = check_int("factor", factor, minimum=1)
-    w, first = _phase_weights(filter, m, sigma)
+    w, first = _phase_weights(kernel, m, sigma)
     # Output q m + r reads input q + first[r] + t, i.e. j = p - k m
     # = r - (first[r] + t) m.
     js = np.arange(m)[:, None] - (first[:, None] + np.arange(w.shape[1])[None, :]) * m
@@ -211,9 +219,9 @@ def _check_image(image) -> np.ndarray:
     return x
 
 
-def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
-            backend: str = "cpu") -> np.ndarray:
-    """Magnify a small periodic image with a reconstruction filter, wrapping around.
+def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
+            backend: str = "cpu", filter=DEPRECATED) -> np.ndarray:
+    """Magnify a small periodic image with a reconstruction kernel, wrapping around.
 
     Separable and vectorised: ``T`` passes per axis, ``T`` the number of
     input texels under the filter (:func:`filter_passes`), whatever the sizes.
@@ -225,11 +233,15 @@ def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
         stays float32 and float64 stays float64; other dtypes become float64.
     factor : int or (int, int)
         Magnification ``m`` along rows and columns.
-    filter : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
-        Box is ``GL_NEAREST``, tent is ``GL_LINEAR``; the cubic B-spline is
+    kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
+        The magnification kernel (the reconstruction filter; ``filter``
+        elsewhere in spectex means OpenGL's texture filter). Box is
+        ``GL_NEAREST``, tent is ``GL_LINEAR``; the cubic B-spline is
         smooth and approximating, Catmull-Rom interpolating (it passes through
         the input values and can overshoot), the Gaussian has standard
         deviation ``sigma`` input texels, truncated at 3 sigma.
+        ``filter=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     backend : {'cpu', 'gl'}
@@ -255,16 +267,17 @@ def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
+    kernel = renamed("magnify", "kernel", kernel, "filter", filter, default="bspline")
     backend = check_choice("backend", backend, BACKENDS)
     if backend == "gl":
         from ._magnify_gl import magnify_gl
 
-        return magnify_gl(image, factor, filter=filter, sigma=sigma).image
-    filter, sigma = _check_filter(filter, sigma)
+        return magnify_gl(image, factor, kernel=kernel, sigma=sigma).image
+    kernel, sigma = _check_filter(kernel, sigma)
     m0, m1 = _factors(factor)
     x = _check_image(image)
-    w0, f0 = _phase_weights(filter, m0, sigma)
-    w1, f1 = (w0, f0) if m1 == m0 else _phase_weights(filter, m1, sigma)
+    w0, f0 = _phase_weights(kernel, m0, sigma)
+    w1, f1 = (w0, f0) if m1 == m0 else _phase_weights(kernel, m1, sigma)
     planes = x[None] if x.ndim == 2 else np.moveaxis(x, 2, 0)  # (C, n0, n1)
     # Rows first, on the small input (transposed so that rows are the last
     # axis), then columns on the (C, N0, n1) result.
@@ -273,8 +286,8 @@ def magnify(image, factor, *, filter: str = "bspline", sigma: float = 0.5,
     return y[0] if x.ndim == 2 else np.ascontiguousarray(np.moveaxis(y, 0, 2))
 
 
-def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, rng=None,
-           dtype=np.float32, seed=DEPRECATED) -> np.ndarray:
+def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=None,
+           dtype=np.float32, seed=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
     """One octave: a random ``cells`` image magnified to ``shape``, tiling.
 
     Parameters
@@ -285,8 +298,9 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, rng=Non
         Size of the random input image (its texels are independent standard
         normal values), so the octave holds about ``cells / 2`` cycles per
         period along each axis.
-    filter, sigma
-        See :func:`magnify`.
+    kernel, sigma
+        See :func:`magnify`. ``filter=``, the old name of ``kernel``, still
+        works for one release with a ``DeprecationWarning``.
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
@@ -300,6 +314,7 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, rng=Non
     """
     from .._validate import check_shape
 
+    kernel = renamed("octave", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     if isinstance(cells, numbers.Integral):
         c0 = c1 = check_int("cells", cells, minimum=1)
@@ -315,4 +330,4 @@ def octave(shape, cells, *, filter: str = "bspline", sigma: float = 0.5, rng=Non
     if dtype not in (np.float32, np.float64):
         raise ValueError(f"dtype must be float32 or float64, got {dtype}")
     x = rng.standard_normal((c0, c1)).astype(dtype)
-    return magnify(x, (h // c0, w // c1), filter=filter, sigma=sigma)
+    return magnify(x, (h // c0, w // c1), kernel=kernel, sigma=sigma)

@@ -27,7 +27,8 @@ import numbers
 import numpy as np
 
 from .._parallel import fft_workers as _workers
-from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
+from .._validate import (DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape,
+                         renamed)
 from ._octaves import octave
 
 
@@ -307,8 +308,8 @@ def octave_amplitudes(cells, amplitudes="1/f") -> np.ndarray:
 
 
 def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cells: int = 4,
-               filter: str = "bspline", sigma: float = 0.5, rng=None, dtype=np.float32,
-               seed=DEPRECATED) -> np.ndarray:
+               kernel: str = "bspline", sigma: float = 0.5, rng=None, dtype=np.float32,
+               seed=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
     """Spectral synthesis by summing octaves made under magnification.
 
     Octave ``k`` is :func:`spectex.spectral.octave` with
@@ -333,8 +334,9 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
         cells at most half the shorter side).
     base_cells : int
         Cells of the coarsest octave (4 in the seed).
-    filter, sigma
-        See :func:`spectex.spectral.magnify`.
+    kernel, sigma
+        See :func:`spectex.spectral.magnify`. ``filter=``, the old name of
+        ``kernel``, still works for one release with a ``DeprecationWarning``.
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
@@ -347,6 +349,7 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
     ndarray, shape (H, W)
         The weighted sum (not normalised).
     """
+    kernel = renamed("octave_sum", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     base_cells = check_int("base_cells", base_cells, minimum=1)
     if octaves is None:
@@ -370,7 +373,7 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
     rng = check_rng(rng, seed=seed, where="octave_sum")
     total = np.zeros((h, w), dtype=dtype)
     for c, a in zip(cells, amp):
-        part = octave((h, w), c, filter=filter, sigma=sigma, rng=rng, dtype=dtype)
+        part = octave((h, w), c, kernel=kernel, sigma=sigma, rng=rng, dtype=dtype)
         # A random whole-pixel shift per octave, so that the octaves' lattices
         # do not all line up (at the wrap edge, or anywhere else).
         shift = (int(rng.integers(0, h)), int(rng.integers(0, w)))

@@ -64,7 +64,8 @@ import numba
 import numpy as np
 
 from .._parallel import threads_for as _threads_for
-from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng, check_shape
+from .._validate import (DEPRECATED, check_choice, check_float, check_int, check_rng, check_shape,
+                         renamed)
 from ..color import LUMA_REC709
 from .ops import _emboss, fit_range
 
@@ -156,14 +157,14 @@ def _to_unit(field: np.ndarray) -> np.ndarray:
     return ndtr(_standardise(field)).astype(np.float32, copy=False)
 
 
-def _field(method, shape, m, rng, *, beta, low, octaves, filter, noise_scale):
+def _field(method, shape, m, rng, *, beta, low, octaves, kernel, noise_scale):
     """The scalar field on the working grid ``shape``; frequencies per tile pixel."""
     from ..spectral import octave_sum, spectral_noise
 
     if method == "spectral":
         return spectral_noise(shape, beta=beta, low=None if low is None else low * m, rng=rng)
     if method == "octaves":
-        return octave_sum(shape, amplitudes=beta, octaves=octaves, filter=filter, rng=rng)
+        return octave_sum(shape, amplitudes=beta, octaves=octaves, kernel=kernel, rng=rng)
     try:
         from ..procedural import noise_image
     except ImportError as exc:
@@ -186,24 +187,26 @@ def _check_octave_size(h, w, small, octaves):
     finest = 4 * 2 ** max(count - 1, 0)
     if count == 0 or small[0] % finest or small[1] % finest:
         step = finest * (h // small[0])
-        raise ValueError(f"size {w}x{h} does not suit method='octaves' with {max(count, 1)} octaves: "
+        raise ValueError(f"shape {w}x{h} does not suit method='octaves' with {max(count, 1)} octaves: "
                          f"each side must be a multiple of {step} (powers of two always work); "
                          f"method='spectral' takes any size")
 
 
-def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss",
+def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "emboss",
               colormap="earth", cutoff: float = 0.25, beta: float = 2.0, low: float | None = None,
-              octaves: int | None = None, filter: str = "bspline", noise_scale: float = 4.0,
+              octaves: int | None = None, kernel: str = "bspline", noise_scale: float = 4.0,
               azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5,
-              seed=DEPRECATED) -> np.ndarray:
+              seed=DEPRECATED, size=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
     """A seamless, low-pass RGBA tile of coloured random noise (Berger 2006).
 
     See the module docstring for the steps and the cut-off.
 
     Parameters
     ----------
-    size : int or (int, int)
+    shape : int or (int, int)
         Tile side, or ``(height, width)``; 8 to ``MAX_SIZE`` (8192).
+        ``size=``, the old name, still works for one release with a
+        ``DeprecationWarning``.
         ``method='octaves'`` needs sides that are multiples of its finest
         octave's cells on the working grid (powers of two always work).
     rng : int, numpy.random.Generator or None
@@ -233,9 +236,10 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
         removes the largest blobs, which make repetition easier to see.
     octaves : int or None
         Number of octaves for ``'octaves'`` and ``'noise'``.
-    filter : str
-        Magnification filter for ``'octaves'`` (see
-        :func:`spectex.spectral.magnify`).
+    kernel : str
+        Magnification kernel for ``'octaves'`` (see
+        :func:`spectex.spectral.magnify`). ``filter=``, the old name, still
+        works for one release with a ``DeprecationWarning``.
     noise_scale : float
         Lattice cells across the tile for ``'noise'``.
     azimuth, strength : float
@@ -251,15 +255,17 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     from ..color import get_ramp
     from ..spectral import band_limit_planes
 
-    h, w = check_shape("size", size)
+    shape = renamed("make_tile", "shape", shape, "size", size, default=512)
+    kernel = renamed("make_tile", "kernel", kernel, "filter", filter, default="bspline")
+    h, w = check_shape("shape", shape)
     if min(h, w) < 8 or max(h, w) > MAX_SIZE:
-        raise ValueError(f"size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
+        raise ValueError(f"shape must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
     rng = check_rng(rng, seed=seed, where="make_tile")
     method = check_choice("method", method, METHODS)
     alpha = check_choice("alpha", alpha, ALPHAS)
     from ..spectral import FILTERS
 
-    filter = check_choice("filter", filter, FILTERS)
+    kernel = check_choice("kernel", kernel, FILTERS)
     cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
     if cutoff * max(h, w) < 1.0:
         raise ValueError(f"cutoff must be at least 1/{max(h, w)} = {1.0 / max(h, w):.4g} cycles per pixel "
@@ -280,7 +286,7 @@ def make_tile(size=512, *, rng=0, method: str = "spectral", alpha: str = "emboss
     m = _working_factor(h, w, cutoff)
     small = (h // m, w // m)
     rng_colour, rng_alpha = rng.spawn(2)
-    kw = dict(beta=beta, low=low, octaves=octaves, filter=filter, noise_scale=noise_scale)
+    kw = dict(beta=beta, low=low, octaves=octaves, kernel=kernel, noise_scale=noise_scale)
     if method == "octaves":
         _check_octave_size(h, w, small, octaves)
     field = _field(method, small, m, rng_colour, **kw)

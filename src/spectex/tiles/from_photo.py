@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_image, check_rng, check_shape
+from .._validate import DEPRECATED, check_choice, check_float, check_image, check_rng, check_shape, renamed
 from ..color import luma
 from .from_noise import ALPHAS, MAX_SIZE, _to_unit
 from .ops import fit_range
@@ -93,12 +93,12 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
     return p
 
 
-def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None = None, rng=0,
+def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | None = None, rng=0,
                   seam: str = "matched", azimuth: float = 135.0, strength: float = 1.0,
-                  alpha_value: float = 1.0, seed=DEPRECATED) -> np.ndarray:
+                  alpha_value: float = 1.0, seed=DEPRECATED, size=DEPRECATED) -> np.ndarray:
     """Make a photograph into a seamless RGBA tile.
 
-    The photograph (cropped about its centre to ``size`` if given) is
+    The photograph (cropped about its centre to ``shape`` if given) is
     replaced by a periodic image that keeps its interior detail and changes
     only by a smooth image, the harmonic image that takes up the jumps
     across the wrap edges: Moisan's periodic-plus-smooth decomposition
@@ -133,9 +133,10 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     ----------
     image : ndarray, shape (H, W) or (H, W, C), C in 1..4
         At least 8 x 8.
-    size : None, int or (int, int)
+    shape : None, int or (int, int)
         Tile ``(height, width)`` cropped from the centre; the photograph
-        must be at least that large (it is never upsampled).
+        must be at least that large (it is never upsampled). ``size=``, the
+        old name, still works for one release with a ``DeprecationWarning``.
     alpha : {'none', 'emboss', 'luminance', 'noise', 'keep'}
         As in :func:`make_tile`; ``'keep'`` makes the photograph's own alpha
         channel seamless too (and needs one). ``'none'`` gives
@@ -160,6 +161,7 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     """
     from ..spectral import band_limit, spectral_noise
 
+    shape = renamed("make_seamless", "shape", shape, "size", size, default=None)
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8)
     alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
     seam = check_choice("seam", seam, ("matched", "moisan"))
@@ -176,20 +178,20 @@ def make_seamless(image, *, size=None, alpha: str = "none", cutoff: float | None
     if alpha == "keep" and own_alpha is None:
         raise ValueError(f"alpha='keep' needs an image with an alpha channel, got {nch} channel(s)")
     H, W = img.shape[:2]
-    if size is not None:
-        th, tw = check_shape("size", size)
+    if shape is not None:
+        th, tw = check_shape("shape", shape)
         if th > H or tw > W:
-            raise ValueError(f"image of {W}x{H} is smaller than the tile size {tw}x{th}; "
-                             f"choose a smaller size (the image is never upsampled)")
+            raise ValueError(f"image of {W}x{H} is smaller than the tile of {tw}x{th} asked for "
+                             f"(shape=, --size); the image is never upsampled")
         if min(th, tw) < 8:
-            raise ValueError(f"size must be at least 8x8, got {tw}x{th}")
+            raise ValueError(f"shape must be at least 8x8, got {tw}x{th}")
         y0, x0 = (H - th) // 2, (W - tw) // 2
         colour = colour[y0:y0 + th, x0:x0 + tw]
         if own_alpha is not None:
             own_alpha = own_alpha[y0:y0 + th, x0:x0 + tw]
         H, W = th, tw
     if max(H, W) > MAX_SIZE:
-        raise ValueError(f"image of {W}x{H} is larger than {MAX_SIZE} on a side; pass size= "
+        raise ValueError(f"image of {W}x{H} is larger than {MAX_SIZE} on a side; pass shape= "
                          f"(--size) to crop a tile from it")
 
     def finish(channel_stack):
