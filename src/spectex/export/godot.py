@@ -27,10 +27,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from ._shader import has_stochastic, layer_library
-from ._stochastic import LUT_FILE, gauss_name, layer_entries, table_info
+from ._stochastic import LUT_FILE, constant_lines, gauss_name, layer_entries, table_info
 
 __all__ = ["write_godot", "godot_shader", "godot_script"]
 
@@ -187,33 +185,16 @@ _STOCHASTIC_LAYER = [
 
 def _stochastic_declarations(texture, anchors) -> list[str]:
     """The stochastic layers' textures and constants (zeros for periodic layers)."""
-    n = len(texture.layers)
-    info = table_info(texture)
-    entries = layer_entries(texture)
-
-    def per_layer(name, zero):
-        return [e.get(name, zero) for e in entries]
-
-    basis = [np.reshape(b, (3, 3)) for b in per_layer("basis", [0.0] * 9)]
     lines = ["// ---- stochastic layers: their tables (set by spectex_ground.gd from the raw files; data, linear)"]
     for i in range(len(texture.tiles)):
         lines.append(f"uniform sampler2D spectex_gauss{i} : hint_default_white, filter_linear_mipmap, repeat_enable;"
                      f"  // {gauss_name(texture, i)}")
-    lines += [
+    return lines + [
         f"uniform sampler2D spectex_lut_texture : hint_default_white, filter_nearest, repeat_disable;  // {LUT_FILE}",
         "// per layer: tile -> triangle-grid map, hash key, first table row, decorrelation (RGB = origin +",
         "// b0 v.x + b1 v.y + b2 v.z), and the grid position of world (0, 0) (float64 on the host)",
-        f"const vec4 SPECTEX_GRID[{n}] = {{{', '.join(_vec(g) for g in per_layer('grid', [0.0] * 4))}}};",
-        f"const uint SPECTEX_KEY[{n}] = {{{', '.join(f'{int(v)}u' for v in per_layer('key', 0))}}};",
-        f"const float SPECTEX_LUT_ROW[{n}] = {{{', '.join(_f(v) for v in per_layer('lut_row', 0))}}};",
-        *(f"const vec3 SPECTEX_B{j}[{n}] = {{{', '.join(_vec(b[:, j]) for b in basis)}}};" for j in range(3)),
-        f"const vec3 SPECTEX_ORIGIN_RGB[{n}] = {{{', '.join(_vec(o) for o in per_layer('origin', [0.0] * 3))}}};",
-        f"const vec2 SPECTEX_ORIGIN_GANCHOR[{n}] = {{{', '.join(_vec(a[2:4]) for a in anchors)}}};",
-        f"const uvec2 SPECTEX_ORIGIN_GBASE[{n}] = {{{', '.join(_uvec(a[4:6]) for a in anchors)}}};",
-        f"const float SPECTEX_LUT_ROWS = {_f(info['lut_rows'])};",
-        f"const float SPECTEX_LUT_Q = {_f(info['lut_q'])};",
+        *constant_lines(texture, anchors, declare="const", types={}, number=_f, vector=_vec, uvector=_uvec),
     ]
-    return lines
 
 
 def godot_script(texture) -> str:

@@ -26,10 +26,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from ._shader import has_stochastic, layer_library
-from ._stochastic import table_info, layer_entries
+from ._stochastic import constant_lines, table_info
 
 __all__ = ["write_hlsl", "hlsl_include", "ENTRY_POINT"]
 
@@ -195,27 +193,12 @@ _STOCHASTIC_LAYER = [
 
 def _stochastic_constants(texture, anchors) -> list[str]:
     """The stochastic layers' constants (zeros for periodic layers)."""
-    n = len(texture.layers)
-    info = table_info(texture)
-    entries = layer_entries(texture)
-
-    def per_layer(name, zero):
-        return [e.get(name, zero) for e in entries]
-
-    basis = [np.reshape(b, (3, 3)) for b in per_layer("basis", [0.0] * 9)]
+    types = {"vec2": "float2", "vec3": "float3", "vec4": "float4", "uvec2": "uint2"}
     return [
         "// ---- stochastic layers: per layer its tile -> triangle-grid map, hash key, first table row,",
         "// decorrelation (RGB = origin + b0 v.x + b1 v.y + b2 v.z) and the grid position of ground (0, 0)",
-        f"static const float4 SPECTEX_GRID[{n}] = {{{', '.join(_vec(g) for g in per_layer('grid', [0.0] * 4))}}};",
-        f"static const uint SPECTEX_KEY[{n}] = {{{', '.join(f'{int(v)}u' for v in per_layer('key', 0))}}};",
-        f"static const float SPECTEX_LUT_ROW[{n}] = {{{', '.join(_f(v) for v in per_layer('lut_row', 0))}}};",
-        *(f"static const float3 SPECTEX_B{j}[{n}] = {{{', '.join(_vec(b[:, j]) for b in basis)}}};" for j in range(3)),
-        f"static const float3 SPECTEX_ORIGIN_RGB[{n}] = "
-        f"{{{', '.join(_vec(o) for o in per_layer('origin', [0.0] * 3))}}};",
-        f"static const float2 SPECTEX_ORIGIN_GANCHOR[{n}] = {{{', '.join(_vec(a[2:4]) for a in anchors)}}};",
-        f"static const uint2 SPECTEX_ORIGIN_GBASE[{n}] = {{{', '.join(_uvec(a[4:6]) for a in anchors)}}};",
-        f"static const float SPECTEX_LUT_ROWS = {_f(info['lut_rows'])};",
-        f"static const float SPECTEX_LUT_Q = {_f(info['lut_q'])};",
+        *constant_lines(texture, anchors, declare="static const", types=types, number=_f, vector=_vec,
+                        uvector=_uvec),
     ]
 
 
