@@ -26,32 +26,47 @@ vec2 spectex_layer_deriv(vec4 m, vec2 j) {
     return vec2(m.x * j.x + m.y * j.y, m.z * j.x + m.w * j.y);
 }
 
-// Sections 3 and 5: lambda from the derivatives of (s, t), in texels of
-// level 0 (tex_size = level-0 width, height), then samples at that lambda;
-// with SPX_ANISO, EXT_texture_filter_anisotropic's recipe (max_aniso > 1).
-vec4 spectex_sample_grad(SPX_TEX_ARG(tile), vec2 st, vec2 dx, vec2 dy, vec2 tex_size, float max_aniso) {
-    vec2 ux = dx * tex_size;
-    vec2 uy = dy * tex_size;
-    float px = length(ux);
-    float py = length(uy);
+// Sections 3 and 5: the footprint of the derivatives dx, dy of (s, t), in
+// texels of level 0 (tex_size = level-0 width, height). Returns n, the
+// number of samples along the major axis d, and sets lam, the level of
+// detail they are taken at: with SPX_ANISO and max_aniso > 1,
+// EXT_texture_filter_anisotropic's recipe (lam = log2(Pmax / n)); otherwise
+// n = 1 and lam = log2(Pmax). Sample i of n (1-based) lies at
+// (i / (n + 1) - 1/2) d. The one home of the recipe in GLSL: the periodic
+// and the stochastic samplers call it.
+float spectex_footprint(vec2 dx, vec2 dy, vec2 tex_size, float max_aniso, out float lam, out vec2 d) {
+    float px = length(dx * tex_size);
+    float py = length(dy * tex_size);
     float pmax = max(px, py);
+    float n = 1.0;
 #if SPX_ANISO
     if (max_aniso > 1.0) {
         float pmin = min(px, py);
         float n_max = floor(max_aniso);
-        float n = (pmin * n_max <= pmax) ? n_max : min(ceil(pmax / pmin), n_max);
-        if (n > 1.0) {
-            float lam = log2(max(pmax / n, SPX_LOD_FLOOR));
-            vec2 d = (px >= py) ? dx : dy;
-            vec4 acc = vec4(0.0, 0.0, 0.0, 0.0);
-            for (float i = 1.0; i <= n; i += 1.0) {
-                acc += SPX_LOD(tile, st + (i / (n + 1.0) - 0.5) * d, lam);
-            }
-            return acc / n;
-        }
+        n = (pmin * n_max <= pmax) ? n_max : min(ceil(pmax / pmin), n_max);
     }
 #endif
-    return SPX_LOD(tile, st, log2(max(pmax, SPX_LOD_FLOOR)));
+    lam = log2(max(pmax / n, SPX_LOD_FLOOR));
+    d = (px >= py) ? dx : dy;
+    return n;
+}
+
+// Sections 3 and 5: samples at the level of detail of spectex_footprint,
+// n of them along the major axis, averaged.
+vec4 spectex_sample_grad(SPX_TEX_ARG(tile), vec2 st, vec2 dx, vec2 dy, vec2 tex_size, float max_aniso) {
+    float lam;
+    vec2 d;
+    float n = spectex_footprint(dx, dy, tex_size, max_aniso, lam, d);
+#if SPX_ANISO
+    if (n > 1.0) {
+        vec4 acc = vec4(0.0, 0.0, 0.0, 0.0);
+        for (float i = 1.0; i <= n; i += 1.0) {
+            acc += SPX_LOD(tile, st + (i / (n + 1.0) - 0.5) * d, lam);
+        }
+        return acc / n;
+    }
+#endif
+    return SPX_LOD(tile, st, lam);
 }
 
 // Sections 3-4 for a periodic layer (SPX_TILING_PERIODIC) at a known lambda:
@@ -158,34 +173,24 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
                                     SPX_UINT base_j, SPX_UINT key, vec2 dx, vec2 dy, vec2 tex_size,
                                     float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
                                     float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
-    vec2 ux = dx * tex_size;
-    vec2 uy = dy * tex_size;
-    float px = length(ux);
-    float py = length(uy);
-    float pmax = max(px, py);
+    float lam;
+    vec2 d;
+    float n = spectex_footprint(dx, dy, tex_size, max_aniso, lam, d);
 #if SPX_ANISO
-    if (max_aniso > 1.0) {
-        float pmin = min(px, py);
-        float n_max = floor(max_aniso);
-        float n = (pmin * n_max <= pmax) ? n_max : min(ceil(pmax / pmin), n_max);
-        if (n > 1.0) {
-            float lam = log2(max(pmax / n, SPX_LOD_FLOOR));
-            vec2 d = (px >= py) ? dx : dy;
-            vec2 dg = vec2(grid.x * d.x + grid.y * d.y, grid.z * d.x + grid.w * d.y);
-            vec4 acc = vec4(0.0, 0.0, 0.0, 0.0);
-            for (float i = 1.0; i <= n; i += 1.0) {
-                float fi = i / (n + 1.0) - 0.5;
-                acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
-                                                 base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
-                                                 b0, b1, b2, origin);
-            }
-            return acc / n;
+    if (n > 1.0) {
+        vec2 dg = vec2(grid.x * d.x + grid.y * d.y, grid.z * d.x + grid.w * d.y);
+        vec4 acc = vec4(0.0, 0.0, 0.0, 0.0);
+        for (float i = 1.0; i <= n; i += 1.0) {
+            float fi = i / (n + 1.0) - 0.5;
+            acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
+                                             base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
+                                             b0, b1, b2, origin);
         }
+        return acc / n;
     }
 #endif
     return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, tex_size,
-                                     log2(max(pmax, SPX_LOD_FLOOR)), min_filter, q, lut_row0, lut_rows, b0, b1,
-                                     b2, origin);
+                                     lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin);
 }
 #endif
 
