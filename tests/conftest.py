@@ -2,6 +2,7 @@
 style) and full-contrast seamless RGBA test tiles."""
 
 import os
+import shutil
 
 import numpy as np
 import pytest
@@ -68,3 +69,13 @@ def tile():
 @pytest.fixture(scope="session")
 def tile_maker():
     return make_test_tile
+
+
+def glslang_validator() -> str:
+    """Path of Debian's ``glslangValidator`` (glslang-tools): a skip without it, a failure under CI=true."""
+    path = shutil.which("glslangValidator")
+    if path is None:
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail("glslangValidator is missing: CI must have it (apt-get install glslang-tools)")
+        pytest.skip("glslangValidator is missing (apt-get install glslang-tools)")
+    return path

@@ -4,9 +4,7 @@ small translation of Godot's few non-GLSL lines)."""
 
 from __future__ import annotations
 
-import os
 import re
-import shutil
 from dataclasses import replace
 import subprocess
 import sys
@@ -20,16 +18,7 @@ from spectex.shading.glsl import shader_file
 from spectex.texture import Layer, SpectralTexture
 
 sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
-
-
-def glslang() -> str:
-    path = shutil.which("glslangValidator")
-    if path is None:
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail("glslangValidator is missing: CI must have it (apt-get install glslang-tools)")
-        pytest.skip("glslangValidator is missing (apt-get install glslang-tools)")
-    return path
+from conftest import glslang_validator, make_test_tile  # noqa: E402
 
 
 def textures():
@@ -88,7 +77,7 @@ def hlsl_texture_names(texture) -> list[str]:
 @pytest.mark.parametrize("defines", [(), ("UNITY_VERSION=202230",), ("SPECTEX_FLIP_V=1", "SPECTEX_MAX_ANISOTROPY=1.0"),
                                      ("SPECTEX_ANCHORED",)])
 def test_hlsl_include_compiles_with_glslang(exported, tmp_path, defines):
-    tool = glslang()
+    tool = glslang_validator()
     texture, folder = exported
     include = folder / "hlsl" / "spectex_ground.hlsl"
     run = compile_hlsl(tool, include, texture, tmp_path, *defines)
@@ -97,7 +86,7 @@ def test_hlsl_include_compiles_with_glslang(exported, tmp_path, defines):
 
 
 def test_hlsl_control_a_broken_include_fails(exported, tmp_path):
-    tool = glslang()
+    tool = glslang_validator()
     texture, folder = exported
     broken = tmp_path / "inc" / "spectex_ground.hlsl"
     broken.parent.mkdir()
@@ -156,7 +145,7 @@ def godot_to_glsl(text: str, stage: str) -> str:
 
 @pytest.mark.parametrize("stage", ["vert", "frag"])
 def test_godot_shader_compiles_as_glsl(exported, tmp_path, stage):
-    tool = glslang()
+    tool = glslang_validator()
     _, folder = exported
     text = (folder / "godot" / "spectex_ground.gdshader").read_text()
     assert text.startswith("shader_type spatial;\n")
@@ -167,7 +156,7 @@ def test_godot_shader_compiles_as_glsl(exported, tmp_path, stage):
 
 
 def test_godot_control_a_broken_shader_fails(exported, tmp_path):
-    tool = glslang()
+    tool = glslang_validator()
     _, folder = exported
     text = (folder / "godot" / "spectex_ground.gdshader").read_text().replace("c, p, jx, jy);", "c, p, jx);", 1)
     path = tmp_path / "broken.frag"

@@ -4,10 +4,7 @@ alone (shaders, layer table, mip PNGs) draw spectex's picture."""
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import replace
-import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,18 +22,9 @@ from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture
 
 sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
+from conftest import glslang_validator, make_test_tile  # noqa: E402
 
 SHADER_SUFFIXES = (".vert", ".frag", ".glsl")
-
-
-def glslang() -> str:
-    path = shutil.which("glslangValidator")
-    if path is None:
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail("glslangValidator is missing: CI must have it (apt-get install glslang-tools)")
-        pytest.skip("glslangValidator is missing (apt-get install glslang-tools)")
-    return path
 
 
 def textures():
@@ -64,7 +52,7 @@ def shader_files(folder: Path):
 
 
 def test_every_shader_file_compiles_with_glslang(exported):
-    tool = glslang()
+    tool = glslang_validator()
     _, folder = exported
     files = shader_files(folder)
     names = {p.name for p in files}
@@ -81,7 +69,7 @@ def test_every_shader_file_compiles_with_glslang(exported):
 
 def test_glslang_control_rejects_a_broken_shader(exported, tmp_path):
     """Control: the compile check can fail (one layer call with a missing argument)."""
-    tool = glslang()
+    tool = glslang_validator()
     _, folder = exported
     text = (folder / "ground.330.frag").read_text().replace("c, p, jx, jy, lam_w);", "c, p, jx, jy);", 1)
     (tmp_path / "broken.frag").write_text(text)

@@ -2,10 +2,9 @@
 block bakes."""
 
 import ast
-import os
 import re
-import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,9 @@ from spectex.shading import constants as C
 from spectex.shading import glsl, pack
 from spectex.texture import SpectralTexture
 from spectex.tiles import make_tile
+
+sys.path.insert(0, str(Path(__file__).parent))
+from conftest import glslang_validator  # noqa: E402
 
 SRC = Path(spectex.__file__).parent
 
@@ -87,19 +89,10 @@ def test_fragment_source_unrolls_the_drawn_layers_with_their_codes():
         glsl.fragment_source(tables, 1, target="es100")
 
 
-def _validator():
-    exe = shutil.which("glslangValidator")
-    if exe is None:
-        if os.environ.get("CI"):
-            pytest.fail("glslangValidator (Debian glslang-tools) is required in CI")
-        pytest.skip("glslangValidator (Debian glslang-tools) is not installed")
-    return exe
-
-
 @pytest.mark.parametrize("target", glsl.TARGETS)
 @pytest.mark.parametrize("anisotropic", [False, True])
 def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
-    exe = _validator()
+    exe = glslang_validator()
     tex = SpectralTexture(make_tile(16, rng=1), [dict(size=3.0), dict(size=17.0, blend="detail"),
                                                   dict(size=40.0, tiling="stochastic", seed=3)])
     tables = pack(tex, anisotropy=4.0 if anisotropic else 1.0)
@@ -149,7 +142,7 @@ def test_view_params_and_tables_are_what_both_renderers_read():
 def test_layer_library_without_uint_leaves_out_only_the_stochastic_functions(tmp_path):
     # a prelude that defines no SPX_UINT (an export target without unsigned ints) still gets a
     # library that compiles, without the section 6b functions; with it, they are there
-    exe = _validator()
+    exe = glslang_validator()
     lib = glsl.layer_library()
     prelude = glsl.prelude("330").replace("#define SPX_UINT uint\n", "")
     assert "#define SPX_UINT" not in prelude and "#ifdef SPX_UINT" in lib
