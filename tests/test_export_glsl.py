@@ -163,3 +163,15 @@ def test_readme_names_three_js_settings(exported):
     for word in ("RawShaderMaterial", "THREE.GLSL3", "RepeatWrapping", "LinearMipmapLinearFilter",
                  "premultiplyAlpha = false", "NoColorSpace", "flipY = false"):
         assert word in text, word
+
+
+def test_host_refuses_what_is_not_a_glsl_export(tmp_path):
+    """draw_glsl_export: a folder without the layer table, or a bad shape, is one ValueError naming it."""
+    camera = Camera((0.0, 0.0, 2.0))
+    with pytest.raises(ValueError, match="folder must be the glsl/ folder of a spectex export"):
+        draw_glsl_export(tmp_path, camera, (10, 10))
+    (tmp_path / "spectex_texture.json").write_text("{not json", encoding="utf-8")
+    with pytest.raises(ValueError, match="folder must be the glsl/ folder"):
+        draw_glsl_export(tmp_path, camera, (10, 10))
+    with pytest.raises(ValueError, match="shape"):
+        draw_glsl_export(tmp_path, camera, (0, 10))

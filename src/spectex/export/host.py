@@ -36,8 +36,19 @@ __all__ = ["read_table", "texture_uniforms", "frame_uniforms", "upload_textures"
 
 
 def read_table(folder) -> dict:
-    """The layer table ``spectex_texture.json`` of an exported ``glsl/`` folder."""
-    return json.loads((Path(folder) / "spectex_texture.json").read_text(encoding="utf-8"))
+    """The layer table ``spectex_texture.json`` of an exported ``glsl/`` folder.
+
+    Raises
+    ------
+    ValueError
+        If ``folder`` is not a ``glsl/`` export (no readable table in it).
+    """
+    path = Path(folder) / "spectex_texture.json"
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"folder must be the glsl/ folder of a spectex export, got {str(folder)!r} "
+                         f"({type(exc).__name__}: no readable spectex_texture.json)") from None
 
 
 def _tile_names(folder: Path) -> list[str]:
@@ -202,14 +213,16 @@ def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = 8.0
     """
     import moderngl
 
+    from ..shading.camera import check_size
+
     folder = Path(folder)
-    h, w = int(shape[0]), int(shape[1])
+    h, w = check_size(shape)
+    table = read_table(folder)
     own = ctx is None
     if own:
         ctx = moderngl.create_standalone_context(backend="egl", require=330)
     objects = []
     try:
-        table = read_table(folder)
         program = ctx.program(vertex_shader=(folder / "ground.330.vert").read_text(encoding="utf-8"),
                               fragment_shader=(folder / "ground.330.frag").read_text(encoding="utf-8"))
         objects.append(program)
