@@ -399,6 +399,26 @@ def write_text(path, text: str, *, name: str = "output", inputs=()) -> Target:
     return target
 
 
+
+def _make_stage(where: Path, prefix: str, name: str, path) -> Path:
+    """A new temporary folder in ``where`` (named ``prefix...TEMP_MARK``) to stage outputs in.
+
+    No signal comes between making it and returning it (a signal held back
+    is delivered after it is removed again); an OS error is the one-line
+    ``ValueError`` naming the output ``name`` and ``path``.
+    """
+    stage = None
+    try:
+        with _signals_held():  # no interrupt between making the stage and remembering it
+            stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
+    except OSError as exc:
+        raise ValueError(f"{name} {_show(path)} cannot be written: {exc.strerror or exc}") from None
+    except BaseException:  # a signal held back above, delivered as they are let through again
+        if stage is not None:
+            shutil.rmtree(stage, ignore_errors=True)
+        raise
+    return stage
+
 class OutputSet:
     """Several output files in one folder, put in place all together or not at all.
 
@@ -479,16 +499,7 @@ class OutputSet:
         else:
             where = self.folder.parent if str(self.folder.parent) else Path(".")
             prefix = f".{self.folder.name}."
-        self.stage = None
-        try:
-            with _signals_held():  # no interrupt between making the stage and remembering it
-                self.stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
-        except OSError as exc:
-            raise ValueError(f"{self.name} {_show(self.path)} cannot be written: {exc.strerror or exc}") from None
-        except BaseException:  # a signal held back above, delivered as they are let through again
-            if self.stage is not None:
-                shutil.rmtree(self.stage, ignore_errors=True)
-            raise
+        self.stage = _make_stage(where, prefix, self.name, self.path)
         return self.stage
 
     def __exit__(self, exc_type, exc, tb):
@@ -619,16 +630,7 @@ class OutputFolder:
                                      "folder would delete; choose another output folder") from None
 
     def __enter__(self) -> Path:
-        self.stage = None
-        try:
-            with _signals_held():  # no interrupt between making the stage and remembering it
-                self.stage = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=TEMP_MARK, dir=self.parent))
-        except OSError as exc:
-            raise ValueError(f"{self.name} {_show(self.path)} cannot be written: {exc.strerror or exc}") from None
-        except BaseException:
-            if self.stage is not None:
-                shutil.rmtree(self.stage, ignore_errors=True)
-            raise
+        self.stage = _make_stage(self.parent, f".{self.path.name}.", self.name, self.path)
         return self.stage
 
     def __exit__(self, exc_type, exc, tb):
