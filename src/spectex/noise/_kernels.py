@@ -65,6 +65,18 @@ def _lerp(t, a, b):
 
 
 @njit(inline="always")
+def _bilerp(u, v, c00, c10, c01, c11):
+    """Corner values of a lattice cell blended by the faded fractions ``u`` (x) and ``v`` (y)."""
+    return _lerp(v, _lerp(u, c00, c10), _lerp(u, c01, c11))
+
+
+@njit(inline="always")
+def _trilerp(u, v, w, c000, c100, c010, c110, c001, c101, c011, c111):
+    """:func:`_bilerp` of the cell's two z faces, blended by ``w`` (z)."""
+    return _lerp(w, _bilerp(u, v, c000, c100, c010, c110), _bilerp(u, v, c001, c101, c011, c111))
+
+
+@njit(inline="always")
 def _cell(x, pf, ip, K, periodic):
     """Lattice cell of ``x``: ``(i0, i1, frac)``, indices reduced to 0..255.
 
@@ -152,7 +164,7 @@ def _perlin2(x, y, px, ipx, py, ipy, P, b, K, periodic):
     n11 = _grad2(h11 & 15, gx, gy, K)
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
-    return _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11)) * K[8]
+    return _bilerp(u, v, n00, n10, n01, n11) * K[8]
 
 
 @njit(inline="always")
@@ -175,9 +187,7 @@ def _perlin3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, K, periodic):
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
     w = _fade(fz, QUINTIC, K)
-    return _lerp(w,
-                 _lerp(v, _lerp(u, n000, n100), _lerp(u, n010, n110)),
-                 _lerp(v, _lerp(u, n001, n101), _lerp(u, n011, n111))) * K[9]
+    return _trilerp(u, v, w, n000, n100, n010, n110, n001, n101, n011, n111) * K[9]
 
 
 @njit(inline="always")
@@ -193,8 +203,7 @@ def _value2(x, y, px, ipx, py, ipy, P, b, V, vb, mode, K, periodic):
     h00, h10, h01, h11 = _hash2(X0, X1, Y0, Y1, P, b)
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
-    return _lerp(v, _lerp(u, V[_u(vb + h00)], V[_u(vb + h10)]),
-                 _lerp(u, V[_u(vb + h01)], V[_u(vb + h11)]))
+    return _bilerp(u, v, V[_u(vb + h00)], V[_u(vb + h10)], V[_u(vb + h01)], V[_u(vb + h11)])
 
 
 @njit(inline="always")
@@ -206,11 +215,8 @@ def _value3(x, y, z, px, ipx, py, ipy, pz, ipz, P, b, V, vb, mode, K, periodic):
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
     w = _fade(fz, mode, K)
-    return _lerp(w,
-                 _lerp(v, _lerp(u, V[_u(vb + h000)], V[_u(vb + h100)]),
-                       _lerp(u, V[_u(vb + h010)], V[_u(vb + h110)])),
-                 _lerp(v, _lerp(u, V[_u(vb + h001)], V[_u(vb + h101)]),
-                       _lerp(u, V[_u(vb + h011)], V[_u(vb + h111)])))
+    return _trilerp(u, v, w, V[_u(vb + h000)], V[_u(vb + h100)], V[_u(vb + h010)], V[_u(vb + h110)],
+                    V[_u(vb + h001)], V[_u(vb + h101)], V[_u(vb + h011)], V[_u(vb + h111)])
 
 
 # ---------------------------------------------------------------- float32 point functions
@@ -323,7 +329,7 @@ def _perlin2_32(x, y, px, ipx, py, ipy, W, b, K, periodic):
     n11 = _grad2_32(h11, gx, gy, K[10], K[11], K[12], K[13])
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
-    return _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11)) * K[8]
+    return _bilerp(u, v, n00, n10, n01, n11) * K[8]
 
 
 @njit(inline="always")
@@ -347,9 +353,7 @@ def _perlin3_32(x, y, z, px, ipx, py, ipy, pz, ipz, W, b, K, periodic):
     u = _fade(fx, QUINTIC, K)
     v = _fade(fy, QUINTIC, K)
     w = _fade(fz, QUINTIC, K)
-    return _lerp(w,
-                 _lerp(v, _lerp(u, n000, n100), _lerp(u, n010, n110)),
-                 _lerp(v, _lerp(u, n001, n101), _lerp(u, n011, n111))) * K[9]
+    return _trilerp(u, v, w, n000, n100, n010, n110, n001, n101, n011, n111) * K[9]
 
 
 @njit(inline="always")
@@ -372,8 +376,7 @@ def _value2_32(x, y, px, ipx, py, ipy, W, b, V, c, mode, K, periodic):
     h00, h10, h01, h11 = _hash2_32(X0, X1, Y0, Y1, W, b, periodic)
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
-    return _lerp(v, _lerp(u, _v32(V, c, h00), _v32(V, c, h10)),
-                 _lerp(u, _v32(V, c, h01), _v32(V, c, h11)))
+    return _bilerp(u, v, _v32(V, c, h00), _v32(V, c, h10), _v32(V, c, h01), _v32(V, c, h11))
 
 
 @njit(inline="always")
@@ -386,11 +389,8 @@ def _value3_32(x, y, z, px, ipx, py, ipy, pz, ipz, W, b, V, c, mode, K, periodic
     u = _fade(fx, mode, K)
     v = _fade(fy, mode, K)
     w = _fade(fz, mode, K)
-    return _lerp(w,
-                 _lerp(v, _lerp(u, _v32(V, c, h000), _v32(V, c, h100)),
-                       _lerp(u, _v32(V, c, h010), _v32(V, c, h110))),
-                 _lerp(v, _lerp(u, _v32(V, c, h001), _v32(V, c, h101)),
-                       _lerp(u, _v32(V, c, h011), _v32(V, c, h111))))
+    return _trilerp(u, v, w, _v32(V, c, h000), _v32(V, c, h100), _v32(V, c, h010), _v32(V, c, h110),
+                    _v32(V, c, h001), _v32(V, c, h101), _v32(V, c, h011), _v32(V, c, h111))
 
 
 # ---------------------------------------------------------------- kernels
