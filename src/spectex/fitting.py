@@ -21,12 +21,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._results import DictAccess
-from ._validate import DEPRECATED, check_float, check_image, check_int, check_rng, rng_or_seed
+from ._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, rng_or_seed
 from .analysis import cross_scale
 from .color import luma
 
 __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
-           "STRUCTURED_PEAK", "FIT_TILINGS"]
+           "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
 MIN_SIZE = 32
@@ -50,6 +50,9 @@ STOCHASTIC_ROUNDS = 2
 STOCHASTIC_REGIONS = 6
 #: The fit's tiling choices (see :func:`fit`).
 FIT_TILINGS = ("auto", "stochastic", "periodic")
+#: The fit's methods: ``"auto"`` (the default, issue 22's design) and ``"legacy"`` (the fit before it,
+#: kept only so that ``benchmarks/bench_fit_quality.py`` can compare; not for new work).
+FIT_METHODS = ("auto", "legacy")
 
 
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
@@ -357,9 +360,10 @@ def _pick_gain(gains, values, target) -> float:
     return float(gains[best])
 
 
-def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED,
+def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+        ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+        tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+        patch: float | None = None, method: str = "auto", progress=None, return_result=DEPRECATED,
         seed=DEPRECATED):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
@@ -495,9 +499,9 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
        a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
     """
-    kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
-                  tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch, progress=progress,
-                  rng=rng_or_seed(rng, seed, where="fit"))
+    kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
+                  iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
+                  method=method, progress=progress, rng=rng_or_seed(rng, seed, where="fit"))
     if return_result is not DEPRECATED:
         import warnings
 
@@ -508,9 +512,10 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     return fit_result(image, **kwargs).texture
 
 
-def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-               tiling: str = "auto", patch: float | None = None, progress=None, seed=DEPRECATED) -> FitResult:
+def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+               ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+               tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+               patch: float | None = None, method: str = "auto", progress=None, seed=DEPRECATED) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -525,6 +530,25 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
         parameters: tile size and method, layer opacities, alpha gain, band
         gains, the band error of each step, tilings, ...) and ``seconds``.
     """
+    method = check_choice("method", method, FIT_METHODS)
+    if method == "legacy":
+        if photo_size is not None:
+            raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
+        return _fit_legacy(image, pixel_size=1.0 if pixel_size is None else pixel_size, layers=layers,
+                           ratio=ratio, opacity=0.2 if opacity is None else opacity,
+                           iterations=3 if iterations is None else iterations, tile_size=tile_size,
+                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress, seed=seed)
+    from ._fit_auto import fit_auto
+
+    return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
+                    opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
+                    tiling=tiling, patch=patch, progress=progress, seed=seed)
+
+
+def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
+                iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
+                tiling: str = "auto", patch: float | None = None, progress=None, seed=DEPRECATED) -> FitResult:
+    """The fit before issue 22 (``method="legacy"``), kept only so that benchmarks can compare."""
     import time
 
     from .tiles import make_seamless
@@ -536,7 +560,6 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
     rng = check_rng(rng, seed=seed, where="fit_result")
-    from ._validate import check_choice
     from .shading.constants import DEFAULT_PATCH
 
     tiling = check_choice("tiling", tiling, FIT_TILINGS)

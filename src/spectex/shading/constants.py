@@ -16,7 +16,7 @@ from __future__ import annotations
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
-    "HASH_MUL1", "HASH_MUL2",
+    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -45,6 +45,14 @@ GAUSS_SCALE = 0.1
 LUT_SIZE = 1024
 #: Rows of the sampled table per mip level step (``stochastic.expand_lut``).
 LUT_SUBROWS = 8
+#: The stochastic blend's weights are the barycentric weights raised to the power
+#: ``2 ** WEIGHT_SQUARINGS`` (squared this many times) and renormalised to sum 1: sharper
+#: transitions between the three patches, so that most of a triangle shows one patch at full
+#: contrast instead of a cross-fade of two or three (the double images of a linear blend;
+#: Mikkelsen, JCGT 11(1) 2022, and Burley, JCGT 8(4) 2019, raise the weights to a power too).
+#: 0 is Heitz and Neyret's linear weights. The variance-preserving normalisation keeps the
+#: histogram for any weights.
+WEIGHT_SQUARINGS = 3
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -112,6 +120,7 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_LUT_SUBROWS {LUT_SUBROWS}")
     lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
+    lines.append(f"#define SPX_WEIGHT_SQUARINGS {WEIGHT_SQUARINGS}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_LOD_FLOOR {_glsl_number(LOD_FLOOR)}")
     lines.append(f"#define SPX_SKY_FALLOFF {_glsl_number(SKY_FALLOFF)}")

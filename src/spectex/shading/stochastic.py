@@ -64,7 +64,7 @@ import numba
 import numpy as np
 
 from .._validate import check_float, check_image, check_seed
-from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS
+from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, WEIGHT_SQUARINGS
 from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [
@@ -359,11 +359,26 @@ def vertex_offset(i, j, key, w0, h0):
 
 
 @_jit_inline
+def sharpen_weights(w1, w2, w3):
+    """Barycentric weights raised to the power ``2 ** WEIGHT_SQUARINGS`` and renormalised to sum 1.
+
+    Sharper transitions between the patches (``constants.WEIGHT_SQUARINGS``);
+    still continuous, so the blend has no seams, and 1 at a vertex.
+    """
+    for _ in range(WEIGHT_SQUARINGS):
+        w1 = w1 * w1
+        w2 = w2 * w2
+        w3 = w3 * w3
+    inv = 1.0 / (w1 + w2 + w3)
+    return w1 * inv, w2 * inv, w3 * inv
+
+
+@_jit_inline
 def triangle_vertices(kx, ky):
     """The triangle of the skewed grid holding ``(kx, ky)``: its three vertices and barycentric weights.
 
     Returns ``i1, j1, w1, i2, j2, w2, i3, j3, w3`` (vertices relative to
-    the skewed grid's origin). The lower triangle of a cell (``fx + fy <
+    the skewed grid's origin; the weights sharpened by :func:`sharpen_weights`). The lower triangle of a cell (``fx + fy <
     1``) has vertices (0, 0), (1, 0), (0, 1); the upper (1, 1), (0, 1),
     (1, 0).
     """
@@ -374,8 +389,10 @@ def triangle_vertices(kx, ky):
     i0 = np.int64(fi)
     j0 = np.int64(fj)
     if fx + fy < 1.0:
-        return i0, j0, 1.0 - fx - fy, i0 + 1, j0, fx, i0, j0 + 1, fy
-    return i0 + 1, j0 + 1, fx + fy - 1.0, i0, j0 + 1, 1.0 - fx, i0 + 1, j0, 1.0 - fy
+        w1, w2, w3 = sharpen_weights(1.0 - fx - fy, fx, fy)
+        return i0, j0, w1, i0 + 1, j0, w2, i0, j0 + 1, w3
+    w1, w2, w3 = sharpen_weights(fx + fy - 1.0, 1.0 - fx, 1.0 - fy)
+    return i0 + 1, j0 + 1, w1, i0, j0 + 1, w2, i0 + 1, j0, w3
 
 
 @_jit_inline

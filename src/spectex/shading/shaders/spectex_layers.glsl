@@ -155,6 +155,11 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     SPX_UINT hj = spectex_hash((j0 + d) ^ key);
     SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
     vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
+    // sharpened: raised to the power 2^SPX_WEIGHT_SQUARINGS and renormalised (stochastic.sharpen_weights)
+    for (int k = 0; k < SPX_WEIGHT_SQUARINGS; k++) {
+        w = w * w;
+    }
+    w = w * (1.0 / (w.x + w.y + w.z));
     vec2 inv_size = 1.0 / tex_size;
     vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size), lam);
     vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size), lam);
