@@ -38,6 +38,8 @@ PERIOD_MIN_CORRELATION = 0.25
 #: size (-6 dB per octave band); -3 leaves room for the slow variation of real ground, where the
 #: legacy fit's -1.5 made blotches larger than anything in the photo.
 AUTO_MAX_SLOPE = -3.0
+#: The drift across the axis :func:`structure_period` allows per pixel of lag (about 6 degrees).
+TILT = 0.1
 #: Default opacity of the first coarse layer (method "auto").
 AUTO_OPACITY = 0.25
 #: How the coarse layers go over the finer ones: the variance-preserving blend, so that the
@@ -52,20 +54,22 @@ COARSE_CYCLES = 2.0
 
 
 def structure_period(exemplar, *, min_lag: int = 8):
-    """The period of a structured exemplar along its rows and columns, from its autocorrelation.
+    """The period of a structured exemplar along its columns and rows, from its autocorrelation.
 
     The luma's circular autocorrelation (mean removed, divided by its value
-    at lag 0) is read along the x axis (lag ``(0, dx)``) and the y axis
-    (``(dy, 0)``), lags ``min_lag`` to half the side. On each axis the
-    highest local maximum wins, unless a shorter lag reaches 90% of it (a
-    multiple of the true period is as high as the period itself). Running
-    bond brick gives two courses along y: one course is a half-brick shift.
+    at lag 0) is read along the y axis (lag ``(dy, 0)``) and the x axis
+    (``(0, dx)``), lags ``min_lag`` to half the side, each lag ``d`` taking
+    the best over a drift of ``TILT d`` across the axis (a photo a few
+    degrees off the structure's axes). On each axis the highest local
+    maximum wins, unless a shorter lag reaches 90% of it (a multiple of the
+    true period is as high as the period itself).
 
     Returns
     -------
-    (py, px) : tuple of int, or None
-        Pixels; None when either axis has no lag with correlation
-        :data:`PERIOD_MIN_CORRELATION` or more.
+    (py, px) : tuple of int or None
+        Pixels; an entry is None where that axis has no lag with
+        correlation :data:`PERIOD_MIN_CORRELATION` or more (no period
+        shorter than half the side).
     """
     from .fitting import _luma
 
@@ -75,47 +79,71 @@ def structure_period(exemplar, *, min_lag: int = 8):
     acf = np.fft.irfft2(np.abs(spec) ** 2, s=lum.shape)
     acf /= acf[0, 0]
     out = []
-    for line in (acf[:, 0], acf[0, :]):
-        half = len(line) // 2
-        lags = np.arange(min_lag, half)
-        if lags.size < 3:
-            return None
+    for a in (acf, acf.T):
+        half = a.shape[0] // 2
+        line = np.array([max(a[d, e % a.shape[1]] for e in range(-int(math.ceil(TILT * d)),
+                                                                  int(math.ceil(TILT * d)) + 1))
+                         for d in range(half)])
         v = line[min_lag:half]
         peaks = [i for i in range(1, len(v) - 1) if v[i] >= v[i - 1] and v[i] >= v[i + 1]]
-        if not peaks:
-            return None
-        best = max(peaks, key=lambda i: v[i])
-        if v[best] < PERIOD_MIN_CORRELATION:
-            return None
+        best = max(peaks, key=lambda i: v[i]) if peaks else None
+        if best is None or v[best] < PERIOD_MIN_CORRELATION:
+            out.append(None)
+            continue
         first = next(i for i in peaks if v[i] >= 0.9 * v[best])
-        out.append(int(lags[first]))
+        out.append(int(first + min_lag))
     return out[0], out[1]
 
 
-def _period_tile(exemplar, period):
-    """A square crop of whole periods (as many as fit, near square), resampled to square; or None.
+def _best_cut(lines, span):
+    """Start of the ``span`` lines (axis 0) whose wrap edge shows least: line ``start + span`` (the one
+    after the cut) closest to line ``start`` in mean squared difference."""
+    n = lines.shape[0]
+    if span >= n:
+        return 0
+    costs = [float(np.mean((lines[y] - lines[y + span]) ** 2)) for y in range(n - span)]
+    return int(np.argmin(costs))
 
-    Returns ``(tile (L, L, 3) float64, L, (ky, kx))``: ``kx`` periods across
-    (``L = kx px`` pixels, the pixel scale kept along x) and ``ky`` periods
-    down, resampled by ``L / (ky py)`` (within 12%) along y.
+
+def _period_tile(exemplar, period):
+    """A square tile of whole periods, cut where its wrap edges show least; or None.
+
+    ``period = (py, px)``, either may be None (no period along that axis).
+    The side ``L`` is as many whole periods as fit (near square when both
+    are known, then resampled along y by ``L / (ky py)``, within 12%); the
+    crop's place along each axis is the one whose wrap edge differs least
+    (:func:`_best_cut`). Returns ``(tile (L, L, 3) float64, L, (ky, kx))``.
     """
     from scipy import ndimage
 
     h, w = exemplar.shape[:2]
     py, px = period
-    for kx in range(w // px, 0, -1):
-        side = kx * px
-        ky = max(1, round(side / py))
-        if ky * py > h or side < MIN_SIZE or abs(ky * py / side - 1.0) > 0.12:
-            continue
-        y0, x0 = (h - ky * py) // 2, (w - side) // 2
-        crop = exemplar[y0:y0 + ky * py, x0:x0 + side].astype(np.float64)
-        if crop.shape[0] != side:
-            # periodic along y: wrap-mode resampling keeps the crop seamless
-            crop = ndimage.zoom(crop, (side / crop.shape[0], 1.0, 1.0), order=1, mode="grid-wrap",
-                                grid_mode=True)[:side]
-        return crop, side, (ky, kx)
-    return None
+    if py is None and px is None:
+        return None
+    choice = None
+    if px is not None and py is not None:
+        for kx in range(w // px, 0, -1):
+            side = kx * px
+            ky = max(1, round(side / py))
+            if ky * py <= h - 1 and side <= w - 1 and side >= MIN_SIZE and abs(ky * py / side - 1.0) <= 0.12:
+                choice = (ky * py, side, ky, kx)
+                break
+    elif px is not None:
+        kx = (min(h, w) - 1) // px
+        choice = (kx * px, kx * px, 0, kx)
+    else:
+        ky = (min(h, w) - 1) // py
+        choice = (ky * py, ky * py, ky, 0)
+    if choice is None or min(choice[:2]) < MIN_SIZE:
+        return None
+    ch, cw, ky, kx = choice
+    x0 = _best_cut(np.moveaxis(exemplar, 1, 0), cw)
+    y0 = _best_cut(exemplar[:, x0:x0 + cw], ch)
+    crop = exemplar[y0:y0 + ch, x0:x0 + cw].astype(np.float64)
+    if ch != cw:
+        # periodic along y: wrap-mode resampling keeps the crop seamless
+        crop = ndimage.zoom(crop, (cw / ch, 1.0, 1.0), order=1, mode="grid-wrap", grid_mode=True)[:cw]
+    return crop, cw, (ky, kx)
 
 
 def _coarse_tile(exemplar, n, ratio, slope_db, rng):
@@ -223,11 +251,14 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     # --- layer 0's tile and tiling
     structure = structure_peak(exemplar)
     period = structure_period(exemplar) if structure >= STRUCTURED_PEAK else None
+    if period is not None and period == (None, None):
+        period = None
     cut = _period_tile(exemplar, period) if period is not None and tiling != "stochastic" else None
     if cut is not None and tile_size is None:
         crop, n, counts = cut
         tile0 = make_seamless(crop.astype(np.float32))[:, :, :3].astype(np.float64)
-        tile_method = f"cut at the structure's period {period[1]} x {period[0]} px ({counts[1]} x {counts[0]})"
+        tile_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
+                       f"{counts[0]} periods, 0 where none) where its wrap edges show least")
         tilings0 = "periodic"
     else:
         if tile_size is None:
