@@ -17,6 +17,9 @@ measure                      what it says                                    goo
 :func:`repeat_peak`          highest autocorrelation of fine detail at a     <= 0.1
                              long lag, any period and direction
 :func:`tileability`          step across the wrap edge / interior steps      about 1
+:func:`structural_distance`  Portilla-Simoncelli statistics' distance over   about 1
+                             the photo's own (``ratio``)
+:func:`clipped_fraction`     channel values at 0 or 1                        photo's + 0.01
 ===========================  ==============================================  ==============
 
 :func:`band_power` is estimated in :mod:`spectex.spectrum`, the home of power
@@ -39,9 +42,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._results import DictAccess
+from ._texture_stats import (  # structural measures (issue 22), in their own module
+    Clipping,
+    StructuralDistance,
+    TextureStatistics,
+    clipped_fraction,
+    clipping,
+    reference_statistics,
+    structural_distance,
+    texture_statistics,
+)
 from ._validate import check_float, check_image, check_int
 from .color import luma
-from .spectrum import BandPower, band_power  # the estimator's home is spectex.spectrum; a measure of this table
+from .spectrum import (  # the estimator's home is spectex.spectrum; a measure of this table
+    BandPower,
+    band_power,
+)
 
 __all__ = [
     "histogram_w1",
@@ -55,6 +71,14 @@ __all__ = [
     "compare",
     "Comparison",
     "BandPower",
+    "texture_statistics",
+    "TextureStatistics",
+    "structural_distance",
+    "StructuralDistance",
+    "reference_statistics",
+    "clipped_fraction",
+    "clipping",
+    "Clipping",
 ]
 
 
