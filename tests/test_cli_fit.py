@@ -11,7 +11,8 @@ from spectex.texture import SpectralTexture
 
 skdata = pytest.importorskip("skimage.data")
 
-FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+         "histograms.png")
 
 
 @pytest.fixture

@@ -70,7 +70,10 @@ def test_gl_constants_and_uniforms_draw_the_same(gl):
     with GLRenderer(tex, ctx=gl) as a, GLRenderer(tex, ctx=gl, constants=False) as b:
         ga = a.render(cam, SIZE, **kw)
         gb = b.render(cam, SIZE, **kw)
-        assert np.array_equal(ga, gb)
+        # the same picture; the sharpened stochastic weights (w^8) let a last-bit difference of the
+        # constant-folded route flip one 8-bit step in a very few values (1 in 170,000 on llvmpipe)
+        diff = np.abs(ga.astype(np.float64) - gb.astype(np.float64))
+        assert diff.max() <= 1.0 / 255.0 + 1e-6 and np.mean(diff > 0) <= 1e-4
     from spectex.shading.tables import pack
 
     tables = pack(tex)

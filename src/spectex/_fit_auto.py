@@ -32,7 +32,7 @@ from .fitting import (FIT_TILINGS, MAX_ANALYSIS_SIZE, MIN_SIZE, STRUCTURED_PEAK,
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.
 DEFAULT_PHOTO_SIZE = 1.5
 #: Autocorrelation a lag must reach to count as the structure's period (:func:`structure_period`).
-PERIOD_MIN_CORRELATION = 0.25
+PERIOD_MIN_CORRELATION = 0.15
 #: Most power per octave the coarse layers' continuation may keep towards coarser scales (dB per
 #: octave): a stationary texture of independent objects has a flat 2-D spectrum beyond its objects'
 #: size (-6 dB per octave band); -3 leaves room for the slow variation of real ground, where the
@@ -40,6 +40,10 @@ PERIOD_MIN_CORRELATION = 0.25
 AUTO_MAX_SLOPE = -3.0
 #: The drift across the axis :func:`structure_period` allows per pixel of lag (about 6 degrees).
 TILT = 0.1
+#: A structured photo's finest layer is the period-cut periodic tile unless the trial bake of the
+#: stochastic one is closer by more than this fraction of the structural distance (the measure's
+#: spread between windows of one photo is about this large; structure kept when in doubt).
+TRIAL_MARGIN = 0.1
 #: Default opacity of the first coarse layer (method "auto").
 AUTO_OPACITY = 0.25
 #: How the coarse layers go over the finer ones: the variance-preserving blend, so that the
@@ -184,6 +188,28 @@ def _coarse_tile(exemplar, n, ratio, slope_db, rng):
     return mean, axis * spread, noise
 
 
+def _trial(exemplar, pixel_size, candidates, patch):
+    """Structural distance / floor (:func:`spectex.metrics.structural_distance`) of the finest layer
+    alone, for each ``(tiling, tile)``: a bake of the photo's size (at most 256) at its pixel size,
+    against the photo's central crop of that size (4 windows each)."""
+    from .metrics import reference_statistics, structural_distance
+    from .texture import Layer, SpectralTexture
+
+    h, w = exemplar.shape[:2]
+    m = min(h, w, 256)
+    y0, x0 = (h - m) // 2, (w - m) // 2
+    reference = exemplar[y0:y0 + m, x0:x0 + m]
+    prepared = reference_statistics(reference, max_windows=4)
+    out = {}
+    for tiling, tile in candidates:
+        rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
+        rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
+        layer = Layer(size=tile.shape[0] * pixel_size, tiling=tiling, patch=patch)
+        bake = SpectralTexture(rgba, [layer]).bake((m, m), pixel_size=pixel_size)
+        out[tiling] = structural_distance(bake, reference, prepared=prepared, max_windows=4).ratio
+    return out
+
+
 class _TwoTiles(_Problem):
     """The fit's problem with the coarse layers on their own tile (tile 1)."""
 
@@ -239,7 +265,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             notes.append(f"assumed the photo is {photo_size:g} m across (pixel size {pixel_size:.4g} m); "
                          "say it with photo_size= / --photo-size")
     h, w = exemplar.shape[:2]
-    total = 3 + 2 * iterations
+    total = 3 + iterations
     done = 0
 
     def tick():
@@ -254,26 +280,32 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     if period is not None and period == (None, None):
         period = None
     cut = _period_tile(exemplar, period) if period is not None and tiling != "stochastic" else None
-    if cut is not None and tile_size is None:
-        crop, n, counts = cut
-        tile0 = make_seamless(crop.astype(np.float32))[:, :, :3].astype(np.float64)
-        tile_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
-                       f"{counts[0]} periods, 0 where none) where its wrap edges show least")
-        tilings0 = "periodic"
+    if tile_size is None:
+        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
+    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
+    if n <= min(h, w):
+        tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
+        tile_method = "seamless crop"
     else:
-        if tile_size is None:
-            tile_size = max(min(h, w), min(512, 4 * min(h, w)))
-        n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
-        if n <= min(h, w):
-            tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
-            tile_method = "seamless crop"
-        else:
-            from .synthesis import quilt
+        from .synthesis import quilt
 
-            block = int(np.clip(min(h, w) // 4, 16, 64))
-            tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=1.0).astype(np.float64)
-            tile_method = f"tileable quilt (block {block}, reuse penalty 1)"
-        tilings0 = "periodic" if tiling == "periodic" else "stochastic"
+        block = int(np.clip(min(h, w) // 4, 16, 64))
+        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=1.0).astype(np.float64)
+        tile_method = f"tileable quilt (block {block}, reuse penalty 1)"
+    tilings0 = "periodic" if tiling == "periodic" else "stochastic"
+    trial = None
+    if cut is not None:
+        crop, side, counts = cut
+        cut_tile = make_seamless(crop.astype(np.float32))[:, :, :3].astype(np.float64)
+        cut_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
+                      f"{counts[0]} periods, 0 where none) where its wrap edges show least")
+        if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
+            tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
+        else:
+            # the trial bake: the finest layer alone, each way, measured by the structural distance
+            trial = _trial(exemplar, pixel_size, [("periodic", cut_tile), ("stochastic", tile0)], patch)
+            if trial["stochastic"] >= (1.0 - TRIAL_MARGIN) * trial["periodic"]:
+                tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
     tick()
     # --- the coarse layers' own tile
     region = (min(h, 256), min(w, 256))
@@ -282,9 +314,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     lo = np.quantile(exemplar.reshape(-1, 3), 0.005, axis=0)
     hi = np.quantile(exemplar.reshape(-1, 3), 0.995, axis=0)
 
-    def coarse(gain):
+    def coarse(g):
         rgba = np.ones((n, n, 4), dtype=np.float32)
-        rgba[:, :, :3] = np.clip(mean + gain * noise[:, :, None] * axis, lo, hi)
+        rgba[:, :, :3] = np.clip(mean + g * noise[:, :, None] * axis, lo, hi)
         return rgba
 
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
@@ -297,7 +329,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
                                 opacity=round(opacity * q ** (k - 1), 6)))
     problem = _TwoTiles(exemplar, pixel_size, layer_list, n, ratio, region,
                         n_regions=3 if tilings0 == "stochastic" else 2, continuation=slope)
-    gain = 1.0
+    gain = 2.0
     problem.coarse_tile = coarse(gain)
     alpha = np.ones((n, n))
     colour = tile0
@@ -305,24 +337,28 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     history = []
     n_cont = 2
     for _ in range(iterations):
-        err = problem.band_error(problem.bakes(colour, alpha))
+        # one set of bakes per round: the band step (a radial gain, mean kept) and the means' shift
+        # both read it
+        bakes = problem.bakes(colour, alpha)
+        err = problem.band_error(bakes)
         history.append(err.tolist())
         fine_err = err[:-n_cont]
-        colour = _shape_spectrum(colour, np.concatenate([np.clip(0.8 * fine_err, -6.0, 6.0), [0.0, 0.0]]))
-        gain = float(np.clip(gain * 10.0 ** (0.8 * float(np.mean(err[-n_cont:])) / 20.0), 0.05, 8.0))
-        problem.coarse_tile = coarse(gain)
-        tick()
-        colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), shift_only=True)
+        shaped = _shape_spectrum(colour, np.concatenate([np.clip(0.8 * fine_err, -6.0, 6.0), [0.0, 0.0]]))
+        colour = problem.histogram_step(shaped, bakes, shift_only=True)
+        if len(history) == 1:
+            # the coarse tile's contrast, once (its stochastic tables are then made once more only):
+            # its power follows gain^2 until the photo's range clips it
+            gain = float(np.clip(gain * 10.0 ** (float(np.mean(err[-n_cont:])) / 20.0), 0.1, 8.0))
+            problem.coarse_tile = coarse(gain)
         tick()
     # the exact histograms last: the tile's values are the photo's (no band step after, no clipping)
     colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
-    history.append(problem.band_error(problem.bakes(colour, alpha)).tolist())
     tick()
     texture = problem.texture(colour, alpha)
     params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0,
               "band_error_history_db": history, "tilings": [lay.tiling for lay in layer_list],
-              "structure_peak": structure, "period_px": period, "patch": patch, "scale": scale}
+              "structure_peak": structure, "period_px": period, "trial": trial, "patch": patch, "scale": scale}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)

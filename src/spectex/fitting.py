@@ -367,7 +367,29 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         seed=DEPRECATED):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
-    The texture is ``layers`` layers of one seamless RGBA tile made from the
+    **The default, ``method="auto"``** (issue 22; ``spectex._fit_auto`` and
+    ``docs/fitting.md``): each layer carries only what the photo says at its
+    scale. The finest layer is a tile of the photo: for a structured photo
+    (:func:`structure_peak` >= :data:`STRUCTURED_PEAK` and a period along x
+    or y in its autocorrelation) a periodic tile of whole periods cut where
+    its wrap edges show least, kept unless a trial bake of the stochastic
+    alternative is clearly closer by the structural distance
+    (:func:`spectex.metrics.structural_distance`); otherwise the photo's
+    seamless crop or a tileable quilt with a reuse penalty, drawn
+    stochastically with sharpened blend weights (no cross-faded double
+    images). The coarser layers draw a second tile, random-phase noise that
+    continues the photo's spectrum below its lowest frequency, on the main
+    axis of its low-passed colours (never the photo magnified), by the
+    variance-preserving blend. The tile's colours end with the exact
+    histogram step, inside the photo's range. Scale: ``pixel_size``, or
+    ``photo_size`` (metres across the photo's longer side), or, with
+    neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
+    result's notes).
+
+    **``method="legacy"``**, the fit before issue 22, kept only so that
+    ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
+    this text describes (pixel size 1 m by default, opacity 0.2, 3
+    iterations). The texture is ``layers`` layers of one seamless RGBA tile made from the
     exemplar. Its finest layer shows the tile texel for exemplar pixel
     (size ``tile_px * pixel_size``, no offset or rotation), each next layer
     is ``ratio`` times larger (rotated by the golden angle and offset, so
@@ -436,17 +458,23 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         The exemplar, values in [0, 1] (integers scaled by their dtype's
         maximum); see :func:`prepare_exemplar` for the conversions (grey,
         alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
-    pixel_size : float
+    pixel_size : float, optional
         World size of one exemplar pixel (metres); ``texture.bake(shape,
         pixel_size=pixel_size)`` then renders at the exemplar's scale.
+        Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
+    photo_size : float, optional
+        Metres across the photo's longer side (not with ``pixel_size``);
+        default 1.5 (a photo of ground taken standing). Method "auto" only.
+    method : {"auto", "legacy"}
+        The fit (see above); "legacy" only for comparisons.
     layers : int
         Number of layers, 2 to 8.
     ratio : float
         Size ratio between neighbouring layers, > 1 (4: two octaves).
-    opacity : float
-        Opacity of the first coarse layer, in (0, 1].
-    iterations : int
-        Rounds of the band-power step, >= 1.
+    opacity : float, optional
+        Opacity of the first coarse layer, in (0, 1]; default 0.25 (legacy 0.2).
+    iterations : int, optional
+        Rounds of the band-power step, >= 1; default 2 (legacy 3).
     tile_size : int, optional
         Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
         exemplar's shorter side ``m``: 512 for exemplars of 128 to 512

@@ -15,9 +15,9 @@ def register(subparsers) -> None:
             "photograph for the finest layer (cut at the structure's period for bricks or paving), "
             "coarser layers of their own noise tile that continue its spectrum to larger scales, "
             "and tile colours that give its histograms. The photo is assumed 1.5 m across unless "
-            "--photo-size or --pixel-size says otherwise. Writes into DIR: texture.toml and "
-            "texture.tile.png (load with spectex render/view), comparison.png (exemplar | render "
-            "at the same scale | render of 8x the area), band_power.png and histograms.png. "
+            "--photo-size or --pixel-size says otherwise. Writes into DIR: texture.toml, "
+            "texture.tile0.png and texture.tile1.png (load with spectex render/view), comparison.png "
+            "(exemplar | render at the same scale | render of 8x the area), band_power.png and histograms.png. "
             "Conversions: grey is repeated into RGB, an alpha channel is dropped, 16-bit keeps "
             "its precision, images over 512 pixels on a side are analysed on their central "
             "512 x 512 crop (said in the output). Nothing is written if anything fails."
@@ -26,7 +26,7 @@ def register(subparsers) -> None:
     p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",
                    help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
-                   help="output folder (made if missing; in an existing folder the five files replace "
+                   help="output folder (made if missing; in an existing folder the six files replace "
                         "the earlier ones only when all are complete, and other files are left alone)")
     scale = p.add_mutually_exclusive_group()
     scale.add_argument("--pixel-size", type=_common.positive_float, default=None,
@@ -47,7 +47,9 @@ def register(subparsers) -> None:
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
 
-_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+#: The fit's texture has two tiles: the photo's (the finest layer) and the coarse layers' own.
+_FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+          "histograms.png")
 
 
 def _plots(folder, exemplar, same, large):
@@ -87,7 +89,7 @@ def run(args) -> int | None:
     if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
-    # Every file checked before the work (none may be the photo); all five replace the earlier
+    # Every file checked before the work (none may be the photo); all six replace the earlier
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
