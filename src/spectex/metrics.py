@@ -20,6 +20,8 @@ measure                      what it says                                    goo
 :func:`structural_distance`  Portilla-Simoncelli statistics' distance over   about 1
                              the photo's own (``ratio``)
 :func:`clipped_fraction`     channel values at 0 or 1                        photo's + 0.01
+:func:`coarse_copies`        the photo, magnified, found in a zoomed-out     photo's own
+                             view (normalised cross-correlation)
 ===========================  ==============================================  ==============
 
 :func:`band_power` is estimated in :mod:`spectex.spectrum`, the home of power
@@ -44,10 +46,12 @@ import numpy as np
 from ._results import DictAccess
 from ._texture_stats import (  # structural measures (issue 22), in their own module
     Clipping,
+    CoarseCopies,
     StructuralDistance,
     TextureStatistics,
     clipped_fraction,
     clipping,
+    coarse_copies,
     reference_statistics,
     structural_distance,
     texture_statistics,
@@ -79,6 +83,8 @@ __all__ = [
     "clipped_fraction",
     "clipping",
     "Clipping",
+    "coarse_copies",
+    "CoarseCopies",
 ]
 
 
