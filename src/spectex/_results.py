@@ -16,6 +16,8 @@ import numpy as np
 
 
 def _plain(value):
+    if isinstance(value, DictAccess):  # a result inside a result
+        return value.as_dict()
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, np.generic):

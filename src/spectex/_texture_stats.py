@@ -619,3 +619,227 @@ def clipping(image, reference, *, margin: float = 0.01, tolerance: float = 0.5 /
     a = clipped_fraction(image, tolerance=tolerance)
     b = clipped_fraction(reference, tolerance=tolerance)
     return Clipping(image=a, reference=b, margin=margin, excess=a - b, within=bool(a <= b + margin))
+
+
+# --------------------------------------------------------------------------
+# Magnified copies of the photo in a zoomed-out view
+# --------------------------------------------------------------------------
+
+#: Side of the template, pixels, at the scale where the search is made.
+_TEMPLATE = 48
+#: Band of the search (a difference of Gaussians, pixels at the template's scale).
+_BAND = (1.0, 3.0)
+
+
+def _resample(x: np.ndarray, factor: float) -> np.ndarray:
+    """``x`` scaled by ``factor`` (a Gaussian pre-filter of ``0.5 / factor`` pixels when shrinking)."""
+    from scipy import ndimage
+
+    if factor < 1.0:
+        x = ndimage.gaussian_filter(x, 0.5 / factor, mode="reflect")
+    shape = (max(1, round(x.shape[0] * factor)), max(1, round(x.shape[1] * factor)))
+    zy, zx = shape[0] / x.shape[0], shape[1] / x.shape[1]
+    return ndimage.zoom(x, (zy, zx), order=1, mode="reflect", grid_mode=True)
+
+
+def _bandpass(x: np.ndarray) -> np.ndarray:
+    from scipy import ndimage
+
+    return ndimage.gaussian_filter(x, _BAND[0], mode="reflect") - ndimage.gaussian_filter(x, _BAND[1], mode="reflect")
+
+
+def _disc(t: int) -> np.ndarray:
+    yy, xx = np.mgrid[0:t, 0:t] - (t - 1) / 2.0
+    return (yy * yy + xx * xx) <= (t / 2.0) ** 2
+
+
+def _pieces(image: np.ndarray, count: int, angles: int):
+    """Up to ``count`` pieces of ``image`` (a grid), each rotated by ``angles`` angles over the full
+    turn, as lists of unit-norm zero-mean templates inside the disc of :data:`_TEMPLATE` pixels."""
+    from scipy import ndimage
+
+    t = _TEMPLATE
+    mask = _disc(t)
+    h, w = image.shape
+    n = max(1, min(int(np.ceil(np.sqrt(count))), h // t, w // t))
+    ys = [int(round((h - t) * (i + 0.5) / n)) for i in range(n)]
+    xs = [int(round((w - t) * (j + 0.5) / n)) for j in range(n)]
+    pad = int(np.ceil(t * 0.21)) + 1  # a disc of t rotated stays inside t + 2 pad
+    padded = np.pad(image, pad, mode="reflect")
+    out = []
+    for y in ys:
+        for x in xs:
+            region = padded[y:y + t + 2 * pad, x:x + t + 2 * pad]
+            rotated = []
+            for k in range(angles):
+                rot = ndimage.rotate(region, 360.0 * k / angles, reshape=False, order=1, mode="reflect")
+                tpl = rot[pad:pad + t, pad:pad + t] * mask
+                tpl[mask] -= tpl[mask].mean()
+                norm = np.sqrt(np.sum(tpl * tpl))
+                if norm > 1e-12:
+                    rotated.append(tpl / norm)
+            if rotated:
+                out.append(rotated)
+    return out[:count], mask
+
+
+def _best_match(image: np.ndarray, templates, mask) -> float:
+    """Highest normalised cross-correlation of any template at any place fully inside ``image``."""
+    h, w = image.shape
+    t = mask.shape[0]
+    if h < t or w < t:
+        return float("nan")
+    f = np.fft.rfft2(image)
+    fm = np.fft.rfft2(mask.astype(np.float64), s=(h, w))
+    n = float(mask.sum())
+    s1 = np.fft.irfft2(np.conj(fm) * f, s=(h, w))[: h - t + 1, : w - t + 1]
+    s2 = np.fft.irfft2(np.conj(fm) * np.fft.rfft2(image * image), s=(h, w))[: h - t + 1, : w - t + 1]
+    var = np.maximum(s2 - s1 * s1 / n, 0.0)
+    den = np.sqrt(var)
+    ok = var > 1e-6 * max(float(var.max()), 1e-30)
+    best = -1.0
+    for tpl in templates:
+        num = np.fft.irfft2(np.conj(np.fft.rfft2(tpl, s=(h, w))) * f, s=(h, w))[: h - t + 1, : w - t + 1]
+        best = max(best, float(np.max(np.where(ok, num / np.maximum(den, 1e-30), -1.0))))
+    return best
+
+
+#: The photo is searched at a half and a quarter of its resolution (a piece is 96 or 192 photo pixels
+#: across): the finer sees edges, the coarser the shapes of stones and bricks, away from the view's
+#: own fine layer.
+_SEARCH_SCALES = (2.0, 4.0)
+
+
+def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, angles: int, pieces: int):
+    """Array ``(search scales, magnifications)``: the median over pieces of the view (brought to the
+    photo's scale as if they were the photo magnified that much) of their best match anywhere in the
+    photo at any angle; nan where the view is too small to hold a piece."""
+    out = np.full((len(_SEARCH_SCALES), len(magnifications)), np.nan)
+    for i, scale in enumerate(_SEARCH_SCALES):
+        if min(photo.shape) / scale < _TEMPLATE + 2:
+            continue
+        target = _bandpass(_resample(photo, 1.0 / scale))
+        for j, m in enumerate(magnifications):
+            factor = zoom / (m * scale)
+            if min(view.shape) * factor < _TEMPLATE + 2:
+                continue
+            work = _bandpass(_resample(view, factor))
+            groups, mask = _pieces(work, pieces, angles)
+            out[i, j] = float(np.median([_best_match(target, rotated, mask) for rotated in groups]))
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class CoarseCopies(DictAccess):
+    """Magnified copies of a photo found in a zoomed-out view (:func:`coarse_copies`).
+
+    Attributes
+    ----------
+    value : float
+        The highest normalised cross-correlation of a (band-passed, rotated)
+        piece of the photo, magnified, found anywhere in the view: about 1
+        for a copy, near the photo's own for a view that shows no copy.
+    reference : float
+        The photo's own: the highest correlation found searching the photo
+        itself for its pieces magnified 2 and 4 times (how self-similar across
+        scales it is, plus the search's own noise).
+    within : bool
+        ``value <= reference + tolerance``: no magnified copies.
+    tolerance : float
+        The allowance over the photo's own.
+    magnifications : tuple of float
+        Magnifications searched, relative to the photo.
+    per_magnification : tuple of float
+        For each magnification, the highest correlation found less the photo's
+        own (nan where the view cannot show a copy of that size).
+    zoom : float
+        The view's pixel size in photo pixels.
+    """
+
+    value: float
+    reference: float
+    within: bool
+    tolerance: float
+    magnifications: tuple
+    per_magnification: tuple
+    zoom: float
+
+
+def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 32, 64, 128, 256),
+                  angles: int = 36, pieces: int = 9, tolerance: float = 0.05) -> CoarseCopies:
+    """Search a zoomed-out view of a texture for the photo magnified (giant copies of its stones).
+
+    A texture fitted to a photo shows, far away, what the photo says about
+    larger scales; a texture whose coarse layers are the photo magnified
+    4 to 256 times shows giant copies of its stones and bricks instead. This
+    searches for them directly: ``crops`` pieces of the photo (a quarter of
+    its side or less, band-passed luma), each at ``angles`` rotations over
+    the full turn (layers are rotated by any angle) and at each of
+    ``magnifications`` (relative to the photo), are matched everywhere in
+    the view by normalised cross-correlation, the view resampled so that a
+    copy would be 48 pixels across. Magnifications the view cannot show
+    (a copy larger than half the view, or smaller than 24 of its pixels) are
+    skipped.
+
+    The photo's own range is the same search made on the photo itself for
+    its pieces magnified 2 and 4 times: a texture similar across scales
+    (rock, clouds) scores high there and may in the view; gravel or bricks
+    score low, and their magnified copies stand out.
+
+    Parameters
+    ----------
+    view : ndarray, shape (H, W) or (H, W, C)
+        The texture rendered at ``zoom`` times the photo's pixel size (e.g.
+        ``texture.bake((512, 512), pixel_size=8 * p)``), at least 96 pixels a side.
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The photo, at least 128 pixels a side.
+    zoom : float
+        The view's pixel size over the photo's (>= 1).
+    magnifications : sequence of float
+        Magnifications searched (each >= 1.5).
+    angles : int
+        Rotations searched over 360 degrees (>= 1).
+    crops : int
+        Pieces of the photo used as templates (1 to 16).
+    tolerance : float
+        Allowance over the photo's own (>= 0).
+
+    Returns
+    -------
+    CoarseCopies
+
+    References
+    ----------
+    J. P. Lewis, "Fast normalized cross-correlation", Vision Interface 1995.
+    """
+    view = check_image("view", view, min_size=2 * _TEMPLATE)
+    reference = check_image("reference", reference, min_size=128)
+    zoom = check_float("zoom", zoom, minimum=1.0)
+    angles = check_int("angles", angles, minimum=1)
+    pieces = check_int("pieces", pieces, minimum=1, maximum=64)
+    tolerance = check_float("tolerance", tolerance, minimum=0.0)
+    try:
+        mags = tuple(check_float("magnifications[]", m, minimum=1.5) for m in magnifications)
+    except TypeError:
+        raise TypeError(f"magnifications must be a sequence of numbers, got {magnifications!r}") from None
+    if not mags:
+        raise ValueError("magnifications must not be empty")
+    v = _opponent(view if view.ndim == 2 else view[:, :, :3] if view.shape[2] >= 3 else view[:, :, 0])[0]
+    p = _opponent(reference if reference.ndim == 2 else reference[:, :, :3] if reference.shape[2] >= 3
+                  else reference[:, :, 0])[0]
+    per = _search(v, p, zoom, mags, angles, pieces)
+    own = _search(p, p, 1.0, (2.0,), angles, pieces)[:, 0]
+    # each search scale against the photo's own at that scale; the worst excess decides
+    excess = per - own[:, None]
+    if not np.any(np.isfinite(excess)):
+        raise ValueError(f"view of {view.shape[1]}x{view.shape[0]} pixels at zoom={zoom:g} cannot show any of "
+                         f"the magnifications {mags}")
+    i, j = np.unravel_index(np.nanargmax(excess), excess.shape)
+    value, ref = float(per[i, j]), float(own[i])
+    return CoarseCopies(value=value, reference=ref, within=bool(value <= ref + tolerance), tolerance=tolerance,
+                        magnifications=mags, per_magnification=tuple(_nanmax_columns(excess)), zoom=zoom)
+
+
+def _nanmax_columns(a: np.ndarray):
+    """Largest finite value of each column, nan for a column without one (no warning)."""
+    return [float(np.max(c[np.isfinite(c)])) if np.any(np.isfinite(c)) else float("nan") for c in a.T]

@@ -718,10 +718,19 @@ class FitReport(DictAccess):
     cross_scale_texture: float
     amplitude_exemplar: float
     amplitude_texture: float
+    #: :func:`spectex.metrics.structural_distance` of the bake's exemplar-sized corner (the
+    #: photo's own place) to the exemplar: ``ratio`` about 1 is as close as the photo is to itself
+    structure: object = None
+    #: the same over the whole bake (windows spread over it: every part of the texture, not one)
+    structure_far: object = None
+    #: :func:`spectex.metrics.clipping` of the bake against the exemplar (its own + 1 point)
+    clipping: object = None
+    #: :func:`spectex.metrics.coarse_copies` on a view at ``coarse_zoom`` times the pixel size
+    coarse: object = None
 
 
 def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
-               bake=None) -> FitReport:
+               bake=None, coarse_zoom: float | None = 8.0) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -745,9 +754,25 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         ``histogram_w1`` (per channel), ``cross_scale_exemplar`` and
         ``cross_scale_texture`` (the ``value`` of
         :func:`spectex.analysis.cross_scale`), ``amplitude_exemplar`` and
-        ``amplitude_texture`` (its ``amplitude``), ``bake_shape``.
+        ``amplitude_texture`` (its ``amplitude``), ``bake_shape``; the
+        structural measures of issue 22: ``structure`` (the bake's
+        exemplar-sized corner, at the photo's own place) and
+        ``structure_far`` (windows spread over the whole bake), both
+        :func:`spectex.metrics.structural_distance` with the exemplar's own
+        floor; ``clipping`` (:func:`spectex.metrics.clipping`); ``coarse``
+        (:func:`spectex.metrics.coarse_copies` on a view of the texture,
+        the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
+        without ``coarse_zoom``).
     """
-    from .metrics import band_power, band_power_distance, histogram_w1
+    from .metrics import (
+        band_power,
+        band_power_distance,
+        clipping,
+        coarse_copies,
+        histogram_w1,
+        reference_statistics,
+        structural_distance,
+    )
 
     exemplar, _ = prepare_exemplar(image)
     h, w = exemplar.shape[:2]
@@ -759,8 +784,17 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         if bake.shape[0] < h or bake.shape[1] < w:
             raise ValueError(f"bake must be at least the exemplar's size {w}x{h}, got "
                              f"{bake.shape[1]}x{bake.shape[0]}")
+    if coarse_zoom is not None:
+        coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
     ce = cross_scale(exemplar)
     cb = cross_scale(bake, fine=ce.fine)
+    prepared = reference_statistics(exemplar, max_windows=4)
+    structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
+    structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
+    coarse = None
+    if coarse_zoom is not None and min(h, w) >= 128:
+        view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
+        coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
         band_power_distance_db=band_power_distance(exemplar, bake),
@@ -771,4 +805,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         cross_scale_texture=cb.value,
         amplitude_exemplar=ce.amplitude,
         amplitude_texture=cb.amplitude,
+        structure=structure,
+        structure_far=structure_far,
+        clipping=clipping(bake, exemplar),
+        coarse=coarse,
     )

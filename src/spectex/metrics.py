@@ -20,6 +20,8 @@ measure                      what it says                                    goo
 :func:`structural_distance`  Portilla-Simoncelli statistics' distance over   about 1
                              the photo's own (``ratio``)
 :func:`clipped_fraction`     channel values at 0 or 1                        photo's + 0.01
+:func:`coarse_copies`        the photo, magnified, found in a zoomed-out     photo's own
+                             view (normalised cross-correlation)
 ===========================  ==============================================  ==============
 
 :func:`band_power` is estimated in :mod:`spectex.spectrum`, the home of power
@@ -44,10 +46,12 @@ import numpy as np
 from ._results import DictAccess
 from ._texture_stats import (  # structural measures (issue 22), in their own module
     Clipping,
+    CoarseCopies,
     StructuralDistance,
     TextureStatistics,
     clipped_fraction,
     clipping,
+    coarse_copies,
     reference_statistics,
     structural_distance,
     texture_statistics,
@@ -79,6 +83,8 @@ __all__ = [
     "clipped_fraction",
     "clipping",
     "Clipping",
+    "coarse_copies",
+    "CoarseCopies",
 ]
 
 
@@ -535,6 +541,16 @@ class Comparison(DictAccess):
         filtering or blending changed).
     seam_energy : float or None
         :func:`seam_energy` for the ``block`` layout, if one was given.
+    structure : StructuralDistance or None
+        :func:`structural_distance` of the image to the reference: ``ratio``
+        about 1 is as close as the photo is to itself (``None`` for a
+        reference without two 32 x 32 windows, or a flat one).
+    clipping : Clipping
+        :func:`clipping`: the image's clipped values against the reference's
+        own plus 1 point.
+    coarse : CoarseCopies or None
+        With ``zoom``: :func:`coarse_copies`, the image taken as a view at
+        ``zoom`` times the reference's pixel size.
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     Indexing by the old dict keys (``result["repetition"]``, the exact
@@ -553,6 +569,9 @@ class Comparison(DictAccess):
     repeat_peak_reference: float | None
     exact_repetition: float | None
     seam_energy: float | None = None
+    structure: StructuralDistance | None = None
+    clipping: Clipping | None = None
+    coarse: CoarseCopies | None = None
 
     _renamed = {"repetition": "exact_repetition"}
 
@@ -564,7 +583,23 @@ def _repeat_peak_or_none(image):
     return repeat_peak(image, min_lag=min(24, side // 2))
 
 
-def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -> Comparison:
+def _structure_or_none(image, reference):
+    """:func:`structural_distance`, or None where the reference cannot give a floor (too small, flat)
+    or the image is smaller than a window."""
+    from ._texture_stats import MIN_WINDOW
+
+    if min(reference.shape[:2]) < MIN_WINDOW or max(reference.shape[:2]) < 2 * MIN_WINDOW:
+        return None
+    if float(np.std(_luma(reference))) <= 1e-6:
+        return None
+    try:
+        return structural_distance(image, reference)
+    except ValueError:  # the image under one window, or a reference without two
+        return None
+
+
+def compare(*args, reference=None, block: int | None = None, overlap: int = 0,
+            zoom: float | None = None) -> Comparison:
     """All the measures of ``image`` against a ``reference`` (an exemplar).
 
     Call it as ``compare(image, reference=exemplar)``: the image judged
@@ -583,6 +618,10 @@ def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -
         The exemplar (or any reference image); the same number of channels.
     block, overlap : int, optional
         With ``block``, also the seam energy for that block layout.
+    zoom : float, optional
+        The image is a zoomed-out view of a texture, rendered at ``zoom``
+        times the reference's pixel size: also search it for magnified
+        copies of the reference (:func:`coarse_copies`).
 
     Returns
     -------
@@ -604,6 +643,8 @@ def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -
                         + (" and reference=" if reference is not None else ""))
     image = check_image("image", image)
     reference = check_image("reference", reference)
+    if zoom is not None:
+        zoom = check_float("zoom", zoom, minimum=1.0)
     w1 = tuple(float(v) for v in histogram_w1(image, reference))
     try:
         bands, pr, pi = _common_bands(reference, image, 4)
@@ -621,4 +662,6 @@ def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -
         band_power_distance_db=distance, tileability_image=tile_i, tileability_reference=tile_r,
         verbatim_copy=copy, repeat_peak_image=_repeat_peak_or_none(image),
         repeat_peak_reference=_repeat_peak_or_none(reference), exact_repetition=exact,
-        seam_energy=seam_energy(image, block, overlap) if block is not None else None)
+        seam_energy=seam_energy(image, block, overlap) if block is not None else None,
+        structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
+        coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None)

@@ -130,5 +130,18 @@ def run(args) -> int | None:
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
+    _common.report(_structure_line(numbers))
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0
+
+
+def _structure_line(numbers) -> str:
+    """The structural measures of the report (issue 22), one line."""
+    st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
+    line = (f"  structure {st.ratio:.2f}x the photo's own floor at its place, {far.ratio:.2f}x over 8x its area "
+            f"(about 1: as close as the photo is to itself); clipped {100 * clip.image:.1f}% of values "
+            f"(photo {100 * clip.reference:.1f}%)")
+    if coarse is not None:
+        line += (f"; magnified copies {'none' if coarse.within else 'FOUND'} at {coarse.zoom:g}x zoomed out "
+                 f"({coarse.value:.2f}, photo's own {coarse.reference:.2f})")
+    return line
