@@ -60,6 +60,25 @@ def test_cli_fit_writes_the_folder(photos, capsys):
     assert _leftovers(photos) == []
 
 
+def test_cli_fit_says_the_scale_it_assumed(photos, capsys):
+    # no scale given: a photo 1.5 m across, said on stdout and in texture.toml; --photo-size sets it;
+    # --pixel-size and --photo-size together are refused
+    out = photos / "scaled"
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "assumed the photo is 1.5 m across" in text
+    assert "1.5 m across" in (out / "texture.toml").read_text()
+    tex = SpectralTexture.load(out / "texture.toml")
+    assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 1.5 / 96)
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(out), "--photo-size", "0.96"]) == 0
+    assert "assumed" not in capsys.readouterr().out
+    tex = SpectralTexture.load(out / "texture.toml")
+    assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 0.01)
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(photos / "gravel.png"), "-o", str(out), "--photo-size", "1", "--pixel-size", "0.01"])
+    assert exc.value.code == 2
+
+
 def test_cli_fit_conversions_said(photos, capsys):
     out = photos / "strip_fit"
     assert main(["fit", str(photos / "strip.png"), "-o", str(out)]) == 0

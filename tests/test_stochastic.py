@@ -8,10 +8,10 @@ from scipy.special import ndtr
 
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
+from spectex.shading.constants import WEIGHT_SQUARINGS
 from spectex.shading.stochastic import (GAUSS_SCALE, LUT_SIZE, StochasticTables, decorrelation, gaussianize, layer_key,
                                 lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix)
 from spectex.tiles import make_tile
-from spectex.shading.constants import WEIGHT_SQUARINGS
 
 
 @pytest.fixture(scope="module")

@@ -25,8 +25,18 @@ import time
 import numpy as np
 
 from ._validate import DEPRECATED, check_choice, check_float, check_int, check_rng
-from .fitting import (FIT_TILINGS, MAX_ANALYSIS_SIZE, MIN_SIZE, STRUCTURED_PEAK, FitResult,
-                      _coarse_slope, _Problem, _shape_spectrum, prepare_exemplar, structure_peak)
+from .fitting import (
+    FIT_TILINGS,
+    MAX_ANALYSIS_SIZE,
+    MIN_SIZE,
+    STRUCTURED_PEAK,
+    FitResult,
+    _coarse_slope,
+    _Problem,
+    _shape_spectrum,
+    prepare_exemplar,
+    structure_peak,
+)
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.

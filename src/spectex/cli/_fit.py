@@ -80,6 +80,7 @@ def _write_fast_png(path, image):
 def run(args) -> int | None:
     import math
     import time
+    from pathlib import Path
 
     from spectex._output import OutputSet
     from spectex.fitting import fit_result, prepare_exemplar
@@ -94,7 +95,7 @@ def run(args) -> int | None:
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
     photo = read_image(args.exemplar, name="EXEMPLAR")
-    exemplar, notes = prepare_exemplar(photo)
+    exemplar, _ = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed, progress=bar)
@@ -115,9 +116,12 @@ def run(args) -> int | None:
 
     with outputs as stage:
         texture.save(stage / "texture.toml")
+        # the scale the fit assumed or was given, as a comment in the texture file itself
+        with open(stage / "texture.toml", "a", encoding="utf-8") as fh:
+            fh.write(f"\n# spectex fit of {Path(args.exemplar).name}: {result.params['scale']}\n")
         _write_fast_png(stage / "comparison.png", _comparison(exemplar, same, large))
         _plots(stage, exemplar, same, large)
-    for note in notes:
+    for note in result.notes:  # the conversions and the scale assumed
         _common.report(f"note: {note}")
     pr = result.params
     _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
