@@ -16,7 +16,7 @@ from __future__ import annotations
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
-    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS",
+    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -53,6 +53,10 @@ LUT_SUBROWS = 8
 #: 0 is Heitz and Neyret's linear weights. The variance-preserving normalisation keeps the
 #: histogram for any weights.
 WEIGHT_SQUARINGS = 3
+#: The sharpened weights hold up to this level of detail and give way to the barycentric ones by
+#: ``SHARP_LOD + 1`` (linearly in lambda): where a pixel covers 8 texels or more, a transition of
+#: a few texels would alias, and the footprint's average hides the double images anyway.
+SHARP_LOD = 2.0
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -121,6 +125,7 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
     lines.append(f"#define SPX_WEIGHT_SQUARINGS {WEIGHT_SQUARINGS}")
+    lines.append(f"#define SPX_SHARP_LOD {_glsl_number(SHARP_LOD)}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_LOD_FLOOR {_glsl_number(LOD_FLOOR)}")
     lines.append(f"#define SPX_SKY_FALLOFF {_glsl_number(SKY_FALLOFF)}")
