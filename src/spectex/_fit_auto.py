@@ -54,12 +54,15 @@ TILT = 0.1
 #: stochastic one is closer by more than this fraction of the structural distance (the measure's
 #: spread between windows of one photo is about this large; structure kept when in doubt).
 TRIAL_MARGIN = 0.1
-#: Default opacity of the first coarse layer (method "auto").
-AUTO_OPACITY = 0.25
-#: How the coarse layers go over the finer ones: the variance-preserving blend, so that the
-#: low frequencies they add do not veil the photo's detail (an alpha blend of opacity 0.25 over
-#: four layers took 5 dB of its power, which the band step then had to put back by clipping).
-COARSE_BLEND = "variance"
+#: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
+#: the photo's detail little (0.25 over four layers took 5 dB of its power, which the band step put
+#: back by raising the tile's contrast into clipping).
+AUTO_OPACITY = 0.1
+#: How the coarse layers go over the finer ones: the alpha blend, a convex combination, so the
+#: colours never leave the photo's range. The variance-preserving blend kept the detail's contrast
+#: but amplified the extremes: 9% of the deep-field photo's values clipped at 0 (the photo's 0.8%),
+#: against 0.0% with the alpha blend at opacity 0.1, for a structural distance 0.87 instead of 0.85.
+COARSE_BLEND = "alpha"
 #: Default band-power rounds (method "auto").
 AUTO_ITERATIONS = 2
 #: The coarse tile holds up to this many cycles per tile, times ``ratio`` (a Gaussian roll-off):

@@ -379,8 +379,8 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     stochastically with sharpened blend weights (no cross-faded double
     images). The coarser layers draw a second tile, random-phase noise that
     continues the photo's spectrum below its lowest frequency, on the main
-    axis of its low-passed colours (never the photo magnified), by the
-    variance-preserving blend. The tile's colours end with the exact
+    axis of its low-passed colours (never the photo magnified), alpha-blended
+    at a low opacity (0.1). The tile's colours end with the exact
     histogram step, inside the photo's range. Scale: ``pixel_size``, or
     ``photo_size`` (metres across the photo's longer side), or, with
     neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
@@ -472,7 +472,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     ratio : float
         Size ratio between neighbouring layers, > 1 (4: two octaves).
     opacity : float, optional
-        Opacity of the first coarse layer, in (0, 1]; default 0.25 (legacy 0.2).
+        Opacity of the first coarse layer, in (0, 1]; default 0.1 (legacy 0.2).
     iterations : int, optional
         Rounds of the band-power step, >= 1; default 2 (legacy 3).
     tile_size : int, optional
@@ -794,7 +794,10 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 128:
         view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
-        coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
+        try:
+            coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
+        except ValueError:  # a view too small to show any magnification: nothing measured
+            coarse = None
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
         band_power_distance_db=band_power_distance(exemplar, bake),

@@ -39,7 +39,7 @@ def register(subparsers) -> None:
     p.add_argument("--ratio", type=_common.positive_float, default=4.0,
                    help="size ratio between neighbouring layers (default: 4)")
     p.add_argument("--opacity", type=_common.positive_float, default=None,
-                   help="opacity of the first coarse layer (default: 0.25)")
+                   help="opacity of the first coarse layer (default: 0.1)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
     p.set_defaults(func=run)
 
