@@ -210,14 +210,14 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name):
 
 
 def test_coarse_copies_refuses_bad_input():
-    photo = _photo("gravel")[:128, :128]
+    photo = _photo("gravel")[:256, :256]
     view = np.random.default_rng(0).random((128, 128)).astype(np.float32)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view, photo, zoom=0.5)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view[:50], photo, zoom=8)
-    with pytest.raises(ValueError):
-        metrics.coarse_copies(view, photo[:64], zoom=8)
+    with pytest.raises(ValueError, match="at least 192x192"):
+        metrics.coarse_copies(view, photo[:128], zoom=8)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view, photo, zoom=8, magnifications=())
     with pytest.raises(ValueError):
