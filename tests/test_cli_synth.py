@@ -174,15 +174,13 @@ def test_compare_repetition_sees_a_tiled_image(folder, capsys):
     assert data["repeat_peak_reference"] < 0.1
 
 
-def test_compare_old_order_still_works_with_a_note(folder, capsys):
-    quilt = folder / "q2.png"
-    main(["synth", str(folder / "grey.png"), "--size", "96x96", "--block", "24", "-o", str(quilt)])
-    capsys.readouterr()
-    assert main(["compare", str(folder / "grey.png"), str(quilt), "--json"]) == 0
-    old = capsys.readouterr()
-    assert "deprecated" in old.err and "--reference" in old.err
-    assert main(["compare", str(quilt), "--reference", str(folder / "grey.png"), "--json"]) == 0
-    assert json.loads(old.out) == json.loads(capsys.readouterr().out)  # read as (reference, image)
+def test_compare_two_images_without_reference_are_refused(folder, capsys):
+    # Which one is the exemplar must be said (--reference): two bare images are not guessed at.
+    grey = str(folder / "grey.png")
+    assert main(["compare", grey, grey, "--json"]) == 2
+    assert "--reference" in _error_line(capsys)
+    assert main(["compare", grey, "--reference", grey, "--json"]) == 0  # the control
+    assert json.loads(capsys.readouterr().out)["histogram_w1"] == [0.0]
 
 
 def test_compare_flat_images_give_strict_json(folder, capsys):

@@ -16,12 +16,10 @@ import spectex
 
 @pytest.mark.parametrize("name", ["fit", "fit_report", "FitResult", "prepare_exemplar", "structure_peak",
                                   "STRUCTURED_PEAK"])
-def test_fitting_names_moved_from_analysis_warn(name):
+def test_fitting_names_live_in_fitting_only(name):
     from spectex import analysis, fitting
 
-    with pytest.warns(DeprecationWarning, match=rf"spectex\.fitting\.{name}"):
-        old = getattr(analysis, name)
-    assert old is getattr(fitting, name)
+    assert hasattr(fitting, name) and not hasattr(analysis, name)
 
 
 def test_fit_at_the_top_level_is_the_fitting_modules():
@@ -175,7 +173,7 @@ def test_every_public_module_has_an_all_whose_names_exist():
             continue
         module = importlib.import_module(name)
         with warnings.catch_warnings():
-            warnings.simplefilter("error")  # no deprecated name in an __all__
+            warnings.simplefilter("error")  # no name in an __all__ warns
             for item in module.__all__:
                 assert getattr(module, item, None) is not None, f"{name}.__all__ names {item!r}, which is not there"
     assert missing == []

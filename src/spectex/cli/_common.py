@@ -117,14 +117,6 @@ def refuse(args, dests, why: str) -> None:
             raise UsageError(f"{typed[dest]} does not apply {why}")
 
 
-def deprecated_alias(args, dest: str, old: str, new: str) -> None:
-    """Print one line on standard error when the option ``old`` (stored in ``dest``) was typed instead of ``new``."""
-    import sys
-
-    if getattr(args, "given", {}).get(dest) == old:
-        print(f"spectex {args.command}: {old} is deprecated and will be removed; use {new}", file=sys.stderr)
-
-
 def report(message: str) -> None:
     """Print a progress or result line (standard output)."""
     print(message, flush=True)

@@ -8,7 +8,6 @@ follow ``docs/sampling.md``. Nothing heavy is imported here.
 
 from __future__ import annotations
 
-from .._validate import DEPRECATED
 from ..shading.camera import Atmosphere, Camera, check_size
 
 __all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
@@ -25,19 +24,17 @@ __all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
 DEFAULT_ANISOTROPY = 8.0
 
 
-def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED, **kwargs):
+def render(texture, camera, shape, *, backend="auto", **kwargs):
     """Render ``texture`` seen by ``camera``: ``(H, W, 3)`` float32.
 
-    ``shape`` is the picture's ``(height, width)`` in pixels (``size=``, the
-    old name, still works for one release with a ``DeprecationWarning``).
+    ``shape`` is the picture's ``(height, width)`` in pixels.
     ``backend``: ``"gl"``, ``"cpu"`` or ``"auto"`` (GL when a context can be
     made, else the CPU). Returns ``(image, backend_used)``. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
     """
-    from .._validate import check_choice, renamed
+    from .._validate import check_choice
 
-    shape = _required(renamed("render", "shape", shape, "size", size), "render", "shape")
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
     if backend in ("auto", "gl"):
         from .gl import GLUnavailable, GLRenderer
@@ -51,10 +48,3 @@ def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED
     from .cpu import render_cpu
 
     return render_cpu(texture, camera, shape, **kwargs), "cpu"
-
-
-def _required(value, where: str, name: str):
-    """``value``, unless a required argument was given under neither name."""
-    if value is DEPRECATED:
-        raise TypeError(f"{where}() missing 1 required argument: '{name}'")
-    return value

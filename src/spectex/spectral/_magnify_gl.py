@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, renamed
+from .._validate import check_choice
 from ._octaves import _check_filter, _check_image, _factors, discrete_filter, filter_passes
 
 #: How a pass multiplies texel by weight: the seed's blend, or the shader.
@@ -321,7 +321,7 @@ def redistribute(x: np.ndarray, footprint: int, factor=(1, 1), start=(0, 0)) -> 
 
 
 def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
-               multiply: str = "blend", ctx=None, filter=DEPRECATED) -> GLMagnification:
+               multiply: str = "blend", ctx=None) -> GLMagnification:
     """Magnify a small periodic image on the GPU, the seed's multi-pass way.
 
     The same result as :func:`~spectex.spectral.magnify` (to float32
@@ -339,8 +339,6 @@ def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
         Magnification ``m`` along rows and columns.
     kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
         The magnification kernel, as for :func:`~spectex.spectral.magnify`.
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     multiply : {'blend', 'shader'}
@@ -376,7 +374,6 @@ def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
-    kernel = renamed("magnify_gl", "kernel", kernel, "filter", filter, default="bspline")
     kernel, sigma = _check_filter(kernel, sigma)
     multiply = check_choice("multiply", multiply, MULTIPLY)
     m0, m1 = _factors(factor)

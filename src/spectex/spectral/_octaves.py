@@ -55,7 +55,7 @@ import numbers
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng, renamed
+from .._validate import check_choice, check_float, check_int, check_rng
 
 FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
 
@@ -113,27 +113,23 @@ def _phase_weights(filter: str, factor: int, sigma: float):
     return w, first
 
 
-def filter_passes(kernel: str = "bspline", *, sigma: float = 0.5, filter=DEPRECATED) -> int:
+def filter_passes(kernel: str = "bspline", *, sigma: float = 0.5) -> int:
     """Number of passes per axis that :func:`magnify` makes with ``kernel``.
 
     It is the number of input texels under the kernel's footprint,
     ``ceil(2 * radius)``, independent of the input size and of the
-    magnification (see the module's cost model). ``filter=``, the old name
-    of ``kernel``, still works for one release with a ``DeprecationWarning``.
+    magnification (see the module's cost model).
     """
-    kernel = renamed("filter_passes", "kernel", kernel, "filter", filter, default="bspline")
     kernel, sigma = _check_filter(kernel, sigma)
     return int(math.ceil(2.0 * _kernel(kernel, sigma)[1]))
 
 
-def discrete_filter(kernel=DEPRECATED, factor=DEPRECATED, *, sigma: float = 0.5, filter=DEPRECATED):
+def discrete_filter(kernel, factor, *, sigma: float = 0.5):
     """The magnification kernel discretised for magnification by ``factor``.
 
     Parameters
     ----------
     kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     factor : int
         Magnification ``m`` (output texels per input texel), >= 1.
     sigma : float
@@ -149,10 +145,6 @@ def discrete_filter(kernel=DEPRECATED, factor=DEPRECATED, *, sigma: float = 0.5,
     start : int
         The offset of ``taps[0]``.
     """
-    kernel = renamed("discrete_filter", "kernel", kernel, "filter", filter)
-    for name, value in (("kernel", kernel), ("factor", factor)):
-        if value is DEPRECATED:
-            raise TypeError(f"discrete_filter() missing required argument: '{name}'")
     kernel, sigma = _check_filter(kernel, sigma)
     m = check_int("factor", factor, minimum=1)
     w, first = _phase_weights(kernel, m, sigma)
@@ -220,7 +212,7 @@ def _check_image(image) -> np.ndarray:
 
 
 def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
-            backend: str = "cpu", filter=DEPRECATED) -> np.ndarray:
+            backend: str = "cpu") -> np.ndarray:
     """Magnify a small periodic image with a reconstruction kernel, wrapping around.
 
     Separable and vectorised: ``T`` passes per axis, ``T`` the number of
@@ -240,8 +232,6 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
         smooth and approximating, Catmull-Rom interpolating (it passes through
         the input values and can overshoot), the Gaussian has standard
         deviation ``sigma`` input texels, truncated at 3 sigma.
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     backend : {'cpu', 'gl'}
@@ -267,7 +257,6 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
-    kernel = renamed("magnify", "kernel", kernel, "filter", filter, default="bspline")
     backend = check_choice("backend", backend, BACKENDS)
     if backend == "gl":
         from ._magnify_gl import magnify_gl
@@ -287,7 +276,7 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
 
 
 def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=None,
-           dtype=np.float32, seed=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
+           dtype=np.float32) -> np.ndarray:
     """One octave: a random ``cells`` image magnified to ``shape``, tiling.
 
     Parameters
@@ -299,13 +288,11 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
         normal values), so the octave holds about ``cells / 2`` cycles per
         period along each axis.
     kernel, sigma
-        See :func:`magnify`. ``filter=``, the old name of ``kernel``, still
-        works for one release with a ``DeprecationWarning``.
+        See :func:`magnify`.
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     dtype : float32 or float64
 
     Returns
@@ -314,7 +301,6 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
     """
     from .._validate import check_shape
 
-    kernel = renamed("octave", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     if isinstance(cells, numbers.Integral):
         c0 = c1 = check_int("cells", cells, minimum=1)
@@ -325,7 +311,7 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
             raise ValueError(f"cells must be an int or a (rows, columns) pair of ints >= 1, got {cells!r}") from None
     if h % c0 or w % c1:
         raise ValueError(f"shape {h}x{w} (rows x columns) must be a multiple of cells {c0}x{c1}")
-    rng = check_rng(rng, seed=seed, where="octave")
+    rng = check_rng(rng)
     dtype = np.dtype(dtype)
     if dtype not in (np.float32, np.float64):
         raise ValueError(f"dtype must be float32 or float64, got {dtype}")

@@ -7,7 +7,7 @@ import math
 import numba
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
+from .._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape
 
 _METHODS = ("fast", "exhaustive")
 
@@ -317,7 +317,7 @@ def _coherence_sets(ex: np.ndarray, window: int, k: int) -> np.ndarray:
 
 def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast",
                 epsilon: float = 0.1, max_error: float = 0.3, tileable: bool = False, k: int = 4,
-                progress=None, seed=DEPRECATED) -> np.ndarray:
+                progress=None) -> np.ndarray:
     """Grow a texture pixel by pixel by non-parametric sampling (Efros and Leung 1999).
 
     A 3 x 3 patch from a random place in the exemplar seeds the output
@@ -359,8 +359,6 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     method : {'fast', 'exhaustive'}
         Candidate search, see above.
     epsilon : float
@@ -402,7 +400,7 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
     window = check_int("window", window, minimum=3)
     if window % 2 == 0:
         raise ValueError(f"window must be odd, got {window}")
-    rng = check_rng(rng, seed=seed, where="efros_leung")
+    rng = check_rng(rng)
     method = check_choice("method", method, _METHODS)
     epsilon = check_float("epsilon", epsilon, minimum=0.0)
     max_error = check_float("max_error", max_error, minimum=0.0, exclusive_minimum=True)
