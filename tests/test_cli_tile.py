@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import run_fails
 from PIL import Image
 
 from spectex.cli import main
@@ -13,14 +14,6 @@ def run_ok(argv, capsys):
     return capsys.readouterr().out
 
 
-def run_fails(argv, capsys, *outputs):
-    code = main(argv)
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2
-    assert len(err) == 1 and "error" in err[0], err
-    for path in outputs:
-        assert not path.exists(), f"{path} was written"
-    return err[0]
 
 
 def test_tile_writes_rgba_png_and_preview(tmp_path, capsys):

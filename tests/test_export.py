@@ -9,15 +9,13 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import make_test_tile
 
 import spectex.export as ex
 from spectex.cli import main
 from spectex.export import FORMATS, ExportResult, export, parse_formats
 from spectex.export._output import MANIFEST
 from spectex.texture import SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
 
 
 @pytest.fixture(scope="module")
