@@ -7,6 +7,10 @@ import math
 from pathlib import Path
 
 
+class UsageError(Exception):
+    """A command-line mistake: reported in one line, exit status 2."""
+
+
 def size(text: str) -> tuple[int, int]:
     """Parse ``WxH`` (or ``N`` for a square) into ``(height, width)``."""
     parts = text.lower().split("x")
@@ -109,8 +113,6 @@ def refuse(args, dests, why: str) -> None:
     ``why`` completes the sentence "--gain does not apply ...", e.g. ``"to
     marble (only to fbm and turbulence)"``.
     """
-    from . import UsageError
-
     typed = getattr(args, "given", {})
     for dest in dests:
         if dest in typed:

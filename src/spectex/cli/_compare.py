@@ -33,7 +33,7 @@ def register(subparsers) -> None:
 
 def _inputs(args):
     """``(image, reference)`` paths: IMAGE --reference EXEMPLAR."""
-    from . import UsageError
+    from ._common import UsageError
 
     if len(args.inputs) == 1:
         if args.reference is None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..shading.camera import check_size, view_params
-from . import DEFAULT_ANISOTROPY
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["render_cpu"]
 

@@ -31,37 +31,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._gl import GLUnavailable, create_context
 from ..shading.camera import check_size, view_params
-from . import DEFAULT_ANISOTROPY
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
-
-
-class GLUnavailable(OSError):
-    """No OpenGL 3.3 context could be made (no moderngl, no EGL, no display)."""
-
-
-def create_context(*, standalone=True):
-    """A moderngl context: headless EGL (``standalone=True``) or the current window's.
-
-    Raises
-    ------
-    GLUnavailable
-        If moderngl is missing or no OpenGL 3.3 context can be made.
-    """
-    try:
-        import moderngl
-    except ImportError:
-        raise GLUnavailable("OpenGL rendering needs moderngl: pip install 'spectex[gl]'") from None
-    try:
-        if standalone:
-            ctx = moderngl.create_standalone_context(backend="egl", require=330)
-        else:
-            ctx = moderngl.create_context(require=330)
-    except Exception as exc:  # moderngl raises plain Exception subclasses
-        text = " ".join(str(exc).split()) or type(exc).__name__
-        raise GLUnavailable(f"no OpenGL 3.3 context ({'EGL' if standalone else 'window'}): {text}") from None
-    return ctx
 
 
 def gl_available() -> bool:

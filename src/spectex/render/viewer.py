@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from ..shading.camera import Atmosphere, Camera
-from . import DEFAULT_ANISOTROPY
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["NoDisplay", "check_display", "run_viewer", "Flight"]
 
@@ -143,8 +143,8 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
     """
     check_display()
     import glfw
-    import moderngl
 
+    from .._gl import create_context
     from .gl import GLRenderer, TextOverlay
 
     camera = camera or Camera((0.0, 0.0, 2.0), yaw=0.0, pitch=-10.0)
@@ -162,7 +162,7 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
             raise NoDisplay(f"could not open an OpenGL 3.3 window; {_HINT}")
         glfw.make_context_current(window)
         glfw.swap_interval(0)
-        ctx = moderngl.create_context(require=330)
+        ctx = create_context(standalone=False, what="the viewer")
         _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay)
     finally:
         glfw.terminate()

@@ -15,7 +15,8 @@ Moisan's decomposition is :mod:`spectex.periodic`.
 """
 
 from ._magnify_gl import GLMagnification, magnify_gl
-from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
+from ._filters import FILTERS, discrete_filter, filter_passes
+from ._octaves import magnify, octave
 from ._synthesis import band_limit, band_limit_planes, octave_amplitudes, octave_sum, spectral_noise
 
 __all__ = [

@@ -64,8 +64,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._gl import create_context
 from .._validate import check_choice
-from ._octaves import _check_filter, _check_image, _factors, discrete_filter, filter_passes
+from ._filters import _check_filter, _check_image, _factors, discrete_filter, filter_passes
 
 #: How a pass multiplies texel by weight: the seed's blend, or the shader.
 MULTIPLY = ("blend", "shader")
@@ -183,29 +184,6 @@ class GLMagnification:
     weight_sum: np.ndarray
 
 
-def create_context():
-    """A headless OpenGL 3.3 core context through EGL (moderngl).
-
-    Raises
-    ------
-    OSError
-        If moderngl is missing (``pip install 'spectex[gl]'``) or no EGL
-        OpenGL 3.3 context can be made (on Debian/Ubuntu, Mesa's EGL and
-        llvmpipe come with ``libegl1`` and ``libgl1-mesa-dri``).
-    """
-    try:
-        import moderngl
-    except ImportError:
-        raise OSError("magnify(backend='gl') needs moderngl: pip install 'spectex[gl]'") from None
-    try:
-        return moderngl.create_standalone_context(backend="egl", require=330)
-    except Exception as exc:  # moderngl raises plain Exception subclasses
-        text = " ".join(str(exc).split()) or type(exc).__name__
-        raise OSError(
-            f"magnify(backend='gl') found no headless OpenGL 3.3 context (EGL): {text}; "
-            "install Mesa's EGL and drivers (Debian/Ubuntu: libegl1 libgl1-mesa-dri)") from None
-
-
 def _make_current(ctx):
     """Make ``ctx`` the current context, and leave it current.
 
@@ -228,7 +206,7 @@ def default_context():
     as ``ctx``, or make it current again before its own calls.
     """
     if not _DEFAULT:
-        _DEFAULT.append(create_context())
+        _DEFAULT.append(create_context(what="magnify(backend='gl')"))
     return _DEFAULT[0]
 
 
