@@ -5,6 +5,7 @@ are in ``helpers.py``, imported as ``from helpers import ...``."""
 import os
 
 import pytest
+
 from helpers import make_test_tile
 
 

@@ -101,8 +101,8 @@ def test_analysis_bad_input(call, match):
 
 def test_results_are_typed():
     from spectex.analysis import ColourStats, CrossScale, OctavePower
-    from spectex.spectral import spectral_noise
     from spectex.metrics import BandPower, band_power
+    from spectex.spectral import spectral_noise
     from spectex.spectrum import RadialSpectrum, radial_power_spectrum
 
     img = spectral_noise((128, 128), beta=2.0, rng=1)

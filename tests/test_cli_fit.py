@@ -3,9 +3,9 @@ errors and nothing left behind."""
 
 import numpy as np
 import pytest
-from helpers import error_line
 from PIL import Image
 
+from helpers import error_line
 from spectex.cli import main
 from spectex.io import read_image, write_image
 from spectex.texture import SpectralTexture

@@ -4,9 +4,9 @@ import re
 
 import numpy as np
 import pytest
-from helpers import run_fails
 from PIL import Image
 
+from helpers import run_fails
 from spectex.cli import main
 from spectex.io import read_image
 from spectex.texture import SpectralTexture

@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 import skimage.data
-from helpers import error_line
 from PIL import Image
 
+from helpers import error_line
 from spectex.cli import main
 from spectex.io import read_image, write_image
 

@@ -9,9 +9,9 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import make_test_tile
 
 import spectex.export as ex
+from helpers import make_test_tile
 from spectex.cli import main
 from spectex.export import FORMATS, ExportResult, export, parse_formats
 from spectex.export._output import MANIFEST

@@ -10,8 +10,8 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from helpers import glslang_validator, make_test_tile
 
+from helpers import glslang_validator, make_test_tile
 from spectex.export import export
 from spectex.export.hlsl import ENTRY_POINT
 from spectex.shading.glsl import shader_file

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import glslang_validator, make_test_tile, psnr
 
+from helpers import glslang_validator, make_test_tile, psnr
 from spectex.export import export
 from spectex.export._shader import GLSL_TARGETS
 from spectex.export.host import draw_glsl_export, texture_uniforms

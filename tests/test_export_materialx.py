@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import make_test_tile
 
+from helpers import make_test_tile
 from spectex.export import export
 from spectex.io import read_image
 from spectex.sampling import MipTexture, sample

@@ -3,8 +3,8 @@ supersampled reference, camera conventions and bad input."""
 
 import numpy as np
 import pytest
-from helpers import SIZE, VIEWS, psnr
 
+from helpers import SIZE, VIEWS, psnr
 from spectex.render import Atmosphere, Camera, check_size
 from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture

@@ -3,8 +3,8 @@ against a supersampled reference (with a control that must be worse), and what t
 
 import numpy as np
 import pytest
-from helpers import SIZE, VIEWS, psnr
 
+from helpers import SIZE, VIEWS, psnr
 from spectex.metrics import repeat_peak
 from spectex.render import Camera
 from spectex.render.cpu import render_cpu

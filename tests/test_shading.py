@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import glslang_validator
 
 import spectex
+from helpers import glslang_validator
 from spectex.shading import constants as C
 from spectex.shading import glsl, pack
 from spectex.texture import SpectralTexture

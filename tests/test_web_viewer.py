@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import make_test_tile, psnr
 
+from helpers import make_test_tile, psnr
 from spectex.export import export
 from spectex.export.web import viewer_data
 from spectex.render import Camera, render

@@ -42,8 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import (check_choice, check_float, check_image, check_int, check_rng, check_shape,
-                        check_tile_shape)
+from ._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape, check_tile_shape
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "layer_placement"]

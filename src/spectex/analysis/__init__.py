@@ -13,7 +13,17 @@ Fitting
 See ``docs/fitting.md``.
 """
 
-from ._stats import (ColourStats, CrossScale, ExemplarStats, OctavePower, analyse, colour_stats, cross_scale,
-                     dog_bands, octave_power)
+from ._stats import (
+                     ColourStats,
+                     CrossScale,
+                     ExemplarStats,
+                     OctavePower,
+                     analyse,
+                     colour_stats,
+                     cross_scale,
+                     dog_bands,
+                     octave_power,
+)
 
-__all__ = ["ExemplarStats", "OctavePower", "ColourStats", "CrossScale", "analyse", "octave_power", "colour_stats", "cross_scale", "dog_bands"]
+__all__ = ["ExemplarStats", "OctavePower", "ColourStats", "CrossScale", "analyse", "octave_power", "colour_stats",
+           "cross_scale", "dog_bands"]

@@ -27,7 +27,7 @@ def render(texture, camera, shape, *, backend="auto", **kwargs):
 
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
     if backend in ("auto", "gl"):
-        from .gl import GLUnavailable, GLRenderer
+        from .gl import GLRenderer, GLUnavailable
 
         try:
             with GLRenderer(texture) as renderer:

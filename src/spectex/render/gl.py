@@ -298,7 +298,7 @@ class GLRenderer:
         :func:`spectex.render.cpu.render_cpu`; ``draw``, ``render`` and ``time_frames``
         pass their keywords here.
         """
-        from ..shading.constants import FILTERS, FILTER_NEAREST
+        from ..shading.constants import FILTER_NEAREST, FILTERS
         from ..shading.tables import pack
 
         view = view_params(camera, shape, atmosphere=atmosphere)

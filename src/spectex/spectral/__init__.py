@@ -14,8 +14,8 @@ Power spectra and their slopes are measured in :mod:`spectex.spectrum`,
 Moisan's decomposition is :mod:`spectex.periodic`.
 """
 
-from ._magnify_gl import GLMagnification, magnify_gl
 from ._filters import FILTERS, discrete_filter, filter_passes
+from ._magnify_gl import GLMagnification, magnify_gl
 from ._octaves import magnify, octave
 from ._synthesis import band_limit, band_limit_planes, octave_amplitudes, octave_sum, spectral_noise
 

@@ -27,7 +27,7 @@ import numbers
 import numpy as np
 
 from .._parallel import fft_workers as _workers
-from .._validate import (check_choice, check_float, check_image, check_int, check_rng, check_shape)
+from .._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape
 from ._octaves import octave
 
 

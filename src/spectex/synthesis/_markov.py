@@ -8,7 +8,6 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
-
 from .._validate import check_choice, check_int, check_rng
 
 _UNITS = ("char", "word")

@@ -64,7 +64,7 @@ import numba
 import numpy as np
 
 from .._parallel import threads_for as _threads_for
-from .._validate import (check_choice, check_float, check_int, check_rng, check_shape)
+from .._validate import check_choice, check_float, check_int, check_rng, check_shape
 from ..color import LUMA_REC709
 from .ops import _emboss, fit_range
 

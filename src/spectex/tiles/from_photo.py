@@ -75,7 +75,7 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
                 if axis == 0:
                     base, extra = base.T, extra.T
 
-                def ratio(g):
+                def ratio(g, base=base, extra=extra):
                     return _edge_ratio(base + g * extra, band)
 
                 if ratio(0.0) >= 1.0:
