@@ -191,3 +191,20 @@ def test_help_lists_the_public_names():
     assert callable(spectex.render.render)
     with pytest.raises(AttributeError, match="no_such_name"):
         getattr(spectex, "no_such_name")  # noqa: B009 (the attribute access is the test)
+
+
+def _api_top_level_names(text: str) -> set[str]:
+    """The names in the first column of docs/api.md's "The top level" table."""
+    section = text.split("## The top level", 1)[1].split("\n## ", 1)[0]
+    return {line.split("`")[1] for line in section.splitlines() if line.startswith("| `")}
+
+
+def test_docs_api_lists_the_top_level_names():
+    text = (ROOT.parent / "docs" / "api.md").read_text()
+    names = {n for n in spectex.__all__ if n not in spectex._SUBMODULES}
+    assert _api_top_level_names(text) == names
+    for module in spectex._SUBMODULES:  # every public module has its row
+        assert f"`spectex.{module}`" in text, module
+    # The control: a table without one name, or with an extra one, is seen.
+    assert _api_top_level_names(text.replace("| `fit` |", "| fit |")) != names
+    assert _api_top_level_names(text.replace("| `Layer` |", "| `Layer` |\n| `render` | x |")) != names
