@@ -91,11 +91,19 @@ def test_steps_show_on_a_terminal_only(monkeypatch, tty):
 
     fake = _FakeTerminal(tty)
     monkeypatch.setattr(sys, "stderr", fake)
+
+    def shown_soon(text):  # the line is drawn by a timer and a refresh thread: wait for it, not a fixed time
+        deadline = time.monotonic() + 10.0
+        while text not in fake.getvalue() and time.monotonic() < deadline:
+            time.sleep(0.01)
+
     with Steps(2, delay=0.0) as steps:
         steps.step("computing fbm 16x16")
-        time.sleep(0.4)
+        if tty:
+            shown_soon("computing fbm 16x16")
         steps.step("writing PNG")
-        time.sleep(0.4)
+        if tty:
+            shown_soon("writing PNG")
     shown = fake.getvalue()
     if tty:
         assert "computing fbm 16x16" in shown and "writing PNG" in shown and "1/2" in shown
