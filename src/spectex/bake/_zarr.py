@@ -329,17 +329,13 @@ def _run_local(job, todo, workers, progress, total) -> None:
         get(graph, keys, num_workers=workers or os.cpu_count() or 1)
 
 
-#: How long to keep trying to reach a dask.distributed scheduler, seconds.
-CONNECT_TIMEOUT = 10.0
-
-
 def _connect(scheduler):
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
     try:
-        return Client(scheduler, timeout=f"{CONNECT_TIMEOUT}s", set_as_default=False)
+        return Client(scheduler, timeout="10s", set_as_default=False)
     except (OSError, TimeoutError) as exc:
         raise OSError(f"cannot reach the scheduler {scheduler}: {exc}") from None
 
