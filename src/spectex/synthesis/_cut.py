@@ -147,7 +147,6 @@ def _new_side(diff, known):
     return new
 
 
-@numba.njit(cache=True, nogil=True)
 def place_block(err, boxes, tolerance, u, view, known, ex):
     """Choose a block among the near-best and paste it along its boundary cuts.
 
@@ -177,6 +176,18 @@ def place_block(err, boxes, tolerance, u, view, known, ex):
         (its width measured along the middle of the edge); pixels on the new
         side of every cut, and all pixels not filled before, are pasted.
     """
+    # The kernel always sees a C-contiguous block: a slice of the canvas and a wrapped
+    # (copied) block would otherwise be two array layouts, two compilations of the kernel.
+    block = np.ascontiguousarray(view)
+    sy, sx = _place_block(err, boxes, tolerance, u, block, known, ex)
+    if block is not view:
+        view[...] = block
+    return sy, sx
+
+
+@numba.njit(cache=True, nogil=True)
+def _place_block(err, boxes, tolerance, u, view, known, ex):
+    """:func:`place_block`'s kernel; ``view`` C-contiguous."""
     sy, sx = _pick(err, _best_error(err, boxes) * (1.0 + tolerance), u)
     new = _new_side(_squared_difference(view, ex, sy, sx), known)
     b = view.shape[0]
