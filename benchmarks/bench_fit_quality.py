@@ -117,7 +117,8 @@ def _measure(photo, near, far):
     clip = metrics.clipping(near, photo)
     copies = metrics.coarse_copies(far, photo, zoom=8) if min(far.shape[:2]) >= 96 else None
     return {"s 1x": s1.ratio, "s near": sn.ratio, "clip": 100 * clip.image, "clip photo": 100 * clip.reference,
-            "rp near": metrics.repeat_peak(near), "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
+            "rp near": metrics.repeat_peak(near),
+            "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
             "copies": copies.value if copies else float("nan"),
             "copies photo": copies.reference if copies else float("nan"),
             "copies flag": (copies is not None and not copies.within),

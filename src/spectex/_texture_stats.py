@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._results import DictAccess
+from ._results import AsDict
 from ._validate import check_float, check_image, check_int
 
 #: Orientations of the steerable pyramid.
@@ -198,34 +198,25 @@ def _standard(reference: np.ndarray) -> _Standard:
     return _Standard(float(y.mean()), sd, tuple(float(c.mean()) for c in chroma), colour)
 
 
-def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
-    """The statistics of one analysis window, by group (1-D float64 arrays)."""
-    y, chroma = _opponent(window)
-    y = (y - std.mean) / std.sd
-    groups = {g: [] for g in GROUPS}
-
-    # marginals of the pixels: mean, log sd, skewness, log kurtosis, 1 % and 99 % quantiles
+def _pixel_and_lowpass(y: np.ndarray, levels: int, groups: dict) -> None:
+    """Marginals of the pixels (mean, log sd, skewness, log kurtosis, 1 % and 99 % quantiles) and of
+    the low-pass image at each coarser scale (skewness, log kurtosis); the low-pass images'
+    autocorrelations."""
     m, sd, sk, ku = _moments(y)
     q01, q99 = np.quantile(y, [0.01, 0.99])
     groups["marginal"] += [m, _log_sd(sd), sk, np.log(ku), q01, q99]
-
-    bands, highpass, lowpass = _pyramid(y, levels)
-    groups["energy"].append(_log_sd(float(highpass.std())))
-
-    # low-pass images at each scale: skewness and kurtosis (marginal), autocorrelation, energy
     low = y
-    lows = [low]
-    for s in range(levels):
+    groups["lowpass_autocorrelation"].append(_acf(low))
+    for _ in range(levels):
         low = _half_down(low)
-        lows.append(low)
-    for s, low in enumerate(lows):
         _, _, lsk, lku = _moments(low)
-        if s > 0:
-            groups["marginal"] += [lsk, np.log(lku)]
+        groups["marginal"] += [lsk, np.log(lku)]
         groups["lowpass_autocorrelation"].append(_acf(low))
-    groups["energy"].append(_log_sd(float(lowpass.std())))
 
-    mags = [[np.abs(b) for b in scale] for scale in bands]
+
+def _band_statistics(bands, mags, levels: int, groups: dict) -> None:
+    """Each scale's band marginals, energies, magnitude autocorrelations and cross-orientation
+    correlations; each pair of neighbouring scales' cross-scale magnitude and phase correlations."""
     zmags = [[_z(m_) for m_ in scale] for scale in mags]
     for s in range(levels):
         # the bands' own marginals (orientations pooled): log kurtosis of the real parts and the
@@ -237,9 +228,7 @@ def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
         for o in range(ORIENTATIONS):
             groups["energy"].append(_log_sd(float(np.sqrt(np.mean(mags[s][o] ** 2)))))
             groups["magnitude_autocorrelation"].append(_acf(mags[s][o]))
-        for o in range(ORIENTATIONS):
-            for p in range(o + 1, ORIENTATIONS):
-                groups["cross_orientation"].append(_corr(zmags[s][o], zmags[s][p]))
+            groups["cross_orientation"] += [_corr(zmags[s][o], zmags[s][p]) for p in range(o + 1, ORIENTATIONS)]
     for s in range(levels - 1):
         zreal = [_z(b.real) for b in bands[s]]
         for p in range(ORIENTATIONS):
@@ -251,24 +240,41 @@ def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
                 groups["cross_scale_magnitude"].append(_corr(zmags[s][o], zamp))
                 groups["cross_scale_phase"] += [_corr(zreal[o], zdr), _corr(zreal[o], zdi)]
 
+
+def _colour_statistics(y, chroma, mags, std: _Standard, levels: int, groups: dict) -> None:
+    """Chroma marginals, luma-chroma correlations at each scale, luma-chroma band magnitude
+    correlations at each scale."""
+    cs = [(c - cm) / std.sd for c, cm in zip(chroma, std.chroma_mean)]
+    for c in cs:
+        cm_, csd, csk, cku = _moments(c)
+        groups["colour"] += [cm_, _log_sd(csd)]
+        groups["colour"] += [csk, np.log(cku)] if csd >= _CHROMA_MIN else [0.0, np.log(3.0)]
+    chans = [y, *cs]
+    for s in range(levels + 1):
+        groups["colour"] += [_corr(chans[0], chans[1]), _corr(chans[0], chans[2]), _corr(chans[1], chans[2])]
+        if s < levels:
+            chans = [_half_down(c) for c in chans]
+    # band structure shared by luma and chroma: magnitudes per scale (orientations pooled)
+    for c in cs:
+        cb, _, _ = _pyramid(c, levels)
+        for s in range(levels):
+            cmag = np.concatenate([np.abs(b).ravel() for b in cb[s]])
+            ymag = np.concatenate([m_.ravel() for m_ in mags[s]])
+            groups["colour"].append(_corr(_z(ymag), _z(cmag)))
+
+
+def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
+    """The statistics of one analysis window, by group (1-D float64 arrays)."""
+    y, chroma = _opponent(window)
+    y = (y - std.mean) / std.sd
+    groups = {g: [] for g in GROUPS}
+    _pixel_and_lowpass(y, levels, groups)
+    bands, highpass, lowpass = _pyramid(y, levels)
+    mags = [[np.abs(b) for b in scale] for scale in bands]
+    groups["energy"] += [_log_sd(float(highpass.std())), _log_sd(float(lowpass.std()))]
+    _band_statistics(bands, mags, levels, groups)
     if std.colour and chroma is not None:
-        cs = [(c - cm) / std.sd for c, cm in zip(chroma, std.chroma_mean)]
-        for c in cs:
-            cm_, csd, csk, cku = _moments(c)
-            groups["colour"] += [cm_, _log_sd(csd)]
-            groups["colour"] += [csk, np.log(cku)] if csd >= _CHROMA_MIN else [0.0, np.log(3.0)]
-        chans = [y] + cs
-        for s in range(levels + 1):
-            groups["colour"] += [_corr(chans[0], chans[1]), _corr(chans[0], chans[2]), _corr(chans[1], chans[2])]
-            if s < levels:
-                chans = [_half_down(c) for c in chans]
-        # band structure shared by luma and chroma: magnitudes per scale (orientations pooled)
-        for c in cs:
-            cb, _, _ = _pyramid(c, levels)
-            for s in range(levels):
-                cmag = np.concatenate([np.abs(b).ravel() for b in cb[s]])
-                ymag = np.concatenate([m_.ravel() for m_ in mags[s]])
-                groups["colour"].append(_corr(_z(ymag), _z(cmag)))
+        _colour_statistics(y, chroma, mags, std, levels, groups)
     return {g: np.concatenate([np.atleast_1d(np.asarray(v, dtype=np.float64)) for v in vals])
             if vals else np.zeros(0) for g, vals in groups.items()}
 
@@ -333,7 +339,7 @@ def _common_channels(image, reference):
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class TextureStatistics(DictAccess):
+class TextureStatistics(AsDict):
     """Portilla-Simoncelli statistics of one image (:func:`texture_statistics`).
 
     Attributes
@@ -414,7 +420,7 @@ def texture_statistics(image, *, reference=None) -> TextureStatistics:
 
 
 @dataclass(frozen=True, eq=False)
-class StructuralDistance(DictAccess):
+class StructuralDistance(AsDict):
     """A structural distance of an image to a reference (:func:`structural_distance`).
 
     Attributes
@@ -578,7 +584,7 @@ def clipped_fraction(image, *, tolerance: float = 0.5 / 255.0) -> float:
 
 
 @dataclass(frozen=True, eq=False)
-class Clipping(DictAccess):
+class Clipping(AsDict):
     """Clipped values of an image against its reference (:func:`clipping`).
 
     Attributes
@@ -748,7 +754,7 @@ def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, an
 
 
 @dataclass(frozen=True, eq=False)
-class CoarseCopies(DictAccess):
+class CoarseCopies(AsDict):
     """Magnified copies of a photo found in a zoomed-out view (:func:`coarse_copies`).
 
     Attributes
