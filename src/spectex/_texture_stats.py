@@ -767,11 +767,12 @@ class CoarseCopies(AsDict):
         magnifications. About 0 for a view without copies; 0.3 to 0.7 for a
         copy blended with other content.
     reference : float
-        The photo's own: the same for pieces of the photo itself searched as
-        if they were the photo magnified 2 times (how self-similar across
-        scales it is).
+        The photo's own at the magnification that decides ``value``: the same
+        search on the photo repeated at its own scale and seen from as far
+        (at least 0).
     within : bool
-        ``value <= max(reference, 0) + tolerance``: no magnified copies.
+        ``value <= reference + tolerance`` at every magnification: no
+        magnified copies.
     tolerance : float
         The allowance over the photo's own.
     magnifications : tuple of float
@@ -813,10 +814,12 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     however smooth or busy it is. Magnifications whose pieces the view is
     too small to hold are skipped (nan).
 
-    The photo's own range is the same search made with pieces of the photo
-    itself as if they were the photo magnified 2 times: a texture similar
-    across scales (rock, clouds) scores higher there and may in the view;
-    gravel or bricks score low, and their magnified copies stand out.
+    The photo's own range is the same search made on the photo repeated at
+    its own scale and seen from as far (what the photo shows, and nothing
+    else, continued): a structured photo's lattice matches itself at some
+    magnifications (bricks at 16 times: about 0.07), a texture similar
+    across scales (rock) scores higher, gravel about 0; the view is judged
+    magnification by magnification against it.
 
     Parameters
     ----------
@@ -861,17 +864,19 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     p = _opponent(reference if reference.ndim == 2 else reference[:, :, :3] if reference.shape[2] >= 3
                   else reference[:, :, 0])[0]
     per = _search(v, p, zoom, mags, angles, pieces)
-    own = _search(p, p, 1.0, (2.0,), angles, pieces)[:, 0]
-    # each search scale against the photo's own at that scale; the worst excess decides
-    excess = per - own[:, None]
+    # The photo's own: the photo repeated at its own scale, seen from as far (nothing but what the
+    # photo shows, continued): a structured photo's lattice matches itself at some magnifications.
+    small = _resample(p, 1.0 / zoom)
+    reps = (-(-v.shape[0] // small.shape[0]), -(-v.shape[1] // small.shape[1]))
+    own = _search(np.tile(small, reps)[: v.shape[0], : v.shape[1]], p, zoom, mags, angles, pieces)
+    own = np.where(np.isfinite(own), np.maximum(own, 0.0), np.nan)  # below 0 is the search's scatter
+    excess = per - own
     if not np.any(np.isfinite(excess)):
         raise ValueError(f"view of {view.shape[1]}x{view.shape[0]} pixels at zoom={zoom:g} cannot show any of "
                          f"the magnifications {mags}")
     i, j = np.unravel_index(np.nanargmax(excess), excess.shape)
-    value, ref = float(per[i, j]), float(own[i])
-    # a negative own score is the search's scatter, not a photo less similar to itself than chance
-    return CoarseCopies(value=value, reference=ref, within=bool(value <= max(ref, 0.0) + tolerance),
-                        tolerance=tolerance,
+    value, ref = float(per[i, j]), float(own[i, j])
+    return CoarseCopies(value=value, reference=ref, within=bool(value <= ref + tolerance), tolerance=tolerance,
                         magnifications=mags, per_magnification=tuple(_nanmax_columns(excess)), zoom=zoom)
 
 

@@ -698,7 +698,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         floor; ``clipping`` (:func:`spectex.metrics.clipping`); ``coarse``
         (:func:`spectex.metrics.coarse_copies` on a view of the texture,
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
-        without ``coarse_zoom``).
+        without ``coarse_zoom`` or for an exemplar under 192 pixels).
     """
     from .metrics import (
         band_power,
@@ -728,7 +728,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
     structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
     coarse = None
-    if coarse_zoom is not None and min(h, w) >= 128:
+    if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
         view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
         coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
     return FitReport(
