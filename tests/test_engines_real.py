@@ -244,6 +244,19 @@ def unreal_custom_node_code() -> str:
     return match.group(1)
 
 
+def unity_ports(readme: Path) -> list[str]:
+    """The Custom Function node's input ports, in order, as the export's README lists them."""
+    import re
+
+    text = readme.read_text(encoding="utf-8").replace("\n   ", " ")
+    match = re.search(r"Inputs, in this order: (.*?); outputs", text)
+    assert match, "the hlsl README lists no Custom Function inputs"
+    ports = re.findall(r"`(\w+)` \(([^)]*)\)", match.group(1))
+    for name, kind in ports[1:]:  # Shader Graph's Bare types pass the HLSL objects themselves
+        assert kind == ("Bare SamplerState" if name.endswith("Sampler") else "Bare Texture2D"), (name, kind)
+    return [name for name, _ in ports]
+
+
 def hlsl_through_spirv(include: Path, texture, tmp_path: Path, host: str) -> str:
     """The include called as ``host`` calls it ('unity': Shader Graph's generated call with UNITY_VERSION
     defined; 'unreal': the Custom node's code from the docs), compiled by glslang's HLSL front end to
@@ -260,9 +273,12 @@ def hlsl_through_spirv(include: Path, texture, tmp_path: Path, host: str) -> str
         body = f"float3 custom_node(float2 Ground) {{ {code} }}\n"
         call = "float3 lin = custom_node(ground);\n    return float4(lin, 1.0);"
         defines = []
-    else:  # Shader Graph: the node's outputs are locals passed as out arguments
+    else:  # Shader Graph: the node's ports as the README lists them, in order; outputs as out arguments
+        ports = unity_ports(include.parent / "README.md")
+        assert ports[0] == "Ground" and sorted(ports[1:]) == sorted(args.split(", ")), ports
+        call = (f"float3 Color, Linear;\n    {ENTRY_POINT}({', '.join(['ground', *ports[1:]])}, Color, Linear);\n"
+                "    return float4(Linear, 1.0);")
         body = ""
-        call = f"float3 Color, Linear;\n    {ENTRY_POINT}(ground, {args}, Color, Linear);\n    return float4(Linear, 1.0);"
         defines = ["-DUNITY_VERSION=202230"]
     source = tmp_path / f"{host}.hlsl"
     source.write_text(f"""#include "{include.name}"
