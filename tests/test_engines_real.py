@@ -449,3 +449,117 @@ def test_godot_compiles_every_exported_shader(godot, tmp_path):
     assert broken != shaders["mixed_stochastic"]
     log = godot(broken)
     assert any("SHADER ERROR" in line for line in log), log
+
+
+# ------------------------------------------------------------------------------------------ three.js
+THREE = JS / "node_modules" / "three"
+
+
+def readme_js_blocks(readme: Path) -> list[str]:
+    """The ```js blocks of an export's README, word for word."""
+    import re
+
+    return re.findall(r"```js\n(.*?)```", readme.read_text(encoding="utf-8"), flags=re.S)
+
+
+def threejs_page(readme: Path, cam, size, *, stochastic: bool) -> str:
+    """A page that runs the glsl README's three.js code as written (the stochastic block after the
+    first), with a renderer and a scene of its own, then draws ``cam`` with haze off."""
+    blocks = readme_js_blocks(readme)
+    assert len(blocks) == (2 if stochastic else 1), len(blocks)
+    h, w = size
+    x, y, z = cam.position
+    return f"""<!DOCTYPE html><html><head><title>loading</title>
+<style>html, body {{ margin: 0; background: #000; }} canvas {{ display: block; }}</style>
+<script type="importmap">{{"imports": {{"three": "/three/build/three.module.js"}}}}</script></head>
+<body><canvas id="c" width="{w}" height="{h}"></canvas>
+<script type="module">
+window.onerror = (e) => {{ document.title = "error: " + e; }};
+const renderer = new THREE.WebGLRenderer({{canvas: document.getElementById("c"), antialias: false,
+                                          preserveDrawingBuffer: true}});
+renderer.setPixelRatio(1);
+renderer.setSize({w}, {h}, false);
+const scene = new THREE.Scene();
+{blocks[0]}
+{blocks[1] if stochastic else ""}
+update({x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r});
+// haze off: the frame uniforms' last argument, the haze distance
+const off = spectexFrameUniforms(table, {x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r}, {w}, {h}, 1e9);
+uniforms.u_haze.value = off.u_haze; uniforms.u_far.value = off.u_far;
+renderer.render(scene, new THREE.Camera());
+document.title = "ready";
+</script></body></html>"""
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        _unavailable("playwright is not installed")
+    from test_web_viewer import CHROMIUM_ARGS, chromium_path
+
+    if not (THREE / "build" / "three.module.js").is_file():
+        _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
+    path = chromium_path()
+    if path is None:
+        _unavailable("no chromium here (apt-get install chromium)")
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=path, headless=True, args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()
+
+
+def draw_threejs(browser, folder: Path, cam, size=SIZE, *, stochastic: bool):
+    """The glsl export drawn by three.js in chromium, from the README's code; RGB floats."""
+    import io
+
+    from PIL import Image
+
+    glsl = folder / "glsl"
+    html = threejs_page(glsl / "README.md", cam, size, stochastic=stochastic)
+    types = {"js": "text/javascript", "json": "application/json", "png": "image/png"}
+
+    def serve(route):
+        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
+        if path == "index.html":
+            return route.fulfill(body=html, content_type="text/html")
+        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (glsl, path)
+        file = (base / rel).resolve()
+        if not file.is_file() or base.resolve() not in file.parents:
+            return route.fulfill(status=404, body="")
+        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
+
+    h, w = size
+    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
+    errors = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    try:
+        page.route("http://localhost:8766/**", serve)
+        page.goto("http://localhost:8766/index.html")
+        page.wait_for_function("document.title !== 'loading'", timeout=120_000)
+        assert page.title() == "ready", (page.title(), errors)
+        image = Image.open(io.BytesIO(page.screenshot()))
+        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
+    finally:
+        page.close()
+
+
+@pytest.fixture(scope="module")
+def glsl_exports(tmp_path_factory):
+    root = tmp_path_factory.mktemp("glsl")
+    return {name: (t, export(t, root / name, formats="glsl").folder) for name, t in textures().items()}
+
+
+@pytest.mark.parametrize("view", list(CAMERAS))
+@pytest.mark.parametrize("name", ["mixed", "mixed_stochastic"])
+def test_threejs_draws_the_glsl_export_as_spectex(chromium, glsl_exports, name, view):
+    """three.js (npm) in chromium, running the glsl README's code word for word, haze off: the
+    CPU render's picture, periodic and stochastic layers."""
+    texture, folder = glsl_exports[name]
+    cam = camera(view)
+    image = draw_threejs(chromium, folder, cam, stochastic=name.endswith("stochastic"))
+    reference = cpu_reference(texture, cam)
+    save_pair(f"threejs_{name}_{view}", image, reference)
+    score = psnr(image, reference)
+    assert score >= 40.0, score
