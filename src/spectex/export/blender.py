@@ -1,6 +1,6 @@
 """The ``blender`` export: a Python script that builds the texture as a Blender material, and its tile(s).
 
-``blender/spectex_ground.py`` is ``templates/blender_ground.py`` (a plain
+``blender/spectex_ground.py`` is ``templates/blender_ground.py.in`` (a plain
 Blender script: Geometry position, Vector Math, Image Texture, Math nodes) with
 the texture's table written into it: tiles, per-tile mean colours, and per
 layer its size, offset, rotation, blend, opacity and tiling. Run in Blender, it
@@ -40,7 +40,7 @@ def blender_script(texture, tile_files) -> str:
                     "tile": int(layer.tile), "tiling": getattr(layer, "tiling", "periodic")}
                    for layer in texture.layers],
     }
-    template = resources.files("spectex.export").joinpath("templates", "blender_ground.py").read_text(encoding="utf-8")
+    template = resources.files("spectex.export").joinpath("templates", "blender_ground.py.in").read_text(encoding="utf-8")
     marker = 'SPECTEX = {"$TEXTURE$": None}'
     assert marker in template
     return template.replace(marker, "SPECTEX = " + json.dumps(table, indent=1))
