@@ -28,8 +28,8 @@ from spectex.export import export
 from spectex.texture import Layer, SpectralTexture
 
 sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
-from test_export_engines import GODOT_TO_SPECTEX, _view_projection  # noqa: E402
+from conftest import make_test_tile
+from test_export_engines import GODOT_TO_SPECTEX, _view_projection
 
 JS = Path(__file__).parent / "js"
 CI = os.environ.get("CI", "").lower() == "true"
@@ -289,9 +289,9 @@ def hlsl_through_spirv(include: Path, texture, tmp_path: Path, host: str) -> str
 """)
     spv = tmp_path / f"{host}.spv"
     run = subprocess.run([tool("glslangValidator"), "-D", "-V", "-S", "frag", "-e", "main", f"-I{include.parent}",
-                          *defines, "-o", str(spv), str(source)], capture_output=True, text=True)
+                          *defines, "-o", str(spv), str(source)], capture_output=True, text=True, check=False)
     assert run.returncode == 0, run.stdout + run.stderr
-    run = subprocess.run([tool("spirv-cross"), "--version", "450", "--no-es", str(spv)], capture_output=True, text=True)
+    run = subprocess.run([tool("spirv-cross"), "--version", "450", "--no-es", str(spv)], capture_output=True, text=True, check=False)
     assert run.returncode == 0, run.stderr
     return run.stdout
 
@@ -459,7 +459,7 @@ def readme_js_blocks(readme: Path) -> list[str]:
     """The ```js blocks of an export's README, word for word."""
     import re
 
-    return re.findall(r"```js\n(.*?)```", readme.read_text(encoding="utf-8"), flags=re.S)
+    return re.findall(r"```js\n(.*?)```", readme.read_text(encoding="utf-8"), flags=re.DOTALL)
 
 
 def threejs_page(readme: Path, cam, size, *, stochastic: bool) -> str:
@@ -583,7 +583,7 @@ def render_blender(folder: Path, cam, tmp_path: Path, size=SIZE, samples=64):
     out = tmp_path / "blender.png"
     run = subprocess.run([bpy_python(), str(Path(__file__).parent / "blender" / "render_export.py"), str(folder),
                           *map(repr, (float(x), float(y), float(z), cam.yaw, cam.pitch, cam.fov)), str(size[0]),
-                          str(size[1]), str(samples), str(out)], capture_output=True, text=True, timeout=300)
+                          str(size[1]), str(samples), str(out)], capture_output=True, text=True, timeout=300, check=False)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     return read_image(out)[..., :3], run.stdout
 

@@ -23,7 +23,7 @@ import json
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["write_blender", "blender_script", "STOCHASTIC_NOTE"]
+__all__ = ["STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
 #: What the export says about a stochastic layer (the script prints its own line per layer).
 STOCHASTIC_NOTE = ("uses spectex's stochastic tiling, which Blender's nodes cannot draw: it is drawn as its "

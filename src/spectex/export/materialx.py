@@ -88,7 +88,7 @@ class _Ref:
         self.type_ = type_
 
 
-def _srgb_decode(g: _Graph, colour: "_Ref") -> "_Ref":
+def _srgb_decode(g: _Graph, colour: _Ref) -> _Ref:
     """The IEC 61966-2-1 sRGB decode of ``colour``, channel by channel, in math nodes.
 
     spectex blends the stored (sRGB-encoded) values and its pictures are those values; a
