@@ -381,19 +381,10 @@ engine.startGame({canvas: document.getElementById("c"),
 
 
 @pytest.fixture(scope="module")
-def godot():
+def godot(chromium):
     """A page running the Godot 4 web build in Debian's chromium; yields ``compile(code) -> log lines``."""
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        _unavailable("playwright is not installed")
-    from test_web_viewer import CHROMIUM_ARGS, chromium_path
-
     if not (GODOT_WEB / "index.wasm").is_file():
         _unavailable(f"no Godot web build at {GODOT_WEB} (cd tests/js && npm ci --ignore-scripts)")
-    path = chromium_path()
-    if path is None:
-        _unavailable("no chromium here (apt-get install chromium)")
     page_text = GODOT_PAGE % ((GODOT_WEB / "index.pck").stat().st_size, (GODOT_WEB / "index.wasm").stat().st_size)
     types = {"wasm": "application/wasm", "js": "text/javascript"}
     # cross-origin isolation: the build uses threads (SharedArrayBuffer)
@@ -409,9 +400,8 @@ def godot():
         route.fulfill(body=file.read_bytes(), content_type=types.get(name.rsplit(".", 1)[-1], "application/octet-stream"),
                       headers=headers)
 
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=path, headless=True, args=CHROMIUM_ARGS)
-        page = browser.new_page()
+    page = chromium.new_page()
+    try:
         page.route("http://localhost:8765/**", serve)
         page.goto("http://localhost:8765/page.html")
         page.wait_for_function("!!(window.GodotShaderViewer && window.godotLoadShaderCallback)", timeout=240_000)
@@ -426,7 +416,8 @@ def godot():
             })""", code)
 
         yield compile_shader
-        browser.close()
+    finally:
+        page.close()
 
 
 def godot_errors(log: list[str]) -> list[str]:
@@ -493,14 +484,13 @@ document.title = "ready";
 
 @pytest.fixture(scope="module")
 def chromium():
+    """Debian's chromium through Playwright, one per module (the Godot page and three.js share it)."""
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
         _unavailable("playwright is not installed")
     from test_web_viewer import CHROMIUM_ARGS, chromium_path
 
-    if not (THREE / "build" / "three.module.js").is_file():
-        _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
     path = chromium_path()
     if path is None:
         _unavailable("no chromium here (apt-get install chromium)")
@@ -516,6 +506,8 @@ def draw_threejs(browser, folder: Path, cam, size=SIZE, *, stochastic: bool):
 
     from PIL import Image
 
+    if not (THREE / "build" / "three.module.js").is_file():
+        _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
     glsl = folder / "glsl"
     html = threejs_page(glsl / "README.md", cam, size, stochastic=stochastic)
     types = {"js": "text/javascript", "json": "application/json", "png": "image/png"}
