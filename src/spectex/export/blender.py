@@ -23,11 +23,15 @@ import json
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["STOCHASTIC_NOTE", "blender_script", "write_blender"]
+__all__ = ["FINE_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
 #: What the export says about a stochastic layer (the script prints its own line per layer).
 STOCHASTIC_NOTE = ("uses spectex's stochastic tiling, which Blender's nodes cannot draw: it is drawn as its "
                    "periodic tile instead (it repeats), and does not match spectex's picture")
+
+#: What the export says about a fine (detail) layer, whose fade needs the pixel's footprint.
+FINE_NOTE = ("is a fine (detail) layer: spectex fades it out with the pixel's footprint, which Blender's nodes "
+             "cannot see; it is drawn with the variance blend at full alpha, at every distance")
 
 
 def blender_script(texture, tile_files) -> str:
@@ -49,7 +53,8 @@ def blender_script(texture, tile_files) -> str:
 def _readme(texture, tile_files) -> str:
     notes = [f"* layer {k} {STOCHASTIC_NOTE}." for k, layer in enumerate(texture.layers)
              if getattr(layer, "tiling", "periodic") != "periodic"]
-    stochastic = ("\n## Stochastic layers\n\n" + "\n".join(notes) + "\n") if notes else ""
+    notes += [f"* layer {k} {FINE_NOTE}." for k, layer in enumerate(texture.layers) if layer.blend == "fine"]
+    stochastic = ("\n## What Blender's nodes cannot draw\n\n" + "\n".join(notes) + "\n") if notes else ""
     return f"""# spectex texture: Blender
 
 Written by `spectex export`: `spectex_ground.py` and {', '.join(f'`{n}`' for n in tile_files)}.
