@@ -74,7 +74,10 @@ def run(args) -> int:
         raise UsageError(f"texture file not found: '{args.texture}'")
     check_inputs_apart(args.texture, args.output)
     h, w = args.size
-    if Path(args.output).suffix.lower() == ".png":
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in (".zarr", ".png"):
+        raise UsageError(f"--output must end in .zarr (a store) or .png (one image), got '{args.output}'")
+    if suffix == ".png":
         return _run_image(args)
     args.chunk = 512 if args.chunk is None else args.chunk
     args.shard = 4096 if args.shard is None else args.shard
