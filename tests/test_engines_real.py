@@ -17,18 +17,15 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
-import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from helpers import make_test_tile
 from spectex.export import export
 from spectex.texture import Layer, SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile
 from test_export_engines import GODOT_TO_SPECTEX, _view_projection
 
 JS = Path(__file__).parent / "js"
@@ -275,9 +272,8 @@ def hlsl_through_spirv(include: Path, texture, tmp_path: Path, host: str) -> str
     """The include called as ``host`` calls it ('unity': Shader Graph's generated call with UNITY_VERSION
     defined; 'unreal': the Custom node's code from the docs), compiled by glslang's HLSL front end to
     SPIR-V, and that back to GLSL 4.50 by spirv-cross."""
-    from test_export_engines import hlsl_texture_names
-
     from spectex.export.hlsl import ENTRY_POINT
+    from test_export_engines import hlsl_texture_names
 
     names = hlsl_texture_names(texture)
     decls = "\n".join(f"Texture2D {name};\nSamplerState {name}Sampler;" for name in names)
@@ -305,7 +301,8 @@ def hlsl_through_spirv(include: Path, texture, tmp_path: Path, host: str) -> str
     run = subprocess.run([tool("glslangValidator"), "-D", "-V", "-S", "frag", "-e", "main", f"-I{include.parent}",
                           *defines, "-o", str(spv), str(source)], capture_output=True, text=True, check=False)
     assert run.returncode == 0, run.stdout + run.stderr
-    run = subprocess.run([tool("spirv-cross"), "--version", "450", "--no-es", str(spv)], capture_output=True, text=True, check=False)
+    run = subprocess.run([tool("spirv-cross"), "--version", "450", "--no-es", str(spv)], capture_output=True,
+                         text=True, check=False)
     assert run.returncode == 0, run.stderr
     return run.stdout
 
@@ -411,8 +408,8 @@ def godot(chromium):
         file = GODOT_WEB / name
         if "/" in name or not file.is_file():
             return route.fulfill(status=404, body="", headers=headers)
-        route.fulfill(body=file.read_bytes(), content_type=types.get(name.rsplit(".", 1)[-1], "application/octet-stream"),
-                      headers=headers)
+        kind = types.get(name.rsplit(".", 1)[-1], "application/octet-stream")
+        route.fulfill(body=file.read_bytes(), content_type=kind, headers=headers)
 
     page = chromium.new_page()
     try:
@@ -591,9 +588,10 @@ def render_blender(folder: Path, cam, tmp_path: Path, size=SIZE, samples=64):
 
     (x, y, z) = cam.position
     out = tmp_path / "blender.png"
-    run = subprocess.run([bpy_python(), str(Path(__file__).parent / "blender" / "render_export.py"), str(folder),
-                          *map(repr, (float(x), float(y), float(z), cam.yaw, cam.pitch, cam.fov)), str(size[0]),
-                          str(size[1]), str(samples), str(out)], capture_output=True, text=True, timeout=300, check=False)
+    argv = [bpy_python(), str(Path(__file__).parent / "blender" / "render_export.py"), str(folder),
+            *map(repr, (float(x), float(y), float(z), cam.yaw, cam.pitch, cam.fov)), str(size[0]), str(size[1]),
+            str(samples), str(out)]
+    run = subprocess.run(argv, capture_output=True, text=True, timeout=300, check=False)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     return read_image(out)[..., :3], run.stdout
 
