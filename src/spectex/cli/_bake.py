@@ -101,7 +101,7 @@ def _run_image(args) -> int:
     """``-o X.png``: the region as one PNG; the pyramid's options are refused, not ignored."""
     from spectex.bake import bake_image
 
-    from . import UsageError
+    from ._common import UsageError
 
     for option in ("levels", "chunk", "shard", "scheduler", "workers"):
         if getattr(args, option) is not None:
