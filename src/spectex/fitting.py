@@ -695,7 +695,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         exemplar-sized corner, at the photo's own place) and
         ``structure_far`` (windows spread over the whole bake), both
         :func:`spectex.metrics.structural_distance` with the exemplar's own
-        floor; ``clipping`` (:func:`spectex.metrics.clipping`); ``coarse``
+        floor (None for an exemplar without two 32 x 32 windows); ``clipping``
+        (:func:`spectex.metrics.clipping`); ``coarse``
         (:func:`spectex.metrics.coarse_copies` on a view of the texture,
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
         without ``coarse_zoom`` or for an exemplar under 192 pixels).
@@ -724,9 +725,12 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
     ce = cross_scale(exemplar)
     cb = cross_scale(bake, fine=ce.fine)
-    prepared = reference_statistics(exemplar, max_windows=4)
-    structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
-    structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
+    try:  # an exemplar without two 32 x 32 windows (a 512 x 40 strip) has no floor: None
+        prepared = reference_statistics(exemplar, max_windows=4)
+        structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
+        structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
+    except ValueError:
+        structure = structure_far = None
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
         view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
