@@ -18,7 +18,8 @@ grass, moon, a tissue slide and a deep-field crop; procedural paving and tiles),
 
 A *near* render covers twice the photo's side at its pixel size (a fit's bake; the peers'
 output), a *far* view eight times its pixel size (a fit's bake of 512 x 512 pixels, 8 times the
-photo's side; the peers' near output reduced 8 x 8, as they hold nothing coarser). Columns:
+photo's side; tiling and blending's output of 4 times the photo's side reduced 8 x 8, quilting's
+near render reduced 8 x 8: the peers hold nothing coarser than the photo). Columns:
 
 * ``s 1x``: :func:`spectex.metrics.structural_distance` ratio of the near render's photo-sized
   corner (the photo's own place) to the photo: about 1 is as close as the photo is to itself;
@@ -47,17 +48,18 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from exemplars import exemplars  # noqa: E402
-from tiling_blending import tile_and_blend  # noqa: E402
+from exemplars import exemplars
+from tiling_blending import tile_and_blend
 
 METHODS = ("fit", "legacy", "t&b lin", "t&b hist", "quilt")
 
 
 def _cpu():
     try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
     except OSError:
         pass
     return platform.processor() or platform.machine()
@@ -78,7 +80,6 @@ def _make(method, photo, near_shape, far_side, rng):
     from spectex import fitting
     from spectex.synthesis import quilt
 
-    h, w = photo.shape[:2]
     if method in ("fit", "legacy"):
         kwargs = {}
         if method == "legacy":
@@ -95,10 +96,10 @@ def _make(method, photo, near_shape, far_side, rng):
     t0 = time.perf_counter()
     if method == "t&b lin":
         near = tile_and_blend(photo, near_shape, blend="linear", rng=rng)
-        big = tile_and_blend(photo, (8 * far_side, 8 * far_side), blend="linear", rng=rng)
+        big = tile_and_blend(photo, (4 * far_side, 4 * far_side), blend="linear", rng=rng)
     elif method == "t&b hist":
         near = tile_and_blend(photo, near_shape, blend="histogram", rng=rng)
-        big = tile_and_blend(photo, (8 * far_side, 8 * far_side), blend="histogram", rng=rng)
+        big = tile_and_blend(photo, (4 * far_side, 4 * far_side), blend="histogram", rng=rng)
     else:
         near = quilt(photo, near_shape, block=48, rng=rng)
         big = near
@@ -116,7 +117,8 @@ def _measure(photo, near, far):
     clip = metrics.clipping(near, photo)
     copies = metrics.coarse_copies(far, photo, zoom=8) if min(far.shape[:2]) >= 96 else None
     return {"s 1x": s1.ratio, "s near": sn.ratio, "clip": 100 * clip.image, "clip photo": 100 * clip.reference,
-            "rp near": metrics.repeat_peak(near), "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
+            "rp near": metrics.repeat_peak(near),
+            "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
             "copies": copies.value if copies else float("nan"),
             "copies photo": copies.reference if copies else float("nan"),
             "copies flag": (copies is not None and not copies.within),
@@ -200,9 +202,10 @@ def main(argv=None) -> int:
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
                   f"{r['rp far']:6.3f} {r['copies']:6.2f}{flag} {seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
+        if args.grid is not None:  # after every photo: a long run stopped early keeps its picture
+            _grid(rows, args.grid)
     print("mean s 1x: " + ", ".join(f"{m} {np.mean(v):.2f}" for m, v in means.items() if v))
     if args.grid is not None:
-        _grid(rows, args.grid)
         print(f"wrote {args.grid}")
     return 0
 

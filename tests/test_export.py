@@ -11,13 +11,11 @@ from pathlib import Path
 import pytest
 
 import spectex.export as ex
+from helpers import make_test_tile
 from spectex.cli import main
 from spectex.export import FORMATS, ExportResult, export, parse_formats
 from spectex.export._output import MANIFEST
 from spectex.texture import SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -35,8 +33,8 @@ def snapshot(folder: Path) -> dict:
     return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
-def test_formats_are_the_five_targets():
-    assert FORMATS == ("web", "glsl", "godot", "materialx", "hlsl")
+def test_formats_are_the_six_targets():
+    assert FORMATS == ("web", "glsl", "godot", "materialx", "hlsl", "blender")
 
 
 @pytest.mark.parametrize("value, expected", [

@@ -210,14 +210,14 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name):
 
 
 def test_coarse_copies_refuses_bad_input():
-    photo = _photo("gravel")[:128, :128]
+    photo = _photo("gravel")[:256, :256]
     view = np.random.default_rng(0).random((128, 128)).astype(np.float32)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view, photo, zoom=0.5)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view[:50], photo, zoom=8)
-    with pytest.raises(ValueError):
-        metrics.coarse_copies(view, photo[:64], zoom=8)
+    with pytest.raises(ValueError, match="at least 192x192"):
+        metrics.coarse_copies(view, photo[:128], zoom=8)
     with pytest.raises(ValueError):
         metrics.coarse_copies(view, photo, zoom=8, magnifications=())
     with pytest.raises(ValueError):
@@ -226,3 +226,69 @@ def test_coarse_copies_refuses_bad_input():
         metrics.coarse_copies(view, photo, zoom=8, magnifications=("big",))
     with pytest.raises(ValueError):  # no magnification fits this view
         metrics.coarse_copies(view, photo, zoom=1, magnifications=(256,))
+
+
+# --------------------------------------------------------------------------
+# In compare (library and command line) and the fit report
+# --------------------------------------------------------------------------
+
+def test_compare_carries_the_structural_measures():
+    photo = _photo("gravel")
+    r = metrics.compare(photo[:, 256:], reference=photo[:, :256])
+    assert r.structure.ratio == pytest.approx(metrics.structural_distance(photo[:, 256:], photo[:, :256]).ratio)
+    assert r.clipping.within and r.coarse is None
+    d = r.as_dict()
+    assert d["structure"]["ratio"] == r.structure.ratio and d["clipping"]["within"] is True
+    # too small or flat a reference: no floor, no structure (and no error)
+    assert metrics.compare(photo[:64, :64], reference=photo[:40, :40]).structure is None
+    assert metrics.compare(photo[:64, :64], reference=np.full((64, 64), 0.5)).structure is None
+    with pytest.raises(ValueError, match="zoom"):
+        metrics.compare(photo, reference=photo, zoom=0.5)
+
+
+def test_cli_compare_prints_structure_clipping_and_copies(tmp_path, capsys):
+    import json
+
+    from PIL import Image
+
+    from spectex.cli import main
+
+    photo = skimage_data.brick()
+    Image.fromarray(photo).save(tmp_path / "photo.png")
+    Image.fromarray(photo[:, 256:]).save(tmp_path / "half.png")
+    # a zoomed-out view holding the photo magnified 16 times (2 in the view)
+    view = 0.6 * _down(_mosaic(_photo("brick"), np.random.default_rng(4), side=1024), 8).repeat(2, 0).repeat(2, 1) \
+        + 0.4 * ndimage.zoom(_photo("brick"), 2.0, order=1)[256:512, 256:512]
+    np.save(tmp_path / "view.npy", view.astype(np.float32))
+    assert main(["compare", str(tmp_path / "half.png"), "--reference", str(tmp_path / "photo.png")]) == 0
+    text = capsys.readouterr().out
+    assert "structural distance" in text and "x the reference's own floor" in text and "clipped values" in text
+    assert "magnified copies" not in text  # only with --zoom
+    assert main(["compare", str(tmp_path / "view.npy"), "--reference", str(tmp_path / "photo.png"),
+                 "--zoom", "8", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["coarse"]["within"] is False and data["coarse"]["zoom"] == 8.0
+    assert main(["compare", str(tmp_path / "view.npy"), "--reference", str(tmp_path / "photo.png"),
+                 "--zoom", "0.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--zoom" in err[0]
+
+
+@pytest.mark.slow
+def test_fit_report_sees_a_magnified_coarse_layer():
+    """The fit report's structural measures on two hand-made textures of one photo tile: the tile
+    alone (the photo repeated: at the floor, no copies, no clipping) and the tile with a coarse
+    layer 16 times larger at half opacity (the photo magnified: flagged by ``coarse``)."""
+    from spectex.fitting import fit_report
+    from spectex.texture import Layer, SpectralTexture
+
+    photo = _photo("gravel")
+    tile = np.dstack([np.repeat(photo[:, :, None], 3, axis=2), np.ones((512, 512), np.float32)])
+    alone = SpectralTexture(tile, [Layer(size=512.0)])
+    report = fit_report(alone, photo, pixel_size=1.0)
+    assert report.structure.ratio < 1.2 and report.structure_far.ratio < 1.2
+    assert report.clipping.within and report.coarse.within, report.coarse
+    magnified = SpectralTexture(tile, [Layer(size=512.0), Layer(size=8192.0, rotation=40.0, opacity=0.5)])
+    bad = fit_report(magnified, photo, pixel_size=1.0)
+    assert not bad.coarse.within and bad.coarse.value > report.coarse.value + 0.1, (bad.coarse, report.coarse)
+    assert fit_report(alone, photo, pixel_size=1.0, coarse_zoom=None).coarse is None

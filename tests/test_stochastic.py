@@ -9,8 +9,18 @@ from scipy.special import ndtr
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
 from spectex.shading.constants import SHARP_LOD, WEIGHT_SQUARINGS
-from spectex.shading.stochastic import (GAUSS_SCALE, LUT_SIZE, StochasticTables, decorrelation, gaussianize, layer_key,
-                                lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix)
+from spectex.shading.stochastic import (
+    GAUSS_SCALE,
+    LUT_SIZE,
+    StochasticTables,
+    decorrelation,
+    gaussianize,
+    layer_key,
+    lowbias32,
+    sample_stochastic,
+    stochastic_tables,
+    triangle_grid_matrix,
+)
 from spectex.tiles import make_tile
 
 
@@ -63,7 +73,6 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
     mix = np.clip(lam - SHARP_LOD, 0.0, 1.0)
     verts = [(vi, vj, w ** power / total + mix * (w - w ** power / total)) for vi, vj, w in verts]
     d1 = np.minimum(np.floor(lam).astype(np.int64), q)
-    d2 = np.minimum(d1 + 1, q)
     beta = (lam - d1)[..., None]
     acc = 0.0
     norm = 0.0

@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from ._validate import DEPRECATED, check_choice, check_float, check_int, check_rng
+from ._validate import check_choice, check_float, check_int, check_rng
 from .fitting import (
     FIT_TILINGS,
     MAX_ANALYSIS_SIZE,
@@ -238,8 +238,7 @@ class _TwoTiles(_Problem):
 
 
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
-             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None,
-             seed=DEPRECATED) -> FitResult:
+             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
     from .metrics import band_power
     from .shading.constants import DEFAULT_PATCH
@@ -253,7 +252,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
                                                                exclusive_minimum=True)
     iterations = AUTO_ITERATIONS if iterations is None else check_int("iterations", iterations, minimum=1,
                                                                       maximum=50)
-    rng = check_rng(rng, seed=seed, where="fit_result")
+    rng = check_rng(rng)
     tiling = check_choice("tiling", tiling, FIT_TILINGS)
     patch = DEFAULT_PATCH if patch is None else check_float("patch", patch, minimum=0.0, exclusive_minimum=True,
                                                              maximum=4.0)

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._results import DictAccess
+from ._results import AsDict
 from ._validate import check_float, check_image, check_int
 
 #: Orientations of the steerable pyramid.
@@ -198,34 +198,25 @@ def _standard(reference: np.ndarray) -> _Standard:
     return _Standard(float(y.mean()), sd, tuple(float(c.mean()) for c in chroma), colour)
 
 
-def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
-    """The statistics of one analysis window, by group (1-D float64 arrays)."""
-    y, chroma = _opponent(window)
-    y = (y - std.mean) / std.sd
-    groups = {g: [] for g in GROUPS}
-
-    # marginals of the pixels: mean, log sd, skewness, log kurtosis, 1 % and 99 % quantiles
+def _pixel_and_lowpass(y: np.ndarray, levels: int, groups: dict) -> None:
+    """Marginals of the pixels (mean, log sd, skewness, log kurtosis, 1 % and 99 % quantiles) and of
+    the low-pass image at each coarser scale (skewness, log kurtosis); the low-pass images'
+    autocorrelations."""
     m, sd, sk, ku = _moments(y)
     q01, q99 = np.quantile(y, [0.01, 0.99])
     groups["marginal"] += [m, _log_sd(sd), sk, np.log(ku), q01, q99]
-
-    bands, highpass, lowpass = _pyramid(y, levels)
-    groups["energy"].append(_log_sd(float(highpass.std())))
-
-    # low-pass images at each scale: skewness and kurtosis (marginal), autocorrelation, energy
     low = y
-    lows = [low]
-    for s in range(levels):
+    groups["lowpass_autocorrelation"].append(_acf(low))
+    for _ in range(levels):
         low = _half_down(low)
-        lows.append(low)
-    for s, low in enumerate(lows):
         _, _, lsk, lku = _moments(low)
-        if s > 0:
-            groups["marginal"] += [lsk, np.log(lku)]
+        groups["marginal"] += [lsk, np.log(lku)]
         groups["lowpass_autocorrelation"].append(_acf(low))
-    groups["energy"].append(_log_sd(float(lowpass.std())))
 
-    mags = [[np.abs(b) for b in scale] for scale in bands]
+
+def _band_statistics(bands, mags, levels: int, groups: dict) -> None:
+    """Each scale's band marginals, energies, magnitude autocorrelations and cross-orientation
+    correlations; each pair of neighbouring scales' cross-scale magnitude and phase correlations."""
     zmags = [[_z(m_) for m_ in scale] for scale in mags]
     for s in range(levels):
         # the bands' own marginals (orientations pooled): log kurtosis of the real parts and the
@@ -237,9 +228,7 @@ def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
         for o in range(ORIENTATIONS):
             groups["energy"].append(_log_sd(float(np.sqrt(np.mean(mags[s][o] ** 2)))))
             groups["magnitude_autocorrelation"].append(_acf(mags[s][o]))
-        for o in range(ORIENTATIONS):
-            for p in range(o + 1, ORIENTATIONS):
-                groups["cross_orientation"].append(_corr(zmags[s][o], zmags[s][p]))
+            groups["cross_orientation"] += [_corr(zmags[s][o], zmags[s][p]) for p in range(o + 1, ORIENTATIONS)]
     for s in range(levels - 1):
         zreal = [_z(b.real) for b in bands[s]]
         for p in range(ORIENTATIONS):
@@ -251,24 +240,41 @@ def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
                 groups["cross_scale_magnitude"].append(_corr(zmags[s][o], zamp))
                 groups["cross_scale_phase"] += [_corr(zreal[o], zdr), _corr(zreal[o], zdi)]
 
+
+def _colour_statistics(y, chroma, mags, std: _Standard, levels: int, groups: dict) -> None:
+    """Chroma marginals, luma-chroma correlations at each scale, luma-chroma band magnitude
+    correlations at each scale."""
+    cs = [(c - cm) / std.sd for c, cm in zip(chroma, std.chroma_mean)]
+    for c in cs:
+        cm_, csd, csk, cku = _moments(c)
+        groups["colour"] += [cm_, _log_sd(csd)]
+        groups["colour"] += [csk, np.log(cku)] if csd >= _CHROMA_MIN else [0.0, np.log(3.0)]
+    chans = [y, *cs]
+    for s in range(levels + 1):
+        groups["colour"] += [_corr(chans[0], chans[1]), _corr(chans[0], chans[2]), _corr(chans[1], chans[2])]
+        if s < levels:
+            chans = [_half_down(c) for c in chans]
+    # band structure shared by luma and chroma: magnitudes per scale (orientations pooled)
+    for c in cs:
+        cb, _, _ = _pyramid(c, levels)
+        for s in range(levels):
+            cmag = np.concatenate([np.abs(b).ravel() for b in cb[s]])
+            ymag = np.concatenate([m_.ravel() for m_ in mags[s]])
+            groups["colour"].append(_corr(_z(ymag), _z(cmag)))
+
+
+def _window_statistics(window: np.ndarray, std: _Standard, levels: int) -> dict:
+    """The statistics of one analysis window, by group (1-D float64 arrays)."""
+    y, chroma = _opponent(window)
+    y = (y - std.mean) / std.sd
+    groups = {g: [] for g in GROUPS}
+    _pixel_and_lowpass(y, levels, groups)
+    bands, highpass, lowpass = _pyramid(y, levels)
+    mags = [[np.abs(b) for b in scale] for scale in bands]
+    groups["energy"] += [_log_sd(float(highpass.std())), _log_sd(float(lowpass.std()))]
+    _band_statistics(bands, mags, levels, groups)
     if std.colour and chroma is not None:
-        cs = [(c - cm) / std.sd for c, cm in zip(chroma, std.chroma_mean)]
-        for c in cs:
-            cm_, csd, csk, cku = _moments(c)
-            groups["colour"] += [cm_, _log_sd(csd)]
-            groups["colour"] += [csk, np.log(cku)] if csd >= _CHROMA_MIN else [0.0, np.log(3.0)]
-        chans = [y] + cs
-        for s in range(levels + 1):
-            groups["colour"] += [_corr(chans[0], chans[1]), _corr(chans[0], chans[2]), _corr(chans[1], chans[2])]
-            if s < levels:
-                chans = [_half_down(c) for c in chans]
-        # band structure shared by luma and chroma: magnitudes per scale (orientations pooled)
-        for c in cs:
-            cb, _, _ = _pyramid(c, levels)
-            for s in range(levels):
-                cmag = np.concatenate([np.abs(b).ravel() for b in cb[s]])
-                ymag = np.concatenate([m_.ravel() for m_ in mags[s]])
-                groups["colour"].append(_corr(_z(ymag), _z(cmag)))
+        _colour_statistics(y, chroma, mags, std, levels, groups)
     return {g: np.concatenate([np.atleast_1d(np.asarray(v, dtype=np.float64)) for v in vals])
             if vals else np.zeros(0) for g, vals in groups.items()}
 
@@ -333,7 +339,7 @@ def _common_channels(image, reference):
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class TextureStatistics(DictAccess):
+class TextureStatistics(AsDict):
     """Portilla-Simoncelli statistics of one image (:func:`texture_statistics`).
 
     Attributes
@@ -414,7 +420,7 @@ def texture_statistics(image, *, reference=None) -> TextureStatistics:
 
 
 @dataclass(frozen=True, eq=False)
-class StructuralDistance(DictAccess):
+class StructuralDistance(AsDict):
     """A structural distance of an image to a reference (:func:`structural_distance`).
 
     Attributes
@@ -578,7 +584,7 @@ def clipped_fraction(image, *, tolerance: float = 0.5 / 255.0) -> float:
 
 
 @dataclass(frozen=True, eq=False)
-class Clipping(DictAccess):
+class Clipping(AsDict):
     """Clipped values of an image against its reference (:func:`clipping`).
 
     Attributes
@@ -661,7 +667,7 @@ def _pieces(image: np.ndarray, count: int, angles: int):
     t = _TEMPLATE
     mask = _disc(t)
     h, w = image.shape
-    n = max(1, min(int(np.ceil(np.sqrt(count))), h // t, w // t))
+    n = max(1, int(np.ceil(np.sqrt(count))))  # overlapping where the image holds fewer disjoint pieces
     ys = [int(round((h - t) * (i + 0.5) / n)) for i in range(n)]
     xs = [int(round((w - t) * (j + 0.5) / n)) for j in range(n)]
     pad = int(np.ceil(t * 0.21)) + 1  # a disc of t rotated stays inside t + 2 pad
@@ -685,16 +691,16 @@ def _pieces(image: np.ndarray, count: int, angles: int):
 
 def _best_match(targets, templates, mask) -> list:
     """For each target image (one shape), the highest normalised cross-correlation of any template at
-    any place fully inside it."""
+    any place in it, wrapping around its borders (a fitted texture's tile is the photo made periodic, so
+    a piece of it may hold the photo's opposite borders side by side)."""
     h, w = targets[0].shape
-    t = mask.shape[0]
     fm = np.fft.rfft2(mask.astype(np.float64), s=(h, w))
     n = float(mask.sum())
     prepared = []
     for image in targets:
         f = np.fft.rfft2(image)
-        s1 = np.fft.irfft2(np.conj(fm) * f, s=(h, w))[: h - t + 1, : w - t + 1]
-        s2 = np.fft.irfft2(np.conj(fm) * np.fft.rfft2(image * image), s=(h, w))[: h - t + 1, : w - t + 1]
+        s1 = np.fft.irfft2(np.conj(fm) * f, s=(h, w))
+        s2 = np.fft.irfft2(np.conj(fm) * np.fft.rfft2(image * image), s=(h, w))
         var = np.maximum(s2 - s1 * s1 / n, 0.0)
         ok = var > 1e-6 * max(float(var.max()), 1e-30)
         prepared.append((f, np.where(ok, 1.0 / np.sqrt(np.maximum(var, 1e-30)), 0.0), ok))
@@ -702,7 +708,7 @@ def _best_match(targets, templates, mask) -> list:
     for tpl in templates:
         ft = np.conj(np.fft.rfft2(tpl, s=(h, w)))
         for k, (f, inv, ok) in enumerate(prepared):
-            num = np.fft.irfft2(ft * f, s=(h, w))[: h - t + 1, : w - t + 1]
+            num = np.fft.irfft2(ft * f, s=(h, w))
             best[k] = max(best[k], float(np.max(np.where(ok, num * inv, -1.0))))
     return best
 
@@ -729,8 +735,8 @@ def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, an
     is too small to hold a piece."""
     out = np.full((len(_SEARCH_SCALES), len(magnifications)), np.nan)
     for i, scale in enumerate(_SEARCH_SCALES):
-        if min(photo.shape) / scale < _TEMPLATE + 2:
-            continue
+        if min(photo.shape) / scale < 2 * _TEMPLATE:
+            continue  # too few places in the photo for a best match to mean anything
         small = _resample(photo, 1.0 / scale)
         targets = [_bandpass(small), _bandpass(_random_phase(small))]
         for j, m in enumerate(magnifications):
@@ -748,7 +754,7 @@ def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, an
 
 
 @dataclass(frozen=True, eq=False)
-class CoarseCopies(DictAccess):
+class CoarseCopies(AsDict):
     """Magnified copies of a photo found in a zoomed-out view (:func:`coarse_copies`).
 
     Attributes
@@ -761,11 +767,12 @@ class CoarseCopies(DictAccess):
         magnifications. About 0 for a view without copies; 0.3 to 0.7 for a
         copy blended with other content.
     reference : float
-        The photo's own: the same for pieces of the photo itself searched as
-        if they were the photo magnified 2 times (how self-similar across
-        scales it is).
+        The photo's own at the magnification that decides ``value``: the same
+        search on the photo repeated at its own scale and seen from as far
+        (at least 0).
     within : bool
-        ``value <= reference + tolerance``: no magnified copies.
+        ``value <= reference + tolerance`` at every magnification: no
+        magnified copies.
     tolerance : float
         The allowance over the photo's own.
     magnifications : tuple of float
@@ -787,7 +794,7 @@ class CoarseCopies(DictAccess):
 
 
 def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 32, 64, 128, 256),
-                  angles: int = 36, pieces: int = 9, tolerance: float = 0.04) -> CoarseCopies:
+                  angles: int = 36, pieces: int = 9, tolerance: float = 0.06) -> CoarseCopies:
     """Search a zoomed-out view of a texture for the photo magnified (giant copies of its stones).
 
     A texture fitted to a photo shows, far away, what the photo says about
@@ -807,10 +814,12 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     however smooth or busy it is. Magnifications whose pieces the view is
     too small to hold are skipped (nan).
 
-    The photo's own range is the same search made with pieces of the photo
-    itself as if they were the photo magnified 2 times: a texture similar
-    across scales (rock, clouds) scores higher there and may in the view;
-    gravel or bricks score low, and their magnified copies stand out.
+    The photo's own range is the same search made on the photo repeated at
+    its own scale and seen from as far (what the photo shows, and nothing
+    else, continued): a structured photo's lattice matches itself at some
+    magnifications (bricks at 16 times: about 0.07), a texture similar
+    across scales (rock) scores higher, gravel about 0; the view is judged
+    magnification by magnification against it.
 
     Parameters
     ----------
@@ -818,7 +827,7 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
         The texture rendered at ``zoom`` times the photo's pixel size (e.g.
         ``texture.bake((512, 512), pixel_size=8 * p)``), at least 96 pixels a side.
     reference : ndarray, shape (h, w) or (h, w, C)
-        The photo, at least 128 pixels a side.
+        The photo, at least 192 pixels a side.
     zoom : float
         The view's pixel size over the photo's (>= 1).
     magnifications : sequence of float
@@ -829,7 +838,7 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
         Pieces of the view matched per magnification (1 to 64).
     tolerance : float
         Allowance over the photo's own (>= 0): the scatter of the median gain
-        of views without copies is about 0.02.
+        of views without copies is about 0.02 (512-pixel photos) to 0.04 (256).
 
     Returns
     -------
@@ -840,7 +849,7 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     J. P. Lewis, "Fast normalized cross-correlation", Vision Interface 1995.
     """
     view = check_image("view", view, min_size=2 * _TEMPLATE)
-    reference = check_image("reference", reference, min_size=128)
+    reference = check_image("reference", reference, min_size=192)
     zoom = check_float("zoom", zoom, minimum=1.0)
     angles = check_int("angles", angles, minimum=1)
     pieces = check_int("pieces", pieces, minimum=1, maximum=64)
@@ -855,14 +864,18 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     p = _opponent(reference if reference.ndim == 2 else reference[:, :, :3] if reference.shape[2] >= 3
                   else reference[:, :, 0])[0]
     per = _search(v, p, zoom, mags, angles, pieces)
-    own = _search(p, p, 1.0, (2.0,), angles, pieces)[:, 0]
-    # each search scale against the photo's own at that scale; the worst excess decides
-    excess = per - own[:, None]
+    # The photo's own: the photo repeated at its own scale, seen from as far (nothing but what the
+    # photo shows, continued): a structured photo's lattice matches itself at some magnifications.
+    small = _resample(p, 1.0 / zoom)
+    reps = (-(-v.shape[0] // small.shape[0]), -(-v.shape[1] // small.shape[1]))
+    own = _search(np.tile(small, reps)[: v.shape[0], : v.shape[1]], p, zoom, mags, angles, pieces)
+    own = np.where(np.isfinite(own), np.maximum(own, 0.0), np.nan)  # below 0 is the search's scatter
+    excess = per - own
     if not np.any(np.isfinite(excess)):
         raise ValueError(f"view of {view.shape[1]}x{view.shape[0]} pixels at zoom={zoom:g} cannot show any of "
                          f"the magnifications {mags}")
     i, j = np.unravel_index(np.nanargmax(excess), excess.shape)
-    value, ref = float(per[i, j]), float(own[i])
+    value, ref = float(per[i, j]), float(own[i, j])
     return CoarseCopies(value=value, reference=ref, within=bool(value <= ref + tolerance), tolerance=tolerance,
                         magnifications=mags, per_magnification=tuple(_nanmax_columns(excess)), zoom=zoom)
 

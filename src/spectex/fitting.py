@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._results import DictAccess
-from ._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, rng_or_seed
+from ._results import AsDict
+from ._validate import check_choice, check_float, check_image, check_int, check_rng
 from .analysis import cross_scale
 from .color import luma
 
@@ -363,8 +363,7 @@ def _pick_gain(gains, values, target) -> float:
 def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
         ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
         tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-        patch: float | None = None, method: str = "auto", progress=None, return_result=DEPRECATED,
-        seed=DEPRECATED):
+        patch: float | None = None, method: str = "auto", progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     **The default, ``method="auto"``** (issue 22; ``spectex._fit_auto`` and
@@ -489,8 +488,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         Randomness of the quilting (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give
         equal textures; a Generator is used (and advanced); None draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     tiling : {"auto", "stochastic", "periodic"}
         ``"periodic"``: every layer periodic (the fit before stochastic
         layers; the texture repeats the tile). ``"stochastic"``: every layer
@@ -501,14 +499,11 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         ``DEFAULT_PATCH`` (0.5).
     progress : callable, optional
         ``progress(done, total)`` after each step.
-    return_result : bool
-        Deprecated: call :func:`fit_result` for a :class:`FitResult`
-        (texture, exemplar used, notes, parameters, time). Still taken for
-        one release, with a ``DeprecationWarning``.
 
     Returns
     -------
     SpectralTexture
+        :func:`fit_result` gives it with the numbers of the fit (a :class:`FitResult`).
 
     References
     ----------
@@ -529,21 +524,14 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     """
     kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
                   iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
-                  method=method, progress=progress, rng=rng_or_seed(rng, seed, where="fit"))
-    if return_result is not DEPRECATED:
-        import warnings
-
-        warnings.warn("fit(..., return_result=...) is deprecated and will be removed in the next release; "
-                      "fit() returns the texture, fit_result() a FitResult", DeprecationWarning, stacklevel=2)
-        if return_result:
-            return fit_result(image, **kwargs)
+                  method=method, progress=progress, rng=rng)
     return fit_result(image, **kwargs).texture
 
 
 def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
                ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
                tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-               patch: float | None = None, method: str = "auto", progress=None, seed=DEPRECATED) -> FitResult:
+               patch: float | None = None, method: str = "auto", progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -565,17 +553,17 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
         return _fit_legacy(image, pixel_size=1.0 if pixel_size is None else pixel_size, layers=layers,
                            ratio=ratio, opacity=0.2 if opacity is None else opacity,
                            iterations=3 if iterations is None else iterations, tile_size=tile_size,
-                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress, seed=seed)
+                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress)
     from ._fit_auto import fit_auto
 
     return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
                     opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
-                    tiling=tiling, patch=patch, progress=progress, seed=seed)
+                    tiling=tiling, patch=patch, progress=progress)
 
 
 def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
                 iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-                tiling: str = "auto", patch: float | None = None, progress=None, seed=DEPRECATED) -> FitResult:
+                tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
     """The fit before issue 22 (``method="legacy"``), kept only so that benchmarks can compare."""
     import time
 
@@ -587,7 +575,7 @@ def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float
     ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
-    rng = check_rng(rng, seed=seed, where="fit_result")
+    rng = check_rng(rng)
     from .shading.constants import DEFAULT_PATCH
 
     tiling = check_choice("tiling", tiling, FIT_TILINGS)
@@ -705,9 +693,8 @@ def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float
 
 
 @dataclass(frozen=True, eq=False)
-class FitReport(DictAccess):
-    """The numbers of :func:`fit_report` (it was a dict: ``report["histogram_w1"]`` still works
-    for one release, with a ``DeprecationWarning``)."""
+class FitReport(AsDict):
+    """The numbers of :func:`fit_report`."""
 
     bake_shape: tuple                  #: (H, W) of the bake compared
     band_power_distance_db: float      #: RMS over the exemplar's bands, dB
@@ -759,10 +746,11 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         exemplar-sized corner, at the photo's own place) and
         ``structure_far`` (windows spread over the whole bake), both
         :func:`spectex.metrics.structural_distance` with the exemplar's own
-        floor; ``clipping`` (:func:`spectex.metrics.clipping`); ``coarse``
+        floor (None for an exemplar without two 32 x 32 windows); ``clipping``
+        (:func:`spectex.metrics.clipping`); ``coarse``
         (:func:`spectex.metrics.coarse_copies` on a view of the texture,
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
-        without ``coarse_zoom``).
+        without ``coarse_zoom`` or for an exemplar under 192 pixels).
     """
     from .metrics import (
         band_power,
@@ -788,11 +776,14 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
     ce = cross_scale(exemplar)
     cb = cross_scale(bake, fine=ce.fine)
-    prepared = reference_statistics(exemplar, max_windows=4)
-    structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
-    structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
+    try:  # an exemplar without two 32 x 32 windows (a 512 x 40 strip) has no floor: None
+        prepared = reference_statistics(exemplar, max_windows=4)
+        structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
+        structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
+    except ValueError:
+        structure = structure_far = None
     coarse = None
-    if coarse_zoom is not None and min(h, w) >= 128:
+    if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
         view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
         try:
             coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)

@@ -142,9 +142,12 @@ def run(args) -> int | None:
 def _structure_line(numbers) -> str:
     """The structural measures of the report (issue 22), one line."""
     st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
-    line = (f"  structure {st.ratio:.2f}x the photo's own floor at its place, {far.ratio:.2f}x over 8x its area "
-            f"(about 1: as close as the photo is to itself); clipped {100 * clip.image:.1f}% of values "
-            f"(photo {100 * clip.reference:.1f}%)")
+    if st is None:
+        line = "  structure: n/a (the photo holds no two 32x32 windows)"
+    else:
+        line = (f"  structure {st.ratio:.2f}x the photo's own floor at its place, {far.ratio:.2f}x over 8x its "
+                "area (about 1: as close as the photo is to itself)")
+    line += f"; clipped {100 * clip.image:.1f}% of values (photo {100 * clip.reference:.1f}%)"
     if coarse is not None:
         line += (f"; magnified copies {'none' if coarse.within else 'FOUND'} at {coarse.zoom:g}x zoomed out "
                  f"({coarse.value:.2f}, photo's own {coarse.reference:.2f})")
