@@ -54,7 +54,7 @@ def test_render_gl_matches_cpu_blends_anisotropy_toggles(gl, blend):
     from spectex.render.gl import GLRenderer
 
     cam = VIEWS["grazing"]
-    kw = dict(anisotropy=8.0, enabled=[True, False, True, True, False])
+    kw = dict(anisotropy=8.0, enabled=[True, False, True, True, False, True])  # the last: the fine detail layer
     with GLRenderer(tex, ctx=gl) as r:
         g = r.render(cam, SIZE, **kw)
         full = r.render(cam, SIZE)
@@ -195,7 +195,7 @@ def test_render_defaults_are_alias_free_on_a_full_contrast_tile(gl):
 
 
 @pytest.mark.parametrize("blend", ["alpha", "detail", "variance"])
-def test_render_cpu_fast_path_matches_general(blend):
+def test_render_cpu_fast_path_matches_general(blend):  # each with the preset's fine detail layer
     """The fast kernel (REPEAT, square power-of-two tile, trilinear, isotropic)
     against the general sampler on random views: positions near and far
     from the origin, altitudes from 0.3 m to 3 km, any heading, pitches down
@@ -212,7 +212,7 @@ def test_render_cpu_fast_path_matches_general(blend):
         cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
                      yaw=rng.uniform(0.0, 360.0), pitch=rng.uniform(-90.0, 5.0), fov=rng.uniform(20.0, 90.0))
         n = 1 + k % 2
-        tables = pack(tex, enabled=rng.random(5) < 0.8 if k >= 3 else None)
+        tables = pack(tex, enabled=rng.random(len(tex.layers)) < 0.8 if k >= 3 else None)
         view = view_params(cam, (24, 40), supersample=n)
         anchor = tex.anchor_coords(*cam.position[:2])
         fast = np.empty((24, 40, 3), np.float32)

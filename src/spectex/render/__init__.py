@@ -25,7 +25,7 @@ __all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
 DEFAULT_ANISOTROPY = 8.0
 
 
-def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED, **kwargs):
+def render(texture, camera, shape=DEPRECATED, *, backend="auto", haze=None, size=DEPRECATED, **kwargs):
     """Render ``texture`` seen by ``camera``: ``(H, W, 3)`` float32.
 
     ``shape`` is the picture's ``(height, width)`` in pixels (``size=``, the
@@ -34,8 +34,18 @@ def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED
     made, else the CPU). Returns ``(image, backend_used)``. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
+    ``haze``: the haze distance in metres, 0 for none (as an engine export
+    draws the texture): short for ``atmosphere=Atmosphere(haze_distance=haze)``
+    (with ``atmosphere`` given too, its sky colours are kept).
     """
+    from dataclasses import replace
+
     from .._validate import check_choice, renamed
+
+    if haze is not None:
+        atmosphere = kwargs.get("atmosphere")
+        kwargs["atmosphere"] = (Atmosphere(haze_distance=haze) if atmosphere is None
+                                else replace(atmosphere, haze_distance=haze))
 
     shape = _required(renamed("render", "shape", shape, "size", size), "render", "shape")
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
