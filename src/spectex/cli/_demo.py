@@ -79,7 +79,7 @@ def run(args) -> int:
 
     t0 = time.perf_counter()
     tile = make_tile(512, rng=args.seed)
-    style = dict(blend="alpha", detail=False) if args.paper else {}
+    style = {"blend": "alpha", "detail": False} if args.paper else {}
     texture = SpectralTexture.paper_preset(tile, **style)
     atmosphere = Atmosphere(haze_distance=args.haze)
     t_build = time.perf_counter() - t0
@@ -127,7 +127,7 @@ def run(args) -> int:
     report(f"spectex demo: a {len(texture.layers)}-layer spectral texture (Berger, SIGGRAPH 2003 sketch)")
     report(f"  tile: 512x512 RGBA, emboss alpha, seed {args.seed} ({t_build:.2f} s to make)")
     report(f"  layers: {sizes} (steps of x{ratio:.3f}" + (")" if args.paper else
-           f"; the last a fine detail layer), variance-preserving blend (--paper: the paper's alpha blend)"))
+           "; the last a fine detail layer), variance-preserving blend (--paper: the paper's alpha blend)"))
     coarsest = max(layer.size for layer in texture.layers) / 1000
     report(f"  virtual texture: {texture.virtual_size} x {texture.virtual_size} texels, "
            f"{texture.texel_size * 100:.2f} cm per texel over {coarsest:g} x {coarsest:g} km")

@@ -165,12 +165,12 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280), haze=
         glfw.make_context_current(window)
         glfw.swap_interval(0)
         ctx = moderngl.create_context(require=330)
-        _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay)
+        _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay, haze)
     finally:
         glfw.terminate()
 
 
-def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
+def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay, haze=None):
     state = {"drag": None, "scroll": 0.0, "keys": []}
 
     def on_scroll(_win, _dx, dy):
