@@ -45,7 +45,7 @@ def test_stochastic_gl_matches_cpu_mixed_anisotropy_toggles(gl):
     from spectex.render.gl import GLRenderer
 
     cam = VIEWS["grazing"]
-    kw = dict(anisotropy=8.0, enabled=[True, True, False, True, True])
+    kw = dict(anisotropy=8.0, enabled=[True, True, False, True, True, True])
     with GLRenderer(tex, ctx=gl) as r:
         g = r.render(cam, SIZE, **kw)
         full = r.render(cam, SIZE)
@@ -66,7 +66,7 @@ def test_gl_constants_and_uniforms_draw_the_same(gl):
     layers = [Layer(**{**lay.__dict__, "tiling": "periodic"}) if k == 2 else lay for k, lay in enumerate(base.layers)]
     tex = SpectralTexture(base.tiles, layers)
     cam = VIEWS["grazing"]
-    kw = dict(anisotropy=4.0, enabled=[True, True, True, False, True])
+    kw = dict(anisotropy=4.0, enabled=[True, True, True, False, True, True])
     with GLRenderer(tex, ctx=gl) as a, GLRenderer(tex, ctx=gl, constants=False) as b:
         ga = a.render(cam, SIZE, **kw)
         gb = b.render(cam, SIZE, **kw)
@@ -167,7 +167,7 @@ def test_render_cpu_fast_path_matches_general_stochastic(blend):
         cam = Camera((rng.uniform(-1e5, 1e5), rng.uniform(-1e5, 1e5), 10 ** rng.uniform(-0.5, 3.5)),
                      yaw=rng.uniform(0.0, 360.0), pitch=rng.uniform(-90.0, 5.0), fov=rng.uniform(20.0, 90.0))
         n = 1 + k % 2
-        tables = pack(tex, enabled=rng.random(5) < 0.8 if k >= 3 else None)
+        tables = pack(tex, enabled=rng.random(len(tex.layers)) < 0.8 if k >= 3 else None)
         view = view_params(cam, (24, 40), supersample=n)
         anchor = tex.anchor_coords(*cam.position[:2])
         fast = np.empty((24, 40, 3), np.float32)

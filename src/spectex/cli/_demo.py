@@ -128,12 +128,18 @@ def run(args) -> int:
     report(f"  tile: 512x512 RGBA, emboss alpha, seed {args.seed} ({t_build:.2f} s to make)")
     report(f"  layers: {sizes} (steps of x{ratio:.3f}" + (")" if args.paper else
            "; the last a fine detail layer), variance-preserving blend (--paper: the paper's alpha blend)"))
-    coarsest = max(layer.size for layer in texture.layers) / 1000
-    report(f"  virtual texture: {texture.virtual_size} x {texture.virtual_size} texels, "
-           f"{texture.texel_size * 100:.2f} cm per texel over {coarsest:g} x {coarsest:g} km")
+    # the virtual texture of the paper's five layers; the fine layer adds texels under the feet only
+    spectral = [layer.size for layer in texture.layers if layer.blend != "fine"]
+    texel = min(spectral) / texture.tile_shape[1]
+    virtual = int(round(max(spectral) / texel))
+    as_image = virtual ** 2 * 3
+    fine = [layer.size for layer in texture.layers if layer.blend == "fine"]
+    report(f"  virtual texture: {virtual} x {virtual} texels, {texel * 100:.2f} cm per texel over "
+           f"{max(spectral) / 1000:g} x {max(spectral) / 1000:g} km"
+           + (f" (and {fine[0] / texture.tile_shape[1] * 1000:.2f} mm texels under the feet)" if fine else ""))
     report(f"  memory: {texture.nbytes / 2**20:.2f} MiB ({texture.nbytes_mipmapped / 2**20:.2f} MiB with mip-maps) "
-           f"against {texture.nbytes_as_image / 2**30:.1f} GiB as one RGB image "
-           f"(1 : {texture.nbytes_as_image / texture.nbytes_mipmapped:,.0f})")
+           f"against {as_image / 2**30:.1f} GiB as one RGB image "
+           f"(1 : {as_image / texture.nbytes_mipmapped:,.0f})")
     haze = f"haze {args.haze:g} m" if args.haze else "no haze"
     report(f"  renderer: {device}; trilinear mip-mapping and anisotropic filtering, {len(texture.layers)} layers "
            f"in one pass, sky and {haze}")

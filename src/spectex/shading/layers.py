@@ -135,13 +135,14 @@ def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
 
 
 @_jit_inline
-def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
+def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy, fade_bias):
     """The spectral texture's colour at a ground point, any sampler state.
 
     ``(dx, dy)``: world displacement (metres) from the anchor whose per-layer
     tile coordinates are ``anchor``; ``(jxx, jyx)`` and ``(jxy, jyy)``: the
-    world derivatives of the point along the screen's x and y.
-    Returns RGB clamped to [0, 1] (black if no layer is drawn).
+    world derivatives of the point along the screen's x and y (of one
+    sample); ``fade_bias``: ``log2`` of the samples per pixel along a side,
+    so that the fine blend fades by the pixel's footprint. Returns RGB clamped to [0, 1] (black if no layer is drawn).
     """
     cr = 0.0
     cg = 0.0
@@ -157,7 +158,7 @@ def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
         dtdy = mats[k, 1, 0] * jxy + mats[k, 1, 1] * jyy
         r, g, b, a = sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy)
         if T.blend[k] == BLEND_FINE:
-            a = a * fade(fade_lod(T.widths[0], T.heights[0], dsdx, dtdx, dsdy, dtdy))
+            a = a * fade(fade_lod(T.widths[0], T.heights[0], dsdx, dtdx, dsdy, dtdy) + fade_bias)
         cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a * T.opacity[k], T.mean[k, 0], T.mean[k, 1],
                            T.mean[k, 2])
     return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)
@@ -310,11 +311,12 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
 
 @_jit_inline
 def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off, anchor,
-              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic):
+              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic, fade_bias):
     """Section 6 on ``m`` samples of a row (the fast path): world points
     ``(px, py)`` relative to the anchor, world lambda ``lamw`` (between
     ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
-    (not clamped); ``lr .. la`` are float32 scratch. ``stochastic`` is
+    (not clamped); ``lr .. la`` are float32 scratch; ``fade_bias`` as in
+    :func:`shade_ground`. ``stochastic`` is
     ``(tiling, gflat, grid, key, lut, lut_rows, basis, origin)`` (one tuple:
     CPython passes a call of more than 30 arguments as ``*args``, which
     numba cannot inline): stochastic layers (``tiling``) read the Gaussian
@@ -364,7 +366,7 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
             mr = mean[k, 0]
             mg = mean[k, 1]
             mb = mean[k, 2]
-            off_k = lod_off[k]
+            off_k = lod_off[k] + fade_bias
             for x in range(m):
                 a = la[x] * op * fade(lamw[x] + off_k)
                 nn = variance_norm(a)

@@ -22,6 +22,8 @@ uniform vec3 u_horizon;
 uniform vec3 u_zenith;
 uniform float u_haze;         // haze distance (m)
 uniform float u_far;          // beyond this distance: horizon colour, no texture
+uniform float u_fade_bias;    // log2 of the supersampling factor (0 unless supersampled): the fine
+                              // blend fades by the pixel's footprint, not the sample's
 
 uniform sampler2D u_tile[N_TILES];
 uniform vec2 u_tex_size;      // level-0 width, height in texels
@@ -65,7 +67,7 @@ void shade_layer(int k, int blend, SPX_TEX_ARG(tile), inout vec3 c, vec2 p, vec2
     vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso);
     float lam = (blend == SPX_BLEND_FINE) ? spectex_fade_lod(dx, dy, u_tex_size) : 0.0;
 #endif
-    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam);
+    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 }
 
 #if STOCHASTIC
@@ -91,7 +93,7 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
     float lam = (blend == SPX_BLEND_FINE)
         ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), u_tex_size) : 0.0;
 #endif
-    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam);
+    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 }
 #endif
 
