@@ -80,7 +80,7 @@ def main(argv=None):
           f"{platform.python_version()}")
     renderers = {}
     try:
-        for label, (tex, atm) in styles.items():
+        for label, (tex, _atm) in styles.items():
             renderers[label] = GLRenderer(tex)
         print("GL:", next(iter(renderers.values())).ctx.info["GL_RENDERER"])
         print(f"{'':44s}" + "".join(f"{k:>20s}" for k in targets))
@@ -115,7 +115,7 @@ def main(argv=None):
         shape = (1080, 1920)
         best = {label: np.inf for label in styles}
         for _ in range(args.repeats):  # interleaved, so that both see the same load
-            for label, (tex, atm) in styles.items():
+            for label, (_tex, atm) in styles.items():
                 t = renderers[label].time_frames(cam, shape, args.frames, anisotropy=an, atmosphere=atm)
                 best[label] = min(best[label], t)
         a, b = best.values()

@@ -4,6 +4,7 @@ turn them back into the paper's picture."""
 
 import numpy as np
 import pytest
+from helpers import psnr
 
 from spectex.metrics import local_contrast, mean_chroma, mean_gradient
 from spectex.render import Atmosphere, Camera
@@ -67,14 +68,10 @@ def test_demo_views_are_alias_free_at_the_defaults(gl, demo_tile):
             ref = render_cpu(tex, cam, shape, filter="linear", supersample=8)
             cpu = render_cpu(tex, cam, shape, anisotropy=an)
             g = r.render(cam, shape, anisotropy=an)
-            assert _psnr(cpu, ref) >= 38.0 and _psnr(g, ref) >= 38.0, (name, _psnr(cpu, ref), _psnr(g, ref))
-            assert _psnr(g, cpu) >= 40.0, (name, _psnr(g, cpu))
+            assert psnr(cpu, ref) >= 38.0 and psnr(g, ref) >= 38.0, (name, psnr(cpu, ref), psnr(g, ref))
+            assert psnr(g, cpu) >= 40.0, (name, psnr(g, cpu))
             if name == "ground":
-                assert _psnr(render_cpu(tex, cam, shape, filter="linear"), ref) < _psnr(cpu, ref) - 3.0
-
-
-def _psnr(image, reference):
-    return float(10.0 * np.log10(1.0 / np.mean((np.asarray(image, np.float64) - reference) ** 2)))
+                assert psnr(render_cpu(tex, cam, shape, filter="linear"), ref) < psnr(cpu, ref) - 3.0
 
 
 def test_paper_preset_gives_the_paper_when_asked(demo_tile):

@@ -42,8 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import (DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape,
-                        check_tile_shape)
+from ._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape, check_tile_shape
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_placement"]
@@ -260,7 +259,7 @@ class SpectralTexture:
     # ------------------------------------------------------------------ presets
     @classmethod
     def paper_preset(cls, tile=None, *, rng=0, blend="variance", opacity=0.65, tile_size=512, bits=8,
-                     tiling="periodic", patch=DEFAULT_PATCH, detail=True, seed=DEPRECATED):
+                     tiling="periodic", patch=DEFAULT_PATCH, detail=True):
         """The five-layer texture of the paper's Figure 1, with contrast that survives the layers.
 
         ``paper_preset(tile, blend="alpha", detail=False)`` is the paper's own
@@ -284,8 +283,7 @@ class SpectralTexture:
         rng : int, numpy.random.Generator or None
             Randomness of the default tile (as :func:`spectex.tiles.make_tile`
             takes it; unused when ``tile`` is given): the same int gives the
-            same texture. ``seed=``, the old name, still works for one
-            release with a ``DeprecationWarning``.
+            same texture.
         blend : {"alpha", "detail", "variance"}
             The blend of layers 2..5: ``"variance"`` (the default) keeps the
             tile's contrast through the layers (Heitz and Neyret's
@@ -318,7 +316,7 @@ class SpectralTexture:
             texture under the feet at 1 m, gone from about 10 m on, before
             its repetition could be seen or its texels alias.
         """
-        rng = check_rng(rng, seed=seed, where="paper_preset")
+        rng = check_rng(rng)
         blend = check_choice("blend", blend, BLENDS)
         tiling = check_choice("tiling", tiling, TILINGS)
         opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0)

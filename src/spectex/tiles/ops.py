@@ -35,7 +35,8 @@ def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
 
 def _gradient_numpy(h, cx, cy, g):
     """:func:`_gradient_kernel` in NumPy (small images: no numba kernel to load)."""
-    g[...] = cx * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1)) + cy * (np.roll(h, 1, axis=0) - np.roll(h, -1, axis=0))
+    g[...] = (cx * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1))
+              + cy * (np.roll(h, 1, axis=0) - np.roll(h, -1, axis=0)))
 
 
 def fit_range(values) -> np.ndarray:
