@@ -4,8 +4,8 @@ turn them back into the paper's picture."""
 
 import numpy as np
 import pytest
-from helpers import psnr
 
+from helpers import psnr
 from spectex.metrics import local_contrast, mean_chroma, mean_gradient
 from spectex.render import Atmosphere, Camera
 from spectex.render.cpu import render_cpu
