@@ -181,7 +181,7 @@ def test_godot_holds_the_library_text_tiles_and_script(exported):
     assert script.count("\t[") == len(texture.layers)
     assert "fposmod" in script and "spectex_anchor" in script
     readme = (folder / "godot" / "README.md").read_text()
-    assert "Lossless" in readme and "Fix Alpha Border: off" in readme
+    assert "Lossless" in readme and "Fix Alpha Border: off" in readme and "Compress To: Disabled" in readme
 
 
 # ------------------------------------ the engine shaders' arithmetic, drawn by llvmpipe on a ground mesh

@@ -333,7 +333,9 @@ Written by `spectex export`: `spectex_ground.gdshader` (a spatial shader),
 2. Import the tile(s) losslessly, so that the alpha (each layer's blend weight)
    survives: select {tiles}, Import dock: *Compress > Mode: Lossless*,
    *Mipmaps > Generate: on*, *Process > Fix Alpha Border: off* (it changes the
-   colour of transparent texels), *Process > Premult Alpha: off*, then *Reimport*.
+   colour of transparent texels), *Process > Premult Alpha: off*, *Detect 3D >
+   Compress To: Disabled* (otherwise Godot switches a texture used in 3D to VRAM
+   compression, which damages the alpha), then *Reimport*.
 3. Add a `MeshInstance3D` with a large `PlaneMesh` (e.g. 20 km, a few
    subdivisions) at height 0; *Geometry > Material Override: New ShaderMaterial*,
    shader `spectex_ground.gdshader`; set {', '.join(f'`spectex_tile{i}`' for i in range(len(tile_names)))}

@@ -213,7 +213,13 @@ def _readme(texture, tile_names) -> str:
     if has_stochastic(texture):
         inputs += [f"Gauss{i}" for i in range(len(tile_names))] + ["Lut"]
     call = ", ".join(f"{name}, {name}Sampler" for name in inputs)
-    ports = ", ".join(f"`Tile{i}` (Bare Texture2D), `Tile{i}Sampler` (SamplerState)" for i in range(len(tile_names)))
+    ports = ", ".join(f"`{name}` (Bare Texture2D), `{name}Sampler` (Bare SamplerState)" for name in inputs)
+    extra = ("" if not has_stochastic(texture) else
+             "\n   Stochastic layers also take their Gaussianised levels (`Gauss0`, ...) and the\n"
+             "   look-up table (`Lut`) with their samplers: load them as *Stochastic layers*\n"
+             "   below says and set them as Texture 2D properties too.")
+    lut_sampler = ("" if not has_stochastic(texture) else
+                   " for the tiles and the Gaussianised levels, and one with\n   Filter: Point, Wrap: Clamp for `Lut`")
     return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
 
 Written by `spectex export`: `spectex_ground.hlsl` and {tiles}.
@@ -228,12 +234,14 @@ The include defines `{ENTRY_POINT}(Ground, Tile0, Tile0Sampler, ..., out Color, 
    *Compression: None*, *Generate Mip Maps: on*, *Wrap Mode: Repeat*,
    *Filter Mode: Trilinear*.
 2. Add a *Custom Function* node: *Type: File*, *Source: spectex_ground.hlsl*,
-   *Name: SpectexGround*. Inputs: `Ground` (Vector 2), {ports}; outputs:
-   `Color` (Vector 3), `Linear` (Vector 3).
+   *Name: SpectexGround*, and in the Graph Inspector's node settings
+   *Precision: Single* (Shader Graph calls `SpectexGround_float`; the include
+   has no `_half` version). Inputs, in this order: `Ground` (Vector 2), {ports};
+   outputs: `Color` (Vector 3), `Linear` (Vector 3).{extra}
 3. `Ground`: *Position* node (World) into a *Swizzle* `xz` (Unity: x east,
    z north; times metres per unit if a unit is not a metre). Texture inputs:
-   the tile(s) as Texture 2D properties; samplers: a *Sampler State* node
-   (Linear, Repeat).
+   Texture 2D properties; sampler inputs: a *Sampler State* node (Filter:
+   Trilinear, Wrap: Repeat){lut_sampler}.
 4. `Linear` into *Base Color* (in a linear-colour-space project; `Color` in a
    gamma one).
 
