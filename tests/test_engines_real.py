@@ -88,7 +88,7 @@ def cpu_reference(texture, cam, shape=SIZE, *, anisotropy=8.0):
     from spectex.render import Atmosphere
     from spectex.render.cpu import render_cpu
 
-    return render_cpu(texture, cam, shape, anisotropy=anisotropy, atmosphere=Atmosphere(haze_distance=1e9))
+    return render_cpu(texture, cam, shape, anisotropy=anisotropy, atmosphere=Atmosphere(haze_distance=0))
 
 
 def psnr(image, reference) -> float:
@@ -490,7 +490,7 @@ const scene = new THREE.Scene();
 {blocks[1] if stochastic else ""}
 update({x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r});
 // haze off: the frame uniforms' last argument, the haze distance
-const off = spectexFrameUniforms(table, {x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r}, {w}, {h}, 1e9);
+const off = spectexFrameUniforms(table, {x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r}, {w}, {h}, 0);
 uniforms.u_haze.value = off.u_haze; uniforms.u_far.value = off.u_far;
 renderer.render(scene, new THREE.Camera());
 document.title = "ready";
@@ -622,7 +622,7 @@ def test_blender_renders_spectex_picture(blender_exports, tmp_path, name, view):
     texture, folder = blender_exports[name]
     cam = camera(view)
     image, printed = render_blender(folder, cam, tmp_path)
-    reference = render_cpu(texture, cam, SIZE, anisotropy=8.0, supersample=4, atmosphere=Atmosphere(haze_distance=1e9))
+    reference = render_cpu(texture, cam, SIZE, anisotropy=8.0, supersample=4, atmosphere=Atmosphere(haze_distance=0))
     save_pair(f"blender_{name}_{view}", image, reference)
     score = psnr(image, reference)
     assert score >= BLENDER_MIN_DB[name, view], score
@@ -655,7 +655,7 @@ def test_blender_says_what_it_draws_for_stochastic_layers(blender_exports, tmp_p
     from spectex.render import Atmosphere
     from spectex.render.cpu import render_cpu
 
-    as_drawn = render_cpu(periodic, cam, SIZE, anisotropy=8.0, supersample=4, atmosphere=Atmosphere(haze_distance=1e9))
+    as_drawn = render_cpu(periodic, cam, SIZE, anisotropy=8.0, supersample=4, atmosphere=Atmosphere(haze_distance=0))
     assert psnr(image, as_drawn) >= 40.0
     assert psnr(image, cpu_reference(texture, cam)) < psnr(image, as_drawn) - 5.0
 

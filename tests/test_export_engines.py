@@ -298,7 +298,7 @@ def ground_psnr(texture, camera, rgba) -> float:
 
     drawn = rgba[..., 3] > 0
     assert drawn.mean() > 0.99  # the views look down: the quad fills the picture
-    reference = render_cpu(texture, camera, rgba.shape[:2], anisotropy=8.0, atmosphere=Atmosphere(haze_distance=1e9))
+    reference = render_cpu(texture, camera, rgba.shape[:2], anisotropy=8.0, atmosphere=Atmosphere(haze_distance=0))
     mse = float(np.mean((rgba[..., :3][drawn] / 255.0 - reference[drawn]) ** 2))
     return 10 * np.log10(1 / mse)
 

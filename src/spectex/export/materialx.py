@@ -170,6 +170,10 @@ def materialx_document(texture, tile_files) -> str:
             xc = g.node("multiply", "color3", f"layer{k}_modulate", in1=x, in2=colour)
             colour = g.node("multiply", "color3", f"layer{k}_detail", in1=xc, in2=("float", "2"))
         else:  # variance: c = mu + (a (x - mu) + (1 - a)(c - mu)) / sqrt(a^2 + (1 - a)^2)
+            if layer.blend == "fine":
+                g.comment(f"layer {k} is a fine (detail) layer: spectex fades its alpha out with the pixel's "
+                          "footprint, which standard nodes cannot see; here it is the variance blend at full "
+                          "alpha, so it stays at every distance (the renderer's mip-maps still filter it).")
             mu = _vec(means[layer.tile])
             dx = g.node("subtract", "color3", f"layer{k}_x_dev", in1=x, in2=("color3", mu))
             dc = g.node("subtract", "color3", f"layer{k}_c_dev", in1=colour, in2=("color3", mu))

@@ -14,7 +14,7 @@ from ._defaults import DEFAULT_ANISOTROPY
 __all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
 
 
-def render(texture, camera, shape, *, backend="auto", **kwargs):
+def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs):
     """Render ``texture`` seen by ``camera``: ``(H, W, 3)`` float32.
 
     ``shape`` is the picture's ``(height, width)`` in pixels.
@@ -22,9 +22,18 @@ def render(texture, camera, shape, *, backend="auto", **kwargs):
     made, else the CPU). Returns ``(image, backend_used)``. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
+    ``haze``: the haze distance in metres, 0 for none (as an engine export
+    draws the texture): short for ``atmosphere=Atmosphere(haze_distance=haze)``
+    (with ``atmosphere`` given too, its sky colours are kept).
     """
+    from dataclasses import replace
+
     from .._validate import check_choice
 
+    if haze is not None:
+        atmosphere = kwargs.get("atmosphere")
+        kwargs["atmosphere"] = (Atmosphere(haze_distance=haze) if atmosphere is None
+                                else replace(atmosphere, haze_distance=haze))
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
     if backend in ("auto", "gl"):
         from .gl import GLRenderer, GLUnavailable
