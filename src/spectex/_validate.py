@@ -48,6 +48,20 @@ def check_float(name: str, value, *, minimum=None, maximum=None,
     return value
 
 
+#: The world lengths the library takes (metres): a micrometre to a million kilometres. Layer sizes and
+#: pixel sizes outside it are not physical, and their reciprocals leave float32 (all-black bakes).
+MIN_LENGTH = 1e-6
+MAX_LENGTH = 1e9
+
+
+def check_length(name: str, value) -> float:
+    """Return ``value``, a world length in metres within [:data:`MIN_LENGTH`, :data:`MAX_LENGTH`]."""
+    value = check_float(name, value)
+    if not MIN_LENGTH <= value <= MAX_LENGTH:
+        raise ValueError(f"{name} must be between {MIN_LENGTH:g} and {MAX_LENGTH:g} metres, got {value:g}")
+    return value
+
+
 def check_choice(name: str, value, choices) -> str:
     """Return ``value`` if it is one of ``choices``, or raise naming ``name``."""
     if not isinstance(value, str) or value not in choices:

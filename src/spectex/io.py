@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._limits import limit
 from ._output import atomic_path, check_input_file, note_input, plan_output
 from ._validate import check_choice, check_float, check_int
 
@@ -38,7 +39,7 @@ ARRAY_SUFFIXES = (".npy",)
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 #: Most pixels an image file may have to be read (16384 x 8192; 2 GiB as float32 RGBA).
 #: Pillow's own limit (``PIL.Image.MAX_IMAGE_PIXELS``) is set to it while a file is opened.
-MAX_IMAGE_PIXELS = 1 << 27
+MAX_IMAGE_PIXELS = limit("IMAGE_PIXELS", 1 << 27)
 
 
 def check_output_path(name: str, path, suffixes, *, inputs=()) -> Path:
@@ -171,7 +172,8 @@ def _png_bit_depth(path: Path) -> int | None:
 def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
     if width * height > MAX_IMAGE_PIXELS:
         raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
-                         f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS)")
+                         f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS; "
+                         "set SPECTEX_MAX_IMAGE_PIXELS to raise it)")
 
 
 def _read_npy(path: Path, name: str) -> np.ndarray:
@@ -237,7 +239,7 @@ def _open_pil(path: Path, name: str):
         found = re.search(r"\((\d+) pixels\)", str(exc))
         count = f"{found.group(1)} pixels" if found else "more pixels"
         raise ValueError(f"{name} '{path}' has {count}, over the limit of {MAX_IMAGE_PIXELS} pixels "
-                         "(spectex.io.MAX_IMAGE_PIXELS)") from None
+                         "(spectex.io.MAX_IMAGE_PIXELS; set SPECTEX_MAX_IMAGE_PIXELS to raise it)") from None
     finally:
         Image.MAX_IMAGE_PIXELS = saved
     try:

@@ -37,6 +37,8 @@ def register(subparsers) -> None:
                    help="dask.distributed scheduler address, tcp://HOST:PORT (default: threads on this machine)")
     p.add_argument("--workers", type=_common.positive_int, default=None,
                    help="threads on this machine (default: all cores); not with --scheduler")
+    p.add_argument("--connect-timeout", type=_common.positive_float, default=10.0, metavar="SECONDS",
+                   help="how long to wait for --scheduler to answer (default: 10)")
     p.set_defaults(func=run)
 
 
@@ -70,11 +72,14 @@ def run(args) -> int:
     if not Path(args.texture).is_file():
         raise UsageError(f"texture file not found: '{args.texture}'")
     check_inputs_apart(args.texture, args.output)
+    if _common.given(args, "connect_timeout") and args.scheduler is None:
+        _common.refuse(args, ["connect_timeout"], "without --scheduler")
     h, w = args.size
     with _common.Progress("baking") as progress:
         result = bake_zarr(args.texture, args.output, (h, w), pixel_size=args.pixel_size, origin=args.origin,
                            levels=args.levels, chunk=args.chunk, shard=args.shard, dtype=args.dtype,
-                           scheduler=args.scheduler, workers=args.workers, progress=progress)
+                           scheduler=args.scheduler, workers=args.workers, progress=progress,
+                           connect_timeout=args.connect_timeout)
     lh, lw = result.shapes[-1]
     if result.baked == 0:
         _common.report(f"{result.path} is complete already ({len(result.shapes)} levels, {w}x{h} to {lw}x{lh}); "
