@@ -185,7 +185,11 @@ def _read_npy(path: Path, name: str) -> np.ndarray:
             shape, _, dtype = reader(fh)
     except Exception as exc:
         raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
-    if len(shape) not in (2, 3) or not np.issubdtype(dtype, np.number):
+    if np.issubdtype(dtype, np.complexfloating):
+        raise ValueError(f"{name} must hold real numbers, got the complex dtype {dtype} in '{path}'")
+    if np.issubdtype(dtype, np.signedinteger):
+        raise ValueError(f"{name} must hold unsigned integers or floats, got dtype {dtype} in '{path}'")
+    if len(shape) not in (2, 3) or not (np.issubdtype(dtype, np.number) or dtype == np.bool_):
         raise ValueError(f"{name} must hold a 2-D or 3-D numeric array, got shape {shape} and dtype {dtype} "
                          f"in '{path}'")
     _check_pixels(name, path, shape[1], shape[0])
@@ -195,6 +199,8 @@ def _read_npy(path: Path, name: str) -> np.ndarray:
         arr = np.load(path, allow_pickle=False)
     except Exception as exc:
         raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
+    if np.issubdtype(arr.dtype, np.unsignedinteger):  # like a PNG of that depth: scaled by the dtype's top
+        return (arr.astype(np.float32) / np.float32(np.iinfo(arr.dtype).max)).astype(np.float32)
     return arr.astype(np.float32)
 
 

@@ -239,3 +239,25 @@ class Steps:
                 self._bar.stop()
                 self._bar = None
         return False
+
+
+def add_normalize(parser) -> None:
+    """The ``--normalize`` option of the commands that read a photo or exemplar (fit, synth, tile, compare)."""
+    parser.add_argument("--normalize", action="store_true",
+                        help="map a float image's minimum..maximum to 0..1 (without it, float images "
+                             "(.npy, float TIFF) outside [0, 1] are refused)")
+
+
+def read_unit_image(args, path, name: str):
+    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
+    from spectex._validate import check_unit_range, normalize_image
+    from spectex.io import read_image
+
+    import numpy as np
+
+    image = read_image(path, name=name)
+    if not np.all(np.isfinite(image)):
+        raise ValueError(f"{name} must hold finite values, got NaN or infinity")
+    if getattr(args, "normalize", False):
+        return normalize_image(image)
+    return check_unit_range(name, image, remedy="--normalize maps its minimum..maximum to 0..1")

@@ -27,6 +27,7 @@ def register(subparsers) -> None:
                    help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="with --block: quilt overlap, for the seam energy (default: 0)")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
+    _common.add_normalize(p)
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
                    help="also write the reference and IMAGE side by side, labelled, to this image")
     p.set_defaults(func=run)
@@ -73,7 +74,7 @@ def run(args) -> int | None:
 
     from spectex import metrics
     from spectex.figures import montage
-    from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
+    from spectex.io import IMAGE_SUFFIXES, check_output_path, write_image
 
     if args.block is None:
         _common.refuse(args, ["overlap"], "without --block (only to the seam energy of a quilt)")
@@ -84,8 +85,8 @@ def run(args) -> int | None:
     from spectex._validate import check_image
 
     # errors name IMAGE or the reference, not the metric's argument
-    image = check_image("IMAGE", read_image(image_path, name="IMAGE"))
-    reference = check_image("--reference", read_image(reference_path, name="--reference"))
+    image = check_image("IMAGE", _common.read_unit_image(args, image_path, "IMAGE"))
+    reference = check_image("--reference", _common.read_unit_image(args, reference_path, "--reference"))
     image, reference = _as_common_channels(image, reference)
     result = metrics.compare(image, reference=reference, block=args.block, overlap=args.overlap)
     if args.json:  # strict JSON: NaN and infinity (flat images) become null

@@ -35,6 +35,7 @@ def register(subparsers) -> None:
     p.add_argument("--opacity", type=_common.positive_float, default=0.2,
                    help="opacity of the first coarse layer (default: 0.2)")
     p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    _common.add_normalize(p)
     p.set_defaults(func=run)
 
 
@@ -75,8 +76,6 @@ def run(args) -> int | None:
 
     from spectex._output import OutputSet
     from spectex.fitting import fit_result, prepare_exemplar
-    from spectex.io import read_image
-
     start = time.perf_counter()
     if not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
@@ -85,7 +84,7 @@ def run(args) -> int | None:
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
-    photo = read_image(args.exemplar, name="EXEMPLAR")
+    photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
     exemplar, notes = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,

@@ -397,7 +397,7 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
        "Synthesis of bidirectional texture functions on arbitrary surfaces",
        SIGGRAPH 2002 (k-coherence).
     """
-    ex = check_image("exemplar", exemplar)
+    ex = check_image("exemplar", exemplar, unit=True)
     out_h, out_w = check_shape("shape", shape)
     window = check_int("window", window, minimum=3)
     if window % 2 == 0:

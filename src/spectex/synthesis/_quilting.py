@@ -203,7 +203,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
 
     from ._cut import place_block
 
-    ex = check_image("exemplar", exemplar)
+    ex = check_image("exemplar", exemplar, unit=True)
     out_h, out_w = check_shape("shape", shape)
     block = check_int("block", block, minimum=2)
     if overlap is None:
