@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["limit", "hint"]
+__all__ = ["limit", "hint", "SYNTH_EXEMPLAR_PIXELS", "SYNTH_WORK", "check_exemplar_pixels", "check_work"]
 
 
 def limit(name: str, default: int) -> int:
@@ -34,3 +34,30 @@ def limit(name: str, default: int) -> int:
 def hint(name: str) -> str:
     """The words that tell a user how to raise the limit ``name``."""
     return f"set SPECTEX_MAX_{name} to raise it"
+
+
+#: Most pixels of an exemplar for quilting and Efros-Leung (their search grows with it): 2048 x 2048.
+SYNTH_EXEMPLAR_PIXELS = limit("SYNTH_EXEMPLAR_PIXELS", 1 << 22)
+#: Most estimated operations of one Efros-Leung synthesis (pixels x candidates x window x channels):
+#: about two minutes on one core of an AMD EPYC Zen 4 (measured 0.5 to 1.2 G operations per second).
+SYNTH_WORK = limit("SYNTH_WORK", 10 ** 11)
+
+
+def check_exemplar_pixels(name: str, shape, method: str) -> None:
+    """Refuse an exemplar over :data:`SYNTH_EXEMPLAR_PIXELS` pixels for ``method``."""
+    from . import _limits
+
+    h, w = int(shape[0]), int(shape[1])
+    if h * w > _limits.SYNTH_EXEMPLAR_PIXELS:
+        raise ValueError(f"{name} of {w}x{h} = {h * w} pixels is over the limit of {_limits.SYNTH_EXEMPLAR_PIXELS} "
+                         f"pixels for {method} (SPECTEX_MAX_SYNTH_EXEMPLAR_PIXELS; set it to raise the limit, "
+                         "or crop or shrink the exemplar)")
+
+
+def check_work(what: str, work: float, remedy: str) -> None:
+    """Refuse a synthesis whose estimated operations ``work`` are over :data:`SYNTH_WORK`."""
+    from . import _limits
+
+    if work > _limits.SYNTH_WORK:
+        raise ValueError(f"{what} is about {work:.2g} operations, over the limit of {_limits.SYNTH_WORK:.2g} "
+                         f"(SPECTEX_MAX_SYNTH_WORK; set it to raise the limit, or {remedy})")

@@ -21,6 +21,7 @@ pixels before decoding them (decompression bombs are small on disk).
 
 from __future__ import annotations
 
+import contextvars
 import re
 import warnings
 from pathlib import Path
@@ -169,11 +170,19 @@ def _png_bit_depth(path: Path) -> int | None:
     return None
 
 
+#: A tighter limit than MAX_IMAGE_PIXELS for the read in progress: (pixels, "where it comes from"), or None.
+_READ_LIMIT = contextvars.ContextVar("spectex_read_limit", default=None)
+
+
 def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
     if width * height > MAX_IMAGE_PIXELS:
         raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
                          f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS; "
                          "set SPECTEX_MAX_IMAGE_PIXELS to raise it)")
+    tighter = _READ_LIMIT.get()
+    if tighter is not None and width * height > tighter[0]:
+        raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
+                         f"{tighter[0]} pixels {tighter[1]}")
 
 
 def _read_npy(path: Path, name: str) -> np.ndarray:
@@ -256,7 +265,7 @@ def _open_pil(path: Path, name: str):
     return im
 
 
-def read_image(path, *, name: str = "image") -> np.ndarray:
+def read_image(path, *, name: str = "image", max_pixels=None) -> np.ndarray:
     """Read an image file as float32 in [0, 1].
 
     Conversions, all documented and lossless where the format allows:
@@ -269,7 +278,9 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
     * ``.npy`` files are loaded as they are (float32), and must be 2-D or 3-D.
 
     Images over :data:`MAX_IMAGE_PIXELS` pixels are refused from their header,
-    before anything is decoded.
+    before anything is decoded; ``max_pixels``, a pair ``(pixels, words)``,
+    sets a tighter limit for this read (a synthesis exemplar), its refusal
+    ending with ``words`` (where the limit comes from).
 
     Raises
     ------
@@ -277,6 +288,12 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
         If the file is missing, not a regular file, too large, unreadable or
         not an image; the message names ``name`` and the path.
     """
+    if max_pixels is not None:  # (pixels, why): refused from the header, before decoding
+        token = _READ_LIMIT.set(tuple(max_pixels))
+        try:
+            return read_image(path, name=name)
+        finally:
+            _READ_LIMIT.reset(token)
     path = check_input_file(name, path)
     note_input(path)
     if path.suffix.lower() == ".npy":

@@ -248,14 +248,14 @@ def add_normalize(parser) -> None:
                              "(.npy, float TIFF) outside [0, 1] are refused)")
 
 
-def read_unit_image(args, path, name: str):
+def read_unit_image(args, path, name: str, *, max_pixels=None):
     """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
     from spectex._validate import check_unit_range, normalize_image
     from spectex.io import read_image
 
     import numpy as np
 
-    image = read_image(path, name=name)
+    image = read_image(path, name=name, max_pixels=max_pixels)
     if not np.all(np.isfinite(image)):
         raise ValueError(f"{name} must hold finite values, got NaN or infinity")
     if getattr(args, "normalize", False):

@@ -63,7 +63,12 @@ def run(args) -> int | None:
     if args.match is not None and args.method != "histogram":
         raise ValueError(f"--match works with --method histogram, got --method {args.method}")
     _refuse_unused(args)
-    exemplar = _common.read_unit_image(args, args.exemplar, "exemplar")
+    from spectex._limits import SYNTH_EXEMPLAR_PIXELS
+
+    tighter = None if args.method == "histogram" else (
+        SYNTH_EXEMPLAR_PIXELS, f"for {args.method} (SPECTEX_MAX_SYNTH_EXEMPLAR_PIXELS; set it to raise the limit, "
+                               "or crop or shrink the exemplar)")
+    exemplar = _common.read_unit_image(args, args.exemplar, "exemplar", max_pixels=tighter)
     joint = args.colours == "joint"
     if args.match is not None:
         image = _common.read_unit_image(args, args.match, "match image")
