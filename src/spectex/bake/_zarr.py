@@ -271,6 +271,12 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
         with _Lock(path):
             return _bake_locked(texture, path, params, text, shapes, sizes, (ox, oy), p, chunk, shard, dtype,
                                 client, workers, progress)
+    except OSError as exc:
+        if exc.filename is not None and not str(exc.filename).startswith(str(path)):
+            raise
+        # zarr's writes fail without a file name: name the store, and say that a rerun finishes it
+        raise OSError(exc.errno, f"store '{path}' could not be written: {exc.strerror or exc}; run the "
+                                 "same bake again to finish it") from None
     finally:
         if client is not None:
             client.close()
@@ -520,8 +526,8 @@ class _Lock:
             pass
         me = {"pid": os.getpid(), "host": socket.gethostname()}
         part = path / f"{LOCK}.{os.getpid()}.part"
-        part.write_text(json.dumps(me), encoding="utf-8")
         try:
+            part.write_text(json.dumps(me), encoding="utf-8")
             for _ in range(3):
                 try:
                     os.link(part, self.lock)
@@ -536,6 +542,7 @@ class _Lock:
                 self.lock.unlink(missing_ok=True)  # a stale lock: its process is gone
             raise ValueError(f"path '{path}': cannot take the lock file '{self.lock}' (other bakes keep taking it)")
         except BaseException:
+            part.unlink(missing_ok=True)
             self._remove_made()
             raise
         finally:
