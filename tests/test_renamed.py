@@ -34,7 +34,7 @@ CALLS = {
     "filter_passes": (lambda **kw: spectral.filter_passes(**kw), "kernel", "filter", "tent"),
     "discrete_filter": (lambda **kw: spectral.discrete_filter(factor=3, **kw)[0], "kernel", "filter", "tent"),
     "render_cpu": (lambda **kw: render_cpu(_TEXTURE, _CAMERA, anisotropy=1, **kw), "shape", "size", (12, 16)),
-    "render": (lambda **kw: render(_TEXTURE, _CAMERA, backend="cpu", anisotropy=1, **kw)[0], "shape", "size",
+    "render": (lambda **kw: render(_TEXTURE, _CAMERA, backend="cpu", anisotropy=1, **kw).image, "shape", "size",
                (12, 16)),
 }
 

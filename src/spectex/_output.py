@@ -200,6 +200,12 @@ def _check_not_input(name: str, dest, path, inputs) -> None:
                          "choose another output name (spectex never writes over an input)")
 
 
+def _short(text: str, limit: int = 64) -> str:
+    """``text`` cut to at most ``limit`` bytes of UTF-8: a temporary name stays legal for a 255-byte output name."""
+    data = os.fsencode(text)
+    return text if len(data) <= limit else os.fsdecode(data[:limit].decode("utf-8", "ignore").encode())
+
+
 def _probe_writable(name: str, folder: Path, path) -> None:
     """Create and remove a file in ``folder``: the only sure test of writability."""
     try:
@@ -359,7 +365,8 @@ def atomic_path(path, *, name: str = "output", inputs=()):
     try:
         try:
             with _signals_held():  # the clean-up below knows the name as soon as the file exists
-                fd, tmp = tempfile.mkstemp(prefix=f".{dest.stem}.", suffix=TEMP_MARK + dest.suffix, dir=folder)
+                fd, tmp = tempfile.mkstemp(prefix=f".{_short(dest.stem)}.", suffix=TEMP_MARK + _short(dest.suffix),
+                                           dir=folder)
                 os.close(fd)
         except OSError as exc:
             raise ValueError(f"{name} {_show(path)} cannot be written: its folder {_show(folder)} is not "
@@ -410,7 +417,7 @@ def _make_stage(where: Path, prefix: str, name: str, path) -> Path:
     stage = None
     try:
         with _signals_held():  # no interrupt between making the stage and remembering it
-            stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
+            stage = Path(tempfile.mkdtemp(prefix=_short(prefix), suffix=TEMP_MARK, dir=where))
     except OSError as exc:
         raise ValueError(f"{name} {_show(path)} cannot be written: {exc.strerror or exc}") from None
     except BaseException:  # a signal held back above, delivered as they are let through again
@@ -696,7 +703,8 @@ class OutputFolder:
         old = None
         with _signals_held():  # never left half-swapped
             if os.path.lexists(self.path):
-                old = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".old" + TEMP_MARK, dir=self.parent))
+                old = Path(tempfile.mkdtemp(prefix=f".{_short(self.path.name)}.", suffix=".old" + TEMP_MARK,
+                                            dir=self.parent))
                 os.replace(self.path, old / "previous")
             try:
                 os.replace(stage, self.path)

@@ -44,6 +44,18 @@ def nonneg_int(text: str) -> int:
     return value
 
 
+#: The largest --seed (numpy's seeds go further, but the library takes a non-negative int64).
+MAX_SEED = 2 ** 63 - 1
+
+
+def seed(text: str) -> int:
+    """A ``--seed``: a whole number from 0 to :data:`MAX_SEED` (the CLI's word for the library's ``rng``)."""
+    value = nonneg_int(text)
+    if value > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_SEED}, got {text}")
+    return value
+
+
 def finite_float(text: str) -> float:
     try:
         value = float(text)

@@ -32,7 +32,7 @@ def register(subparsers) -> None:
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
     p.add_argument("--out", dest="output", type=_common.output_name, default=argparse.SUPPRESS,
                    help=argparse.SUPPRESS)  # the old name, deprecated: one line on stderr says so
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed of the tile (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed of the tile (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL if a context can be made, else the CPU)")
     p.set_defaults(func=run)
@@ -93,7 +93,7 @@ def run(args) -> int:
             if renderer is not None:
                 images[name] = renderer.render(cam, DEMO_SIZE, anisotropy=aniso)
             else:
-                images[name], _ = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso)
+                images[name] = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso).image
             times[name] = time.perf_counter() - t
     finally:
         if renderer is not None:

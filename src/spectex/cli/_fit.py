@@ -34,7 +34,7 @@ def register(subparsers) -> None:
                    help="size ratio between neighbouring layers (default: 4)")
     p.add_argument("--opacity", type=_common.positive_float, default=0.2,
                    help="opacity of the first coarse layer (default: 0.2)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     _common.add_normalize(p)
     p.set_defaults(func=run)
 

@@ -42,7 +42,7 @@ def register(subparsers) -> None:
     p.add_argument("--tileable", action="store_true",
                    help="efros-leung and quilting: make the output tile seamlessly (histogram output, "
                         "white noise, always does)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     _common.add_normalize(p)
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,

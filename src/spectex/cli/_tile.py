@@ -38,7 +38,7 @@ def register(subparsers) -> None:
                         "photograph's own)")
     p.add_argument("--size", type=_common.size, default=None, metavar="N|WxH",
                    help="tile size (default: 512; with --from: the whole photograph)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     p.add_argument("--from", dest="source", default=None, metavar="EXEMPLAR",
                    help="make this photograph tileable instead of making noise")
     p.add_argument("--seam", choices=("matched", "moisan"), default="matched",

@@ -8,10 +8,14 @@ follow ``docs/sampling.md``. Nothing heavy is imported here.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import numpy as np
+
 from .._validate import DEPRECATED
 from ..shading.camera import Atmosphere, Camera, check_size
 
-__all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
+__all__ = ["Camera", "Atmosphere", "check_size", "render", "RenderResult", "DEFAULT_ANISOTROPY"]
 
 #: The renderers' default maximum anisotropy (EXT_texture_filter_anisotropic's
 #: ``N`` samples along the footprint's major axis, at most this many). Chosen
@@ -25,13 +29,38 @@ __all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
 DEFAULT_ANISOTROPY = 8.0
 
 
-def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED, **kwargs):
-    """Render ``texture`` seen by ``camera``: ``(H, W, 3)`` float32.
+@dataclass(frozen=True, eq=False)
+class RenderResult:
+    """What :func:`render` drew.
+
+    Attributes
+    ----------
+    image : ndarray of float32, shape (H, W, 3)
+        The picture, RGB in [0, 1], row 0 at the top.
+    backend : {"gl", "cpu"}
+        The renderer that drew it.
+
+    Unpacking (``image, backend = render(...)``), the old tuple return, still
+    works for one release.
+    """
+
+    image: np.ndarray
+    backend: str
+
+    def __iter__(self):
+        return iter((self.image, self.backend))
+
+    def __getitem__(self, index):
+        return (self.image, self.backend)[index]
+
+
+def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED, **kwargs) -> RenderResult:
+    """Render ``texture`` seen by ``camera``: a :class:`RenderResult` (``image``, ``backend``).
 
     ``shape`` is the picture's ``(height, width)`` in pixels (``size=``, the
     old name, still works for one release with a ``DeprecationWarning``).
     ``backend``: ``"gl"``, ``"cpu"`` or ``"auto"`` (GL when a context can be
-    made, else the CPU). Returns ``(image, backend_used)``. The other
+    made, else the CPU). Returns a :class:`RenderResult`. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
     """
@@ -44,13 +73,13 @@ def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED
 
         try:
             with GLRenderer(texture) as renderer:
-                return renderer.render(camera, shape, **kwargs), "gl"
+                return RenderResult(renderer.render(camera, shape, **kwargs), "gl")
         except GLUnavailable:
             if backend == "gl":
                 raise
     from .cpu import render_cpu
 
-    return render_cpu(texture, camera, shape, **kwargs), "cpu"
+    return RenderResult(render_cpu(texture, camera, shape, **kwargs), "cpu")
 
 
 def _required(value, where: str, name: str):
