@@ -186,6 +186,8 @@ class Case:
     check: object = None          # f(folder, stdout) -> None, extra assertions
     unset: tuple = ()             # environment variables removed for this run
     stdout: str = "pipe"          # 'closed': no standard output at all; 'broken': its reader has gone
+    hup: str | None = None        # SIGHUP in the run: 'default' or 'ignored' (as nohup leaves it), whatever
+                                  # the test process inherited; None: inherited as it is
 
 
 def _earlier_export(folder):
@@ -367,8 +369,13 @@ CASES = [
          when="demo_prev/.spectex-stage.*", changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
     Case("demo-sigint-existing-early", ("demo", "-o", "demo_prev"), 130, signum=SIGINT, when=2.0,
          changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
+    # SIGHUP's disposition is set for the run: a suite run under nohup (SIGHUP ignored, and inherited) must
+    # test the same thing, and an ignored SIGHUP must stay ignored (the run completes, as nohup asks)
     Case("text-sighup-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 129,
-         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",)),
+         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",), hup="default"),
+    Case("text-sighup-ignored-under-nohup", ("text", "c.txt", "--length", "2000000", "-o", "prev.txt"), 0,
+         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",), hup="ignored", check=lambda f, out: (
+             (f / "prev.txt").stat().st_size >= 2000000 or pytest.fail("the run did not complete"))),
     Case("fit-sigterm-existing", ("fit", "img.png", "-o", "fit_prev"), 143, signum=SIGTERM, when=2.0,
          changes=tuple(f"fit_prev/{f}" for f in FIT_FILES)),
     Case("noise-gif-sigint-writing", ("noise", "perlin", "--size", "256", "--frames", "60", "-o", "anim.gif"),
@@ -458,6 +465,10 @@ def _run(case: Case, base: Path, work: Path) -> dict:
         env.pop(name, None)
     start = time.perf_counter()
     command = [sys.executable, "-m", "spectex", *argv]
+    if case.hup is not None:  # set SIGHUP's disposition, then become the spectex run (exec keeps it)
+        how = "SIG_DFL" if case.hup == "default" else "SIG_IGN"
+        command = [sys.executable, "-c", f"import os, signal, sys; signal.signal(signal.SIGHUP, signal.{how}); "
+                   "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])", "-m", "spectex", *argv]
     if case.stdout == "closed":
         command = ["sh", "-c", 'exec "$0" "$@" >&-', *command]
     proc = subprocess.Popen(command, cwd=folder, env=env,
@@ -541,6 +552,8 @@ def test_hostile(case, results):
         # KeyboardInterrupt by SIGINT itself (the shell convention for Ctrl-C): status -2.
         expected += (-signal.SIGINT,)
     expected += (0,) if case.signum is not None and r["sent"] is None else ()
+    if case.hup == "ignored":
+        interrupted = False  # the signal was sent, and rightly had no effect
     assert r["rc"] in expected, f"exit status {r['rc']}, stderr: {err}"
     if case.err and r["rc"] != 0:
         assert re.search(case.err, err), err
