@@ -322,20 +322,20 @@ def test_a_second_writer_is_refused_and_a_stale_lock_taken_over(texture, tmp_pat
     live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
     try:
         lock = {"pid": live.pid, "host": socket.gethostname()}
-        (out / ".spectex-lock").write_text(json.dumps(lock))
+        (out / "spectex.lock").write_text(json.dumps(lock))
         with pytest.raises(ValueError, match=f"is being baked by process {live.pid} on"):
             bake_zarr(texture, out, SHAPE, **KW)
-        assert (out / ".spectex-lock").exists()  # the other writer's lock is left alone
-        (out / ".spectex-lock").write_text(json.dumps(dict(lock, host="elsewhere")))
+        assert (out / "spectex.lock").exists()  # the other writer's lock is left alone
+        (out / "spectex.lock").write_text(json.dumps(dict(lock, host="elsewhere")))
         with pytest.raises(ValueError, match="on elsewhere"):  # another host: cannot be checked, refused
             bake_zarr(texture, out, SHAPE, **KW)
     finally:
         live.kill()
         live.wait()
     # the same process, now dead: its lock is stale and taken over
-    (out / ".spectex-lock").write_text(json.dumps(lock))
+    (out / "spectex.lock").write_text(json.dumps(lock))
     assert bake_zarr(texture, out, SHAPE, **KW).baked == 1
-    assert not (out / ".spectex-lock").exists()
+    assert not (out / "spectex.lock").exists()
     assert store_bytes(out) == whole
 
 
@@ -362,7 +362,7 @@ def test_two_bakes_at_once_one_refused_the_store_exact(texture, tmp_path):
     shards = {k: v for k, v in store_bytes(out).items() if "/c/" in k}
     assert shards == {k: v for k, v in store_bytes(reference_store).items() if "/c/" in k}
     assert json.loads((out / "zarr.json").read_text())["attributes"]["spectex"]["complete"] is True
-    assert not (out / ".spectex-lock").exists()
+    assert not (out / "spectex.lock").exists()
 
 
 def test_leftovers_of_a_killed_run_are_cleaned_by_the_next(texture, tmp_path):

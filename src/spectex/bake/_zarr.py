@@ -44,8 +44,9 @@ BATCH = 1024
 MARKERS = ".spectex-progress"
 #: File inside a finished store: each shard's size in bytes (-1: no file, an all-zero shard).
 MANIFEST = "spectex-shards.json"
-#: Lock file inside the store while a bake writes it (the owner's PID and host, JSON).
-LOCK = ".spectex-lock"
+#: Lock file inside the store while a bake writes it (the owner's PID and host, JSON); not hidden, so that
+#: a user sees that a bake is (or was, if it was killed) writing the store.
+LOCK = "spectex.lock"
 #: Network schemes of dask.distributed that reach a scheduler in another process.
 _SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 #: The attribute group of our own parameters in the root ``zarr.json``.
@@ -187,7 +188,7 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     A bake trusts nothing it finds: every shard recorded as written (by a
     marker, or in a finished store's ``spectex-shards.json``) is checked to
     be there with its recorded size, and one that is not is baked again. A
-    lock file (``.spectex-lock``: PID and host) refuses a second writer; the
+    lock file (``spectex.lock``: PID and host) refuses a second writer; the
     lock of a process that no longer runs on this host is taken over.
     """
     from .. import texture_file
@@ -525,7 +526,7 @@ class _Lock:
         except FileExistsError:
             pass
         me = {"pid": os.getpid(), "host": socket.gethostname()}
-        part = path / f"{LOCK}.{os.getpid()}.part"
+        part = path / f".{LOCK}.{os.getpid()}.part"
         try:
             part.write_text(json.dumps(me), encoding="utf-8")
             for _ in range(3):

@@ -51,11 +51,17 @@ def check_inputs_apart(texture_path, output) -> None:
 
     out = Path(output).resolve()
     inputs = [Path(texture_path).resolve()]
+    from spectex.texture_file import MAX_FILE_BYTES, _check_nesting
+
     try:
-        doc = tomllib.loads(Path(texture_path).read_text(encoding="utf-8"))
-        names = doc.get("tiles", []) if isinstance(doc, dict) else []
-        inputs += [(Path(texture_path).parent / n).resolve() for n in names if isinstance(n, str)]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        if Path(texture_path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
+            text = Path(texture_path).read_text(encoding="utf-8")
+            _check_nesting(text, texture_path)
+            doc = tomllib.loads(text)
+            names = doc.get("tiles", []) if isinstance(doc, dict) else []
+            names = names if isinstance(names, list) else []
+            inputs += [(Path(texture_path).parent / n).resolve() for n in names[:64] if isinstance(n, str)]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ValueError, RecursionError):
         pass  # the texture's own loader says what is wrong with it
     for path in inputs:
         if path == out or out in path.parents:
