@@ -454,9 +454,9 @@ CASES = [
     # SIGHUP's disposition is set for the run: a suite run under nohup (SIGHUP ignored, and inherited) must
     # test the same thing, and an ignored SIGHUP must stay ignored (the run completes, as nohup asks)
     Case("text-sighup-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 129,
-         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",), hup="default"),
+         signum=signal.SIGHUP, when=".prev.*", changes=("prev.txt",), hup="default"),
     Case("text-sighup-ignored-under-nohup", ("text", "c.txt", "--length", "2000000", "-o", "prev.txt"), 0,
-         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",), hup="ignored", check=lambda f, out: (
+         signum=signal.SIGHUP, when=".prev.*", changes=("prev.txt",), hup="ignored", check=lambda f, out: (
              (f / "prev.txt").stat().st_size >= 2000000 or pytest.fail("the run did not complete"))),
     Case("fit-sigterm-existing", ("fit", "img.png", "-o", "fit_prev"), 143, signum=SIGTERM, when=2.0,
          changes=tuple(f"fit_prev/{f}" for f in FIT_FILES)),

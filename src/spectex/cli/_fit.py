@@ -42,6 +42,9 @@ def register(subparsers) -> None:
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
 
+#: Beyond these the fit is reported as a poor match (``compare`` calls W1 <= 0.03 and <= 1.5 dB close).
+POOR_W1, POOR_BAND_DB = 0.1, 6.0
+
 _FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
 
 
@@ -117,5 +120,13 @@ def run(args) -> int | None:
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
+    misses = []
+    if w1 > POOR_W1:
+        misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
+    if not numbers.band_power_distance_db <= POOR_BAND_DB:  # NaN counts as a miss
+        misses.append(f"band power {numbers.band_power_distance_db:.2f} dB > {POOR_BAND_DB} dB")
+    if misses:  # said, not hidden behind "fitted": the files are written for a look, the match is poor
+        _common.report(f"  poor match: {'; '.join(misses)}; the texture does not reproduce this exemplar well "
+                       "(see comparison.png)")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0
