@@ -237,8 +237,9 @@ def main() -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--limit", type=int, default=None)
     parser.add_argument("--log", default=None)
+    parser.add_argument("--every", type=int, default=1, help="run every N-th case only (a sample of each kind)")
     args = parser.parse_args()
-    all_cases = cases()[: args.limit]
+    all_cases = cases()[:: args.every][: args.limit]
     with tempfile.TemporaryDirectory(prefix="spectex-fuzz-") as tmp:
         base = Path(tmp) / "base"
         base.mkdir()
@@ -246,14 +247,17 @@ def main() -> int:
         work = Path(tmp) / "work"
         work.mkdir()
         with ThreadPoolExecutor(args.workers) as pool:
-            results = list(pool.map(lambda ic: run(ic[1], base, work, ic[0]), enumerate(all_cases)))
+            results = []
+            for r in pool.map(lambda ic: run(ic[1], base, work, ic[0]), enumerate(all_cases)):
+                results.append(r)
+                if r["problems"]:  # as they come: a long trial shows what it finds early
+                    print(f"  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  {r['err']}",
+                          flush=True)
     bad = [r for r in results if r["problems"]]
     tracebacks = sum("traceback" in r["problems"] for r in results)
     slow = max((r["elapsed"] for r in results if r["rc"] == 2), default=0.0)
     print(f"{len(results)} cases: {len(results) - len(bad)} answered well ({100 * (1 - len(bad) / len(results)):.1f} %), "
           f"{tracebacks} tracebacks, slowest refusal {slow:.1f} s")
-    for r in bad:
-        print(f"  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  {r['err']}")
     if args.log:
         with open(args.log, "w") as fh:
             for r in results:
