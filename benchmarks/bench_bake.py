@@ -188,8 +188,9 @@ def main(argv=None):
         print(f"\nthroughput, {n}x{n} px, best of {args.repeats} (wall Mpx/s; CPU ns per pixel):")
         for t in threads:
             mem, zar = px / best[("in memory", t)] / 1e6, px / best[("to Zarr", t)] / 1e6
-            print(f"  {t} thread{'s' if t > 1 else ' '}: in memory {mem:6.2f} Mpx/s ({cpu[('in memory', t)] / px * 1e9:5.0f} ns/px)"
-                  f"   to Zarr {zar:6.2f} Mpx/s ({cpu[('to Zarr', t)] / px * 1e9:5.0f} ns/px)   Zarr / memory = {zar / mem:.2f}")
+            ns_mem, ns_zarr = cpu[("in memory", t)] / px * 1e9, cpu[("to Zarr", t)] / px * 1e9
+            print(f"  {t} thread{'s' if t > 1 else ' '}: in memory {mem:6.2f} Mpx/s ({ns_mem:5.0f} ns/px)"
+                  f"   to Zarr {zar:6.2f} Mpx/s ({ns_zarr:5.0f} ns/px)   Zarr / memory = {zar / mem:.2f}")
         for t in threads:
             print(f"  CPU time per pixel, in memory / to Zarr, {t} thread{'s' if t > 1 else ''}: "
                   f"{cpu[('in memory', t)] / cpu[('to Zarr', t)]:.2f} (the Zarr bake's efficiency, whatever else runs)")

@@ -34,8 +34,6 @@ import platform
 import tempfile
 import time
 
-import numpy as np
-
 
 def _cpu_wall(fn):
     t0, c0 = time.perf_counter(), time.process_time()
@@ -50,8 +48,8 @@ def main(argv=None) -> int:
 
     import skimage.data
 
-    from spectex.fitting import fit, fit_report, fit_result
     from spectex.cli import main as cli_main
+    from spectex.fitting import fit, fit_report, fit_result
     from spectex.io import write_image
     from spectex.metrics import band_power, repetition
     from spectex.texture import SpectralTexture

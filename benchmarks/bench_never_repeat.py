@@ -192,7 +192,7 @@ def main(argv=None) -> int:
             rows.append((label, tex.bake((2048, 2048)), tex.bake((1024, 1024), pixel_size=8.0), secs, tex))
         timed = {label: tex for label, _, _, _, tex in rows if tex is not None}
         frames = _gl_frames(timed, args.repeats) if gl else {}
-        for label, near, far, secs, tex in rows:
+        for label, near, far, secs, _tex in rows:
             fps = f"{1.0 / np.min(frames[label][0]):7.1f}" if label in frames else ""
             print(f"{name:<22}{label:<14}{repeat_peak(near):7.3f}{repeat_peak(far):7.3f}"
                   f"{band_power_distance(near, photo):8.2f}{_slope(band_power(far)[1]):9.2f}{photo_slope:7.2f}"

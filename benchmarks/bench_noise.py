@@ -205,7 +205,7 @@ def main(argv=None):
                     fns[("FastNoiseSIMD", t)] = None  # timed in the worker
             if FastNoiseLite is not None:
                 fns[("FastNoiseLite", 1)] = fnl(dims, octaves)
-            for k, f in fns.items():
+            for f in fns.values():
                 if f is not None:
                     f()  # warm-up (compilation, caches)
             best = {k: float("inf") for k in fns}
@@ -243,7 +243,7 @@ def main(argv=None):
           "| vs FNL | noise (loop) |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     nan = float("nan")
-    for key, (name, dims, octaves, ns) in results.items():
+    for name, dims, octaves, ns in results.values():
         for t in thread_counts:
             ours = ns[("spectex", t)]
             # FastNoiseSIMD has no 2-D genFromCoords: compare with its 3-D time.

@@ -107,7 +107,8 @@ def main(argv=None):
           f"{'(all cores; load-robust)':>36s}")
     if gl_fps:
         print(f"{'OpenGL Mpx/s':24s}{f5 * size[0] * size[1] / 1e6:14.2f}{f1 * size[0] * size[1] / 1e6:14.2f}")
-        print(f"{'OpenGL / CPU speed':24s}{f5 * size[0] * size[1] / 1e6 / c5:14.2f}x{f1 * size[0] * size[1] / 1e6 / c1:13.2f}x")
+        mpx = size[0] * size[1] / 1e6
+        print(f"{'OpenGL / CPU speed':24s}{f5 * mpx / c5:14.2f}x{f1 * mpx / c1:13.2f}x")
     return rows
 
 

@@ -41,7 +41,6 @@ import numpy as np
 from spectex import metrics
 from spectex.synthesis import efros_leung, quilt
 
-
 # ---------------------------------------------------------------------------
 # Exemplars
 # ---------------------------------------------------------------------------

@@ -69,8 +69,7 @@ def main(argv=None):
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args(argv)
 
-    from spectex.spectral import magnify, spectral_noise
-    from spectex.spectral import band_limit_planes
+    from spectex.spectral import band_limit_planes, magnify, spectral_noise
     from spectex.tiles import make_tile
 
     rows = []

@@ -99,19 +99,17 @@ def test_analysis_bad_input(call, match):
         call()
 
 
-def test_results_are_typed_and_the_old_dict_access_is_deprecated():
+def test_results_are_typed():
     from spectex.analysis import ColourStats, CrossScale, OctavePower
-    from spectex.spectral import spectral_noise
     from spectex.metrics import BandPower, band_power
+    from spectex.spectral import spectral_noise
     from spectex.spectrum import RadialSpectrum, radial_power_spectrum
 
     img = spectral_noise((128, 128), beta=2.0, rng=1)
     op = octave_power(img)
     assert isinstance(op, OctavePower)
-    with pytest.warns(DeprecationWarning, match="use its attribute .slope_db"):
-        assert op["slope_db"] == op.slope_db
-    with pytest.raises(KeyError):
-        op["nothing"]
+    with pytest.raises(TypeError, match="not subscriptable"):  # a result, not a dict
+        op["slope_db"]
     assert set(op.as_dict()) == {"bands", "power_db", "slope_db", "intercept_db"}
     assert isinstance(colour_stats(img), ColourStats) and isinstance(cross_scale(img), CrossScale)
     bands, power = bp = band_power(img)  # named tuples still unpack as the old tuples
@@ -119,13 +117,3 @@ def test_results_are_typed_and_the_old_dict_access_is_deprecated():
     freqs, p = rs = radial_power_spectrum(img)
     assert isinstance(rs, RadialSpectrum) and rs.freqs is freqs and rs.power is p
 
-
-def test_old_dict_patterns_still_work_with_a_warning():
-    op = octave_power(np.random.default_rng(0).random((64, 64)))
-    for use, expected in ((lambda: set(op), {"bands", "power_db", "slope_db", "intercept_db"}),
-                          (lambda: "slope_db" in op, True),
-                          (lambda: dict(op.items())["slope_db"], op.slope_db),
-                          (lambda: op.get("nothing", 7), 7),
-                          (lambda: sorted(op.keys()), sorted(["bands", "power_db", "slope_db", "intercept_db"]))):
-        with pytest.warns(DeprecationWarning, match="OctavePower"):
-            assert use() == expected

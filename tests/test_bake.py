@@ -5,10 +5,9 @@ import math
 import tomllib
 
 import numpy as np
-
-from spectex import texture_file
 import pytest
 
+from spectex import texture_file
 from spectex.bake import bake_window, bake_zarr, level_shapes, to_dtype
 from spectex.texture import SpectralTexture
 

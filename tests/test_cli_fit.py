@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from helpers import error_line
 from spectex.cli import main
 from spectex.io import read_image, write_image
 from spectex.texture import SpectralTexture
@@ -34,10 +35,6 @@ def _leftovers(folder):
     return [p.name for p in folder.iterdir() if p.name.startswith(".")]
 
 
-def _error_line(capsys):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1, err
-    return err[0]
 
 
 def test_cli_fit_writes_the_folder(photos, capsys):
@@ -80,18 +77,18 @@ def test_cli_fit_bad_input_leaves_nothing(photos, capsys, photo, match):
     with pytest.raises(SystemExit) if photo == "missing.png" else _nothing():
         status = main(["fit", str(photos / photo), "-o", str(out)])
         assert status == 2
-    assert match in _error_line(capsys)
+    assert match in error_line(capsys)
     assert not out.exists()
     assert _leftovers(photos) == []
 
 
 def test_cli_fit_bad_options(photos, capsys):
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "o"), "--opacity", "1.5"]) == 2
-    assert "opacity must be <= 1" in _error_line(capsys)
+    assert "opacity must be <= 1" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "gravel.png")]) == 2
-    assert "must be a folder" in _error_line(capsys)
+    assert "must be a folder" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "no" / "such")]) == 2
-    assert "does not exist" in _error_line(capsys)
+    assert "does not exist" in error_line(capsys)
     assert not (photos / "o").exists() and _leftovers(photos) == []
 
 

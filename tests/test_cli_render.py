@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from helpers import run_fails
 from spectex.cli import main
 from spectex.io import read_image
 from spectex.texture import SpectralTexture
@@ -16,19 +17,6 @@ from spectex.tiles import make_tile
 def texture_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("tex")
     return SpectralTexture.paper_preset(make_tile(64, rng=1)).save(folder / "ground.toml")
-
-
-def run_fails(argv, capsys, *outputs):
-    try:
-        code = main(argv)
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2, err
-    assert len(err) == 1 and "error" in err[0], err
-    for path in outputs:
-        assert not path.exists(), f"{path} was written"
-    return err[0]
 
 
 @pytest.fixture

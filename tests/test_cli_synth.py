@@ -7,6 +7,7 @@ import pytest
 import skimage.data
 from PIL import Image
 
+from helpers import error_line
 from spectex.cli import main
 from spectex.io import read_image, write_image
 
@@ -26,10 +27,6 @@ def folder(tmp_path):
     return tmp_path
 
 
-def _error_line(capsys):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1, err
-    return err[0]
 
 
 @pytest.mark.parametrize("method, extra", [
@@ -52,7 +49,7 @@ def test_synth_histogram_match(folder, capsys):
     out = folder / "matched.png"
     assert main(["synth", str(folder / "rgb.png"), "--method", "histogram", "--match", str(folder / "rgba.png"),
                  "--colours", "per-channel", "-o", str(out)]) == 2  # 4 channels against 3
-    assert "same number of channels" in _error_line(capsys)
+    assert "same number of channels" in error_line(capsys)
     assert not out.exists()
     noise = np.random.default_rng(0).integers(0, 256, (50, 70), dtype=np.uint8)
     Image.fromarray(noise).save(folder / "noise.png")
@@ -106,7 +103,7 @@ def test_synth_bad_input_is_one_line_exit_2_and_no_file(folder, capsys, args, me
         args += ["-o", str(folder / "x.png")]
     before = set(folder.iterdir())
     assert main(["synth", str(folder / "rgb.png"), "--size", "32x32", *args]) == 2
-    assert message in _error_line(capsys)
+    assert message in error_line(capsys)
     assert set(folder.iterdir()) == before  # no output, no temporary file
 
 
@@ -114,7 +111,7 @@ def test_synth_missing_exemplar_is_exit_2(folder, capsys):
     with pytest.raises(SystemExit) as exc:
         main(["synth", str(folder / "nope.png"), "-o", str(folder / "x.png")])
     assert exc.value.code == 2
-    assert "file not found" in _error_line(capsys)
+    assert "file not found" in error_line(capsys)
 
 
 def test_text_prints_and_writes(folder, capsys):
@@ -130,7 +127,7 @@ def test_text_prints_and_writes(folder, capsys):
 def test_text_empty_corpus_is_exit_2(folder, capsys):
     out = folder / "never.txt"
     assert main(["text", str(folder / "empty.txt"), "-o", str(out)]) == 2
-    assert "corpus is empty" in _error_line(capsys)
+    assert "corpus is empty" in error_line(capsys)
     assert not out.exists()
 
 
@@ -174,15 +171,13 @@ def test_compare_repetition_sees_a_tiled_image(folder, capsys):
     assert data["repeat_peak_reference"] < 0.1
 
 
-def test_compare_old_order_still_works_with_a_note(folder, capsys):
-    quilt = folder / "q2.png"
-    main(["synth", str(folder / "grey.png"), "--size", "96x96", "--block", "24", "-o", str(quilt)])
-    capsys.readouterr()
-    assert main(["compare", str(folder / "grey.png"), str(quilt), "--json"]) == 0
-    old = capsys.readouterr()
-    assert "deprecated" in old.err and "--reference" in old.err
-    assert main(["compare", str(quilt), "--reference", str(folder / "grey.png"), "--json"]) == 0
-    assert json.loads(old.out) == json.loads(capsys.readouterr().out)  # read as (reference, image)
+def test_compare_two_images_without_reference_are_refused(folder, capsys):
+    # Which one is the exemplar must be said (--reference): two bare images are not guessed at.
+    grey = str(folder / "grey.png")
+    assert main(["compare", grey, grey, "--json"]) == 2
+    assert "--reference" in error_line(capsys)
+    assert main(["compare", grey, "--reference", grey, "--json"]) == 0  # the control
+    assert json.loads(capsys.readouterr().out)["histogram_w1"] == [0.0]
 
 
 def test_compare_flat_images_give_strict_json(folder, capsys):
@@ -195,4 +190,4 @@ def test_compare_flat_images_give_strict_json(folder, capsys):
 def test_compare_bad_output_is_exit_2(folder, capsys):
     assert main(["compare", str(folder / "rgb.png"), "--reference", str(folder / "grey.png"),
                  "-o", str(folder / "x.txt")]) == 2
-    assert "output must end in one of" in _error_line(capsys)
+    assert "output must end in one of" in error_line(capsys)

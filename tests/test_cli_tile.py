@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from helpers import run_fails
 from spectex.cli import main
 from spectex.io import read_image
 
@@ -13,14 +14,6 @@ def run_ok(argv, capsys):
     return capsys.readouterr().out
 
 
-def run_fails(argv, capsys, *outputs):
-    code = main(argv)
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2
-    assert len(err) == 1 and "error" in err[0], err
-    for path in outputs:
-        assert not path.exists(), f"{path} was written"
-    return err[0]
 
 
 def test_tile_writes_rgba_png_and_preview(tmp_path, capsys):
@@ -55,15 +48,15 @@ def test_tile_16_bit_and_options(tmp_path, capsys):
     assert np.all(np.load(out)[:, :, 3] == 0.25)
 
 
-def test_tile_kernel_and_its_old_name(tmp_path, capsys):
-    """--kernel (octaves' magnification kernel) and --filter, its old name: the same tile, and
-    one line on standard error for the old name."""
+def test_tile_kernel(tmp_path, capsys):
+    """--kernel (octaves' magnification kernel) is used; --filter is not an option of tile."""
     new, old = tmp_path / "new.npy", tmp_path / "old.npy"
     run_ok(["tile", "--size", "32", "--method", "octaves", "--kernel", "box", "-o", str(new)], capsys)
-    assert main(["tile", "--size", "32", "--method", "octaves", "--filter", "box", "-o", str(old)]) == 0
-    err = capsys.readouterr().err
-    assert "--filter is deprecated" in err and "--kernel" in err
-    np.testing.assert_array_equal(np.load(new), np.load(old))
+    with pytest.raises(SystemExit) as refused:
+        main(["tile", "--size", "32", "--method", "octaves", "--filter", "box", "-o", str(old)])
+    assert refused.value.code == 2 and "--filter" in capsys.readouterr().err
+    assert not old.exists()
+    capsys.readouterr()
     other = tmp_path / "other.npy"
     run_ok(["tile", "--size", "32", "--method", "octaves", "-o", str(other)], capsys)  # bspline
     assert not np.array_equal(np.load(new), np.load(other))  # the kernel was used

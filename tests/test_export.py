@@ -11,13 +11,11 @@ from pathlib import Path
 import pytest
 
 import spectex.export as ex
+from helpers import make_test_tile
 from spectex.cli import main
 from spectex.export import FORMATS, ExportResult, export, parse_formats
 from spectex.export._output import MANIFEST
 from spectex.texture import SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
 
 
 @pytest.fixture(scope="module")

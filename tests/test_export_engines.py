@@ -5,20 +5,17 @@ small translation of Godot's few non-GLSL lines)."""
 from __future__ import annotations
 
 import re
-from dataclasses import replace
 import subprocess
-import sys
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
+from helpers import glslang_validator, make_test_tile
 from spectex.export import export
 from spectex.export.hlsl import ENTRY_POINT
 from spectex.shading.glsl import shader_file
 from spectex.texture import Layer, SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import glslang_validator, make_test_tile  # noqa: E402
 
 
 def textures():

@@ -4,15 +4,15 @@ alone (shaders, layer table, mip PNGs) draw spectex's picture."""
 from __future__ import annotations
 
 import json
-from dataclasses import replace
 import subprocess
-import sys
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from helpers import glslang_validator, make_test_tile, psnr
 from spectex.export import export
 from spectex.export._shader import GLSL_TARGETS
 from spectex.export.host import draw_glsl_export, texture_uniforms
@@ -20,9 +20,6 @@ from spectex.io import read_image
 from spectex.render import Camera
 from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import glslang_validator, make_test_tile  # noqa: E402
 
 SHADER_SUFFIXES = (".vert", ".frag", ".glsl")
 
@@ -144,10 +141,6 @@ def test_stochastic_controls_fail(gl):
                          {"u_key": [(v + 1) % 2 ** 32 for v in texture_uniforms(table, len(texture.tiles))["u_key"]]}):
             wrong = draw_exported(gl, texture, folder, camera, 8.0, (120, 200), override)
             assert psnr(wrong, reference) < 30.0
-
-
-def psnr(image, reference) -> float:
-    return 10 * np.log10(1 / float(np.mean((image - reference) ** 2)))
 
 
 def draw_exported(gl, texture, folder, camera, anisotropy, size, override=None):

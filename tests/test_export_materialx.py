@@ -6,7 +6,6 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from dataclasses import replace
 from pathlib import Path
@@ -14,13 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import make_test_tile
 from spectex.export import export
 from spectex.io import read_image
 from spectex.sampling import MipTexture, sample
 from spectex.texture import Layer, SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
 
 try:
     import MaterialX as mx

@@ -192,18 +192,14 @@ def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
         fit(_crop("gravel", 48), tiling="random")
 
 
-def test_fit_result_is_the_fit_and_return_result_is_deprecated():
+def test_fit_result_is_the_fit():
     img = _crop("grass", 48)
     res = fit_result(img, iterations=1)
     assert isinstance(res, FitResult) and isinstance(res.texture, SpectralTexture)
     plain = fit(img, iterations=1)
     np.testing.assert_array_equal(plain.tiles[0], res.texture.tiles[0])  # the same fit
-    with pytest.warns(DeprecationWarning, match="fit_result"):
-        old = fit(img, iterations=1, return_result=True)
-    assert isinstance(old, FitResult)
-    np.testing.assert_array_equal(old.texture.tiles[0], res.texture.tiles[0])
-    with pytest.warns(DeprecationWarning, match="return_result"):
-        assert isinstance(fit(img, iterations=1, return_result=False), SpectralTexture)
+    with pytest.raises(TypeError, match="return_result"):  # no flag changes the return type
+        fit(img, iterations=1, return_result=True)
     assert spectex.fit_result is fit_result
 
 

@@ -167,19 +167,13 @@ def test_compare_repetition_sees_a_filtered_repeat(gravel):
     assert metrics.compare(gravel, reference=gravel[:64, :64]).repeat_peak_image < 0.1
 
 
-def test_compare_old_call_is_deprecated_and_never_swapped(gravel):
+def test_compare_takes_the_reference_by_name_only(gravel):
     crop = gravel[:64, :64]
-    with pytest.warns(DeprecationWarning, match="compare\\(image, reference=reference\\)"):
-        old = metrics.compare(crop, gravel)  # the old order: reference first
-    assert old.as_dict() == metrics.compare(gravel, reference=crop).as_dict()
-    with pytest.warns(DeprecationWarning, match="attribute .exact_repetition"):
-        assert old["repetition"] == old.exact_repetition  # the old dict access
-    with pytest.raises(TypeError, match="reference by name"):
+    with pytest.raises(TypeError, match="reference"):
         metrics.compare(gravel)
-    with pytest.raises(TypeError, match="3 positional arguments"):
-        metrics.compare(gravel, crop, crop)
-    with pytest.raises(TypeError, match="2 positional arguments and reference="):
-        metrics.compare(gravel, crop, reference=crop)
+    with pytest.raises(TypeError, match="positional"):
+        metrics.compare(gravel, crop)  # never guessed which one is the reference
+    assert metrics.compare(gravel, reference=crop).verbatim_copy is not None  # the control
 
 
 def test_band_power_segments_compare_sizes_at_one_resolution():

@@ -4,24 +4,11 @@ supersampled reference, camera conventions and bad input."""
 import numpy as np
 import pytest
 
+from helpers import SIZE, VIEWS, psnr
 from spectex.render import Atmosphere, Camera, check_size
 from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture
 from spectex.tiles import make_tile
-
-SIZE = (180, 320)
-
-VIEWS = {
-    "close": Camera((3.0, 4.0, 1.5), yaw=20.0, pitch=-50.0),
-    "ground": Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=-12.0),
-    "grazing": Camera((50.0, -20.0, 1.7), yaw=100.0, pitch=-3.0),
-    "aerial": Camera((0.0, 0.0, 400.0), yaw=10.0, pitch=-35.0),
-    "high": Camera((100.0, 300.0, 2500.0), yaw=10.0, pitch=-90.0),
-}
-
-
-def psnr(a, b):
-    return float(10.0 * np.log10(1.0 / np.mean((np.asarray(a, np.float64) - b) ** 2)))
 
 
 @pytest.fixture(scope="module")

@@ -4,13 +4,12 @@ against a supersampled reference (with a control that must be worse), and what t
 import numpy as np
 import pytest
 
+from helpers import SIZE, VIEWS, psnr
 from spectex.metrics import repeat_peak
 from spectex.render import Camera
 from spectex.render.cpu import render_cpu
 from spectex.texture import Layer, SpectralTexture
 from spectex.tiles import make_tile
-
-from test_render import SIZE, VIEWS, psnr
 
 
 @pytest.fixture(scope="module")

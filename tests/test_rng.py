@@ -1,8 +1,7 @@
 """The ``rng`` keyword (issue 18; scikit-image's SPEC 7) of tiles, synthesis, spectral, fit and the preset.
 
 Every function takes ``rng`` as an int (the same int gives the same result, the
-same as the old ``seed=``), a ``numpy.random.Generator`` (used and advanced) or
-None; the old ``seed=`` still works with a ``DeprecationWarning``.
+a ``numpy.random.Generator`` (used and advanced) or None.
 """
 
 from __future__ import annotations
@@ -45,15 +44,14 @@ def _same(a, b):
 
 
 @pytest.mark.parametrize("name", sorted(CALLS))
-def test_rng_int_generator_and_the_old_seed(name):
+def test_rng_int_and_generator(name):
     call = CALLS[name]
     a = call(rng=3)
     assert _same(a, call(rng=3))                         # deterministic
     assert not _same(a, call(rng=4))                     # and the int matters (a control)
     assert _same(a, call(rng=np.random.default_rng(3)))  # a Generator: default_rng(int)'s stream
-    with pytest.warns(DeprecationWarning, match=rf"{name}\(seed=\.\.\.\) is deprecated.*rng="):
-        old = call(seed=3)
-    assert _same(a, old)                                 # the old keyword, the same result
+    with pytest.raises(TypeError, match="seed"):
+        call(seed=3)                                     # one name for randomness: rng
     gen = np.random.default_rng(3)
     first, second = call(rng=gen), call(rng=gen)
     assert _same(first, a) and not _same(second, a)      # a Generator is advanced, not copied

@@ -4,20 +4,17 @@ block bakes."""
 import ast
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import spectex
+from helpers import glslang_validator
 from spectex.shading import constants as C
 from spectex.shading import glsl, pack
 from spectex.texture import SpectralTexture
 from spectex.tiles import make_tile
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import glslang_validator  # noqa: E402
 
 SRC = Path(spectex.__file__).parent
 

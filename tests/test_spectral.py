@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from spectex.periodic import periodic_smooth_decomposition
 from spectex.spectral import (
     FILTERS,
     band_limit,
@@ -14,7 +15,6 @@ from spectex.spectral import (
     octave_sum,
     spectral_noise,
 )
-from spectex.periodic import periodic_smooth_decomposition
 from spectex.spectrum import hann_window, radial_power_spectrum, spectral_slope
 
 # Independent formulas for the continuous filters (input-texel units).

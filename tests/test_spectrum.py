@@ -70,22 +70,14 @@ def test_radial_power_spectrum_reference_values_of_main(window, total, ring3, la
     assert fit.intercept == pytest.approx(-5.576321467287088, abs=1e-10)
 
 
-def test_the_old_homes_give_the_same_functions():
-    import warnings
-
-    from spectex import metrics, spectral
+def test_spectra_and_the_decomposition_have_one_home():
+    from spectex import metrics, periodic, spectral
 
     assert metrics.band_power is spectrum.band_power  # a measure of metrics' table, estimated here
     for name in ("radial_power_spectrum", "spectral_slope", "SlopeFit", "hann_window"):
-        with pytest.warns(DeprecationWarning, match=rf"spectex\.spectrum\.{name}"):
-            assert getattr(spectral, name) is getattr(spectrum, name)
-    from spectex import periodic
-
-    with pytest.warns(DeprecationWarning, match=r"spectex\.periodic\.periodic_smooth_decomposition"):
-        assert spectral.periodic_smooth_decomposition is periodic.periodic_smooth_decomposition
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        assert spectral.spectral_noise is not None  # what stays in spectral does not warn
+        assert hasattr(spectrum, name) and not hasattr(spectral, name)
+    assert hasattr(periodic, "periodic_smooth_decomposition")
+    assert not hasattr(spectral, "periodic_smooth_decomposition")
 
 
 # --------------------------------------------------------------------------

@@ -8,8 +8,18 @@ from scipy.special import ndtr
 
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
-from spectex.shading.stochastic import (GAUSS_SCALE, LUT_SIZE, StochasticTables, decorrelation, gaussianize, layer_key,
-                                lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix)
+from spectex.shading.stochastic import (
+    GAUSS_SCALE,
+    LUT_SIZE,
+    StochasticTables,
+    decorrelation,
+    gaussianize,
+    layer_key,
+    lowbias32,
+    sample_stochastic,
+    stochastic_tables,
+    triangle_grid_matrix,
+)
 from spectex.tiles import make_tile
 
 
@@ -56,7 +66,6 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
     key = np.uint32(lowbias32(np.uint32(seed)))
     lam = np.clip(lod, 0.0, q)
     d1 = np.minimum(np.floor(lam).astype(np.int64), q)
-    d2 = np.minimum(d1 + 1, q)
     beta = (lam - d1)[..., None]
     acc = 0.0
     norm = 0.0

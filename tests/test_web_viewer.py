@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import sys
 import zlib
 from dataclasses import replace
 from pathlib import Path
@@ -27,13 +26,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import make_test_tile, psnr
 from spectex.export import export
 from spectex.export.web import viewer_data
 from spectex.render import Camera, render
 from spectex.texture import Layer, SpectralTexture
-
-sys.path.insert(0, str(Path(__file__).parent))
-from conftest import make_test_tile  # noqa: E402
 
 CHROMIUM_ARGS = ["--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
                  "--disable-background-networking", "--disable-component-update", "--no-first-run",
@@ -145,11 +142,6 @@ def screenshot(page) -> np.ndarray:
 
     img = Image.open(io.BytesIO(page.screenshot()))
     return np.asarray(img.convert("RGB"), dtype=np.float32) / np.float32(255.0)
-
-
-def psnr(image, reference) -> float:
-    mse = float(np.mean((np.asarray(image, np.float64) - np.asarray(reference, np.float64)) ** 2))
-    return float("inf") if mse == 0 else 10.0 * np.log10(1.0 / mse)
 
 
 def save_difference(name, image, reference):
@@ -450,10 +442,10 @@ def test_layer_table_is_the_textures():
 
 def write_docs_picture(path: Path) -> None:
     """The documentation's picture: the paper's texture in the viewer, overlay on."""
-    from playwright.sync_api import sync_playwright
-    from PIL import Image
-
     import tempfile
+
+    from PIL import Image
+    from playwright.sync_api import sync_playwright
 
     texture = SpectralTexture.paper_preset(rng=0)
     with tempfile.TemporaryDirectory() as tmp:

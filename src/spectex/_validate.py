@@ -79,30 +79,14 @@ def check_seed(name: str, value, *, allow_none=True):
     return check_int(name, value, minimum=0, maximum=2**63 - 1)
 
 
-class _Deprecated:
-    """The default of a deprecated keyword: tells "not given" from any value."""
-
-    def __repr__(self) -> str:
-        return "<deprecated>"
-
-
-#: Default of the old ``seed=`` keyword where ``rng=`` replaced it.
-DEPRECATED = _Deprecated()
-
-
-def check_rng(rng, *, seed=DEPRECATED, where: str, stacklevel: int = 3) -> np.random.Generator:
+def check_rng(rng) -> np.random.Generator:
     """Return a :class:`numpy.random.Generator` from ``rng`` (scikit-image's SPEC 7).
 
     ``rng`` is an int (``numpy.random.default_rng(rng)``: the same int gives
     the same result), a Generator (used as it is, and advanced), or None (fresh
-    randomness from the operating system). ``seed``, the old name of the
-    keyword, is still taken for one release with a ``DeprecationWarning``
-    attributed to the caller of the public function ``where``; given, it
-    replaces ``rng``.
+    randomness from the operating system).
     """
     name = "rng"
-    if seed is not DEPRECATED:
-        rng, name = rng_or_seed(rng, seed, where=where, stacklevel=stacklevel + 1), "seed"
     if isinstance(rng, np.random.Generator):
         return rng
     if rng is None:
@@ -110,55 +94,6 @@ def check_rng(rng, *, seed=DEPRECATED, where: str, stacklevel: int = 3) -> np.ra
     if isinstance(rng, (bool, np.bool_)) or not isinstance(rng, numbers.Integral):
         raise TypeError(f"{name} must be an int, a numpy.random.Generator or None, got {_show(rng)}")
     return np.random.default_rng(check_int(name, rng, minimum=0, maximum=2**63 - 1))
-
-
-def renamed(where: str, new: str, new_value, old: str, old_value, *, default=DEPRECATED,
-            stacklevel: int = 3):
-    """The value of a keyword renamed from ``old`` to ``new`` (issue 18).
-
-    ``old_value`` is :data:`DEPRECATED` unless the caller of the public
-    function ``where`` used the old name; then it is returned, with a
-    ``DeprecationWarning`` naming the new keyword and attributed to that
-    caller. Both names given (``new_value`` other than ``default``, the new
-    keyword's default) is refused with a ``TypeError``: the two could
-    disagree.
-    """
-    if old_value is DEPRECATED:
-        return new_value
-    if not _is_default(new_value, default):
-        raise TypeError(f"{where}() got both {new}= and its deprecated old name {old}=; pass {new}= only")
-    import warnings
-
-    warnings.warn(f"{where}({old}=...) is deprecated and will be removed in the next release; "
-                  f"use {where}({new}=...)", DeprecationWarning, stacklevel=stacklevel)
-    return old_value
-
-
-def _is_default(value, default) -> bool:
-    if value is default:
-        return True
-    if isinstance(default, _Deprecated) or type(value) is not type(default):
-        return False
-    try:
-        return bool(value == default)
-    except Exception:  # an array compared with a scalar default: not the default
-        return False
-
-
-def rng_or_seed(rng, seed, *, where: str, stacklevel: int = 3):
-    """``rng``, or ``seed`` (the old name of the keyword) with a ``DeprecationWarning``.
-
-    For a public function that hands ``rng`` on unchecked (the function it
-    calls checks it); the warning is attributed to the caller of ``where``.
-    """
-    if seed is DEPRECATED:
-        return rng
-    import warnings
-
-    warnings.warn(f"{where}(seed=...) is deprecated and will be removed in the next release; "
-                  f"use {where}(rng=...), which takes the same ints and also a numpy Generator",
-                  DeprecationWarning, stacklevel=stacklevel)
-    return seed
 
 
 def check_shape(name: str, value, *, maximum_pixels: int = 1 << 28) -> tuple[int, int]:

@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._results import DictAccess
-from ._validate import DEPRECATED, check_float, check_image, check_int, check_rng, rng_or_seed
+from ._results import AsDict
+from ._validate import check_float, check_image, check_int, check_rng
 from .analysis import cross_scale
 from .color import luma
 
@@ -359,8 +359,7 @@ def _pick_gain(gains, values, target) -> float:
 
 def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
         iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-        tiling: str = "auto", patch: float | None = None, progress=None, return_result=DEPRECATED,
-        seed=DEPRECATED):
+        tiling: str = "auto", patch: float | None = None, progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     The texture is ``layers`` layers of one seamless RGBA tile made from the
@@ -457,8 +456,7 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         Randomness of the quilting (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give
         equal textures; a Generator is used (and advanced); None draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     tiling : {"auto", "stochastic", "periodic"}
         ``"periodic"``: every layer periodic (the fit before stochastic
         layers; the texture repeats the tile). ``"stochastic"``: every layer
@@ -469,14 +467,11 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         ``DEFAULT_PATCH`` (0.5).
     progress : callable, optional
         ``progress(done, total)`` after each step.
-    return_result : bool
-        Deprecated: call :func:`fit_result` for a :class:`FitResult`
-        (texture, exemplar used, notes, parameters, time). Still taken for
-        one release, with a ``DeprecationWarning``.
 
     Returns
     -------
     SpectralTexture
+        :func:`fit_result` gives it with the numbers of the fit (a :class:`FitResult`).
 
     References
     ----------
@@ -497,20 +492,13 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     """
     kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
                   tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch, progress=progress,
-                  rng=rng_or_seed(rng, seed, where="fit"))
-    if return_result is not DEPRECATED:
-        import warnings
-
-        warnings.warn("fit(..., return_result=...) is deprecated and will be removed in the next release; "
-                      "fit() returns the texture, fit_result() a FitResult", DeprecationWarning, stacklevel=2)
-        if return_result:
-            return fit_result(image, **kwargs)
+                  rng=rng)
     return fit_result(image, **kwargs).texture
 
 
 def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
                iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-               tiling: str = "auto", patch: float | None = None, progress=None, seed=DEPRECATED) -> FitResult:
+               tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -535,7 +523,7 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
     ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
-    rng = check_rng(rng, seed=seed, where="fit_result")
+    rng = check_rng(rng)
     from ._validate import check_choice
     from .shading.constants import DEFAULT_PATCH
 
@@ -654,9 +642,8 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
 
 
 @dataclass(frozen=True, eq=False)
-class FitReport(DictAccess):
-    """The numbers of :func:`fit_report` (it was a dict: ``report["histogram_w1"]`` still works
-    for one release, with a ``DeprecationWarning``)."""
+class FitReport(AsDict):
+    """The numbers of :func:`fit_report`."""
 
     bake_shape: tuple                  #: (H, W) of the bake compared
     band_power_distance_db: float      #: RMS over the exemplar's bands, dB

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._results import DictAccess
+from ._results import AsDict
 from ._validate import check_float, check_image, check_int
 from .color import luma
 from .spectrum import BandPower, band_power  # the estimator's home is spectex.spectrum; a measure of this table
@@ -482,7 +482,7 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class Comparison(DictAccess):
+class Comparison(AsDict):
     """The measures of an image against a reference (:func:`compare`).
 
     Attributes
@@ -513,8 +513,6 @@ class Comparison(DictAccess):
         :func:`seam_energy` for the ``block`` layout, if one was given.
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
-    Indexing by the old dict keys (``result["repetition"]``, the exact
-    repetition) still works for one release, with a ``DeprecationWarning``.
     """
 
     histogram_w1: tuple
@@ -530,8 +528,6 @@ class Comparison(DictAccess):
     exact_repetition: float | None
     seam_energy: float | None = None
 
-    _renamed = {"repetition": "exact_repetition"}
-
 
 def _repeat_peak_or_none(image):
     side = min(image.shape[:2])
@@ -540,16 +536,12 @@ def _repeat_peak_or_none(image):
     return repeat_peak(image, min_lag=min(24, side // 2))
 
 
-def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -> Comparison:
+def compare(image, *, reference, block: int | None = None, overlap: int = 0) -> Comparison:
     """All the measures of ``image`` against a ``reference`` (an exemplar).
 
     Call it as ``compare(image, reference=exemplar)``: the image judged
     first, the reference named (the convention of ``docs/conventions.md``,
     with a name so that the two cannot be swapped by mistake).
-
-    The old call ``compare(reference, image)``, two positional arguments,
-    reference first, still works for one release and gives a
-    ``DeprecationWarning``; it will then be refused, not read the other way.
 
     Parameters
     ----------
@@ -565,19 +557,6 @@ def compare(*args, reference=None, block: int | None = None, overlap: int = 0) -
     Comparison
         Measures an image is too small for are ``None``.
     """
-    if len(args) == 2 and reference is None:
-        import warnings
-
-        warnings.warn("compare(reference, image) is deprecated and will be removed in the next release; "
-                      "call compare(image, reference=reference)", DeprecationWarning, stacklevel=2)
-        reference, image = args
-    elif len(args) == 1:
-        image = args[0]
-        if reference is None:
-            raise TypeError("compare() needs the reference by name: compare(image, reference=exemplar)")
-    else:
-        raise TypeError(f"compare() takes the image and reference=..., got {len(args)} positional arguments"
-                        + (" and reference=" if reference is not None else ""))
     image = check_image("image", image)
     reference = check_image("reference", reference)
     w1 = tuple(float(v) for v in histogram_w1(image, reference))

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import (DEPRECATED, check_choice, check_float, check_image, check_int, check_length, check_rng, check_shape,
+from ._validate import (check_choice, check_float, check_image, check_int, check_length, check_rng, check_shape,
                         check_tile_shape)
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
@@ -252,7 +252,7 @@ class SpectralTexture:
     # ------------------------------------------------------------------ presets
     @classmethod
     def paper_preset(cls, tile=None, *, rng=0, blend="alpha", opacity=0.65, tile_size=512, bits=8,
-                     tiling="periodic", patch=DEFAULT_PATCH, seed=DEPRECATED):
+                     tiling="periodic", patch=DEFAULT_PATCH):
         """The five-layer texture of the paper's Figure 1.
 
         Five layers of one 512 x 512 tile: the finest repeats every 1/64 km
@@ -269,8 +269,7 @@ class SpectralTexture:
         rng : int, numpy.random.Generator or None
             Randomness of the default tile (as :func:`spectex.tiles.make_tile`
             takes it; unused when ``tile`` is given): the same int gives the
-            same texture. ``seed=``, the old name, still works for one
-            release with a ``DeprecationWarning``.
+            same texture.
         blend : {"alpha", "detail", "variance"}
             The blend of layers 2..5 (``"detail"`` gives detail texturing for comparison).
         opacity : float
@@ -290,7 +289,7 @@ class SpectralTexture:
         patch : float
             The stochastic layers' triangle side, in tiles.
         """
-        rng = check_rng(rng, seed=seed, where="paper_preset")
+        rng = check_rng(rng)
         blend = check_choice("blend", blend, BLENDS)
         tiling = check_choice("tiling", tiling, TILINGS)
         opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0)

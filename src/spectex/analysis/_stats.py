@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._results import DictAccess
+from .._results import AsDict
 from .._validate import check_image, check_int
 from ..color import luma
 
@@ -49,9 +49,8 @@ def _luma64(image: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class OctavePower(DictAccess):
-    """The result of :func:`octave_power` (it was a dict: ``result["slope_db"]`` still works
-    for one release, with a ``DeprecationWarning``)."""
+class OctavePower(AsDict):
+    """The result of :func:`octave_power`."""
 
     bands: np.ndarray      #: (K, 2) band edges, cycles per pixel, finest first
     power_db: np.ndarray   #: (K,) power per band, dB
@@ -96,9 +95,8 @@ def octave_power(image, *, min_cycles: int = 4, segment=None) -> OctavePower:
 # --------------------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
-class ColourStats(DictAccess):
-    """The result of :func:`colour_stats` (it was a dict: ``result["mean"]`` still works for one
-    release, with a ``DeprecationWarning``)."""
+class ColourStats(AsDict):
+    """The result of :func:`colour_stats`."""
 
     mean: np.ndarray               #: (C,)
     covariance: np.ndarray         #: (C, C)
@@ -191,9 +189,8 @@ def _corr(a: np.ndarray, b: np.ndarray) -> float:
 
 
 @dataclass(frozen=True, eq=False)
-class CrossScale(DictAccess):
-    """The result of :func:`cross_scale` (it was a dict: ``result["value"]`` still works for one
-    release, with a ``DeprecationWarning``)."""
+class CrossScale(AsDict):
+    """The result of :func:`cross_scale`."""
 
     value: float                  #: mean over the fine bands of corr(fine amplitude, coarse value)
     amplitude: float              #: mean over the fine bands of corr(fine amplitude, coarse amplitude)

@@ -14,6 +14,8 @@ import importlib
 import re
 import sys
 
+from ._common import UsageError
+
 __all__ = ["main", "build_parser", "UsageError"]
 
 # Subcommand modules, in the order they appear in ``spectex --help``.
@@ -31,10 +33,6 @@ _COMMANDS = (
     "fit",
     "bake",
 )
-
-
-class UsageError(Exception):
-    """A command-line mistake: reported in one line, exit status 2."""
 
 
 def _noting(base):
@@ -80,7 +78,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from spectex import __version__
+    from spectex._version import __version__
 
     parser = _Parser(
         prog="spectex",

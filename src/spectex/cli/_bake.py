@@ -47,7 +47,7 @@ def check_inputs_apart(texture_path, output) -> None:
     import tomllib
     from pathlib import Path
 
-    from . import UsageError
+    from ._common import UsageError
 
     out = Path(output).resolve()
     inputs = [Path(texture_path).resolve()]
@@ -73,7 +73,7 @@ def run(args) -> int:
 
     from spectex.bake import bake_zarr
 
-    from . import UsageError
+    from ._common import UsageError
 
     if not Path(args.texture).is_file():
         raise UsageError(f"texture file not found: '{args.texture}'")

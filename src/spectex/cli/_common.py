@@ -7,6 +7,10 @@ import math
 from pathlib import Path
 
 
+class UsageError(Exception):
+    """A command-line mistake: reported in one line, exit status 2."""
+
+
 def size(text: str) -> tuple[int, int]:
     """Parse ``WxH`` (or ``N`` for a square) into ``(height, width)``."""
     parts = text.lower().split("x")
@@ -121,20 +125,10 @@ def refuse(args, dests, why: str) -> None:
     ``why`` completes the sentence "--gain does not apply ...", e.g. ``"to
     marble (only to fbm and turbulence)"``.
     """
-    from . import UsageError
-
     typed = getattr(args, "given", {})
     for dest in dests:
         if dest in typed:
             raise UsageError(f"{typed[dest]} does not apply {why}")
-
-
-def deprecated_alias(args, dest: str, old: str, new: str) -> None:
-    """Print one line on standard error when the option ``old`` (stored in ``dest``) was typed instead of ``new``."""
-    import sys
-
-    if getattr(args, "given", {}).get(dest) == old:
-        print(f"spectex {args.command}: {old} is deprecated and will be removed; use {new}", file=sys.stderr)
 
 
 def report(message: str) -> None:

@@ -15,8 +15,7 @@ def register(subparsers) -> None:
             "RMS distance in dB, tileability of both, the largest verbatim copy of the reference in "
             "IMAGE, how strongly the fine detail of each repeats (repeat_peak, any period and "
             "direction), and with --block the seam energy of a quilt. Grey against colour compares "
-            "the colour image's luma. The old form 'compare A B' (exemplar first) still works for "
-            "one release, with a note on standard error."
+            "the colour image's luma."
         ),
     )
     p.add_argument("inputs", type=_common.existing_file, nargs="+", metavar="IMAGE",
@@ -34,19 +33,13 @@ def register(subparsers) -> None:
 
 
 def _inputs(args):
-    """``(image, reference)`` paths from the new form (IMAGE --reference R) or the old (A B)."""
-    import sys
-
-    from . import UsageError
+    """``(image, reference)`` paths: IMAGE --reference EXEMPLAR."""
+    from ._common import UsageError
 
     if len(args.inputs) == 1:
         if args.reference is None:
             raise UsageError("compare needs the exemplar: spectex compare IMAGE --reference EXEMPLAR")
         return args.inputs[0], args.reference
-    if len(args.inputs) == 2 and args.reference is None:
-        print("spectex compare: 'compare A B' (exemplar first) is deprecated and will be removed; "
-              "use 'compare B --reference A'", file=sys.stderr)
-        return args.inputs[1], args.inputs[0]
     raise UsageError("compare takes one IMAGE and --reference EXEMPLAR, got "
                      f"{len(args.inputs)} images" + (" and --reference" if args.reference is not None else ""))
 

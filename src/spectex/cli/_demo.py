@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 
 from . import _common
 
@@ -30,8 +29,6 @@ def register(subparsers) -> None:
     )
     p.add_argument("-o", "--output", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
-    p.add_argument("--out", dest="output", type=_common.output_name, default=argparse.SUPPRESS,
-                   help=argparse.SUPPRESS)  # the old name, deprecated: one line on stderr says so
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed of the tile (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL if a context can be made, else the CPU)")
@@ -64,7 +61,6 @@ def run(args) -> int:
     from spectex.tiles import make_tile
 
     # Every file checked before the work; the set replaces the earlier demo only when complete.
-    _common.deprecated_alias(args, "output", "--out", "-o/--output")
     outputs = OutputSet(args.output, _FILES, name="--output")
     out = outputs.path
 

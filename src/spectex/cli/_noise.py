@@ -150,6 +150,6 @@ def _params(args) -> dict:
 
 
 def _common_error(message):
-    from . import UsageError
+    from ._common import UsageError
 
     return UsageError(message)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 
 from . import _common
 
@@ -57,8 +56,6 @@ def register(subparsers) -> None:
     p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves and noise: how many octaves (default: octaves, as many as the tile holds; noise, 6)")
     p.add_argument("--kernel", choices=_FILTERS, default="bspline",
                    help="octaves: magnification kernel that enlarges each octave (default: bspline)")
-    p.add_argument("--filter", dest="kernel", choices=_FILTERS, default=argparse.SUPPRESS,
-                   help=argparse.SUPPRESS)  # the old name, deprecated: one line on stderr says so
     p.add_argument("--azimuth", type=_common.finite_float, default=135.0,
                    help="emboss: light direction, degrees counter-clockwise from +x (default: 135)")
     p.add_argument("--strength", type=_common.finite_float, default=1.0,
@@ -80,7 +77,6 @@ def run(args) -> int | None:
     from spectex._validate import check_shape
     from spectex.tiles import MAX_SIZE, make_seamless, make_tile, preview as make_preview
 
-    _common.deprecated_alias(args, "kernel", "--filter", "--kernel")
     _refuse_unused(args)
     if args.size is not None:  # checked here to name --size (the library says shape=)
         h, w = check_shape("--size", args.size)

@@ -104,7 +104,7 @@ def export(texture, output, *, formats=None) -> ExportResult:
         For a bad texture, format list or folder; nothing is written then,
         and a failure while writing leaves ``output`` as it was.
     """
-    from spectex import __version__
+    from .._version import __version__
     from spectex.texture import SpectralTexture
 
     from ._output import MANIFEST, file_hashes, output_folder

@@ -220,7 +220,9 @@ def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = 8.0
     table = read_table(folder)
     own = ctx is None
     if own:
-        ctx = moderngl.create_standalone_context(backend="egl", require=330)
+        from .._gl import create_context
+
+        ctx = create_context(what="drawing a GLSL export")
     objects = []
     try:
         program = ctx.program(vertex_shader=(folder / "ground.330.vert").read_text(encoding="utf-8"),

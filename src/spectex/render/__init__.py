@@ -12,21 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import DEPRECATED
 from ..shading.camera import Atmosphere, Camera, check_size
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["Camera", "Atmosphere", "check_size", "render", "RenderResult", "DEFAULT_ANISOTROPY"]
-
-#: The renderers' default maximum anisotropy (EXT_texture_filter_anisotropic's
-#: ``N`` samples along the footprint's major axis, at most this many). Chosen
-#: by ``benchmarks/bench_anisotropy.py`` (issue 18): on a full-contrast tile,
-#: against an 8 x 8 supersampled truth, trilinear alone (1) scores 36.6 to
-#: 40.6 dB on the views that minify (close-up 67 dB), 8 scores 45.1 to 47.8 dB
-#: (16 gains under 0.5 dB more); a 1920 x 1080 ground view costs about 4x the
-#: GL time of trilinear on llvmpipe and takes the CPU renderer off its fast
-#: isotropic kernel. The viewer and the web export use the same 8. Pass
-#: ``anisotropy=1`` for trilinear only.
-DEFAULT_ANISOTROPY = 8.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,22 +43,20 @@ class RenderResult:
         return (self.image, self.backend)[index]
 
 
-def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED, **kwargs) -> RenderResult:
+def render(texture, camera, shape, *, backend="auto", **kwargs) -> RenderResult:
     """Render ``texture`` seen by ``camera``: a :class:`RenderResult` (``image``, ``backend``).
 
-    ``shape`` is the picture's ``(height, width)`` in pixels (``size=``, the
-    old name, still works for one release with a ``DeprecationWarning``).
+    ``shape`` is the picture's ``(height, width)`` in pixels.
     ``backend``: ``"gl"``, ``"cpu"`` or ``"auto"`` (GL when a context can be
     made, else the CPU). Returns a :class:`RenderResult`. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
     """
-    from .._validate import check_choice, renamed
+    from .._validate import check_choice
 
-    shape = _required(renamed("render", "shape", shape, "size", size), "render", "shape")
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
     if backend in ("auto", "gl"):
-        from .gl import GLUnavailable, GLRenderer
+        from .gl import GLRenderer, GLUnavailable
 
         try:
             with GLRenderer(texture) as renderer:
@@ -80,10 +67,3 @@ def render(texture, camera, shape=DEPRECATED, *, backend="auto", size=DEPRECATED
     from .cpu import render_cpu
 
     return RenderResult(render_cpu(texture, camera, shape, **kwargs), "cpu")
-
-
-def _required(value, where: str, name: str):
-    """``value``, unless a required argument was given under neither name."""
-    if value is DEPRECATED:
-        raise TypeError(f"{where}() missing 1 required argument: '{name}'")
-    return value

@@ -13,14 +13,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..shading.camera import check_size, view_params
-from .._validate import DEPRECATED, renamed
-from . import DEFAULT_ANISOTROPY, _required
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["render_cpu"]
 
 
-def render_cpu(texture, camera, shape=DEPRECATED, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY,
-               supersample=1, atmosphere=None, enabled=None, size=DEPRECATED):
+def render_cpu(texture, camera, shape, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY,
+               supersample=1, atmosphere=None, enabled=None):
     """Render ``texture`` on the ground plane as seen by ``camera``.
 
     Parameters
@@ -29,8 +28,6 @@ def render_cpu(texture, camera, shape=DEPRECATED, *, filter="trilinear", anisotr
     camera : Camera
     shape : (int, int)
         ``(height, width)`` of the picture, within ``MAX_RENDER_PIXELS``.
-        ``size=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     filter : str
         Minification filter (``spectex.sampling.FILTERS``, or "trilinear");
         ``"linear"`` or ``"nearest"`` sample level 0 only (no mip-mapping).
@@ -56,7 +53,6 @@ def render_cpu(texture, camera, shape=DEPRECATED, *, filter="trilinear", anisotr
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")
-    shape = _required(renamed("render_cpu", "shape", shape, "size", size), "render_cpu", "shape")
     h, w = check_size(shape, supersample)
     view = view_params(camera, (h, w), atmosphere=atmosphere, supersample=supersample)
     tables = pack(texture, filter=filter, anisotropy=anisotropy, enabled=enabled)

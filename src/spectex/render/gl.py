@@ -31,38 +31,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._gl import GLUnavailable, create_context
 from ..shading.camera import check_size, view_params
-from .._validate import DEPRECATED, renamed
-from . import DEFAULT_ANISOTROPY, _required
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
-
-
-class GLUnavailable(OSError):
-    """No OpenGL 3.3 context could be made (no moderngl, no EGL, no display)."""
-
-
-def create_context(*, standalone=True):
-    """A moderngl context: headless EGL (``standalone=True``) or the current window's.
-
-    Raises
-    ------
-    GLUnavailable
-        If moderngl is missing or no OpenGL 3.3 context can be made.
-    """
-    try:
-        import moderngl
-    except ImportError:
-        raise GLUnavailable("OpenGL rendering needs moderngl: pip install 'spectex[gl]'") from None
-    try:
-        if standalone:
-            ctx = moderngl.create_standalone_context(backend="egl", require=330)
-        else:
-            ctx = moderngl.create_context(require=330)
-    except Exception as exc:  # moderngl raises plain Exception subclasses
-        text = " ".join(str(exc).split()) or type(exc).__name__
-        raise GLUnavailable(f"no OpenGL 3.3 context ({'EGL' if standalone else 'window'}): {text}") from None
-    return ctx
 
 
 def gl_available() -> bool:
@@ -317,18 +290,17 @@ class GLRenderer:
         return False
 
     # ---------------------------------------------------------------- drawing
-    def prepare(self, camera, shape=DEPRECATED, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None,
-                enabled=None, sky_only=False, size=DEPRECATED):
+    def prepare(self, camera, shape, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None,
+                enabled=None, sky_only=False):
         """Set the uniforms and sampler state for a frame of ``shape = (height, width)``.
 
         ``anisotropy`` defaults to 8 (:data:`spectex.render.DEFAULT_ANISOTROPY`), as in
         :func:`spectex.render.cpu.render_cpu`; ``draw``, ``render`` and ``time_frames``
         pass their keywords here.
         """
-        from ..shading.constants import FILTERS, FILTER_NEAREST
+        from ..shading.constants import FILTER_NEAREST, FILTERS
         from ..shading.tables import pack
 
-        shape = _required(renamed("GLRenderer.prepare", "shape", shape, "size", size), "GLRenderer.prepare", "shape")
         view = view_params(camera, shape, atmosphere=atmosphere)
         tables = pack(self.texture, filter=filter, anisotropy=anisotropy, enabled=enabled)
         name = FILTERS[tables.min_filter]
@@ -359,7 +331,7 @@ class GLRenderer:
             self._set_uniform("u_ganchor", [(float(a[2]), float(a[3])) for a in anchor])
             self._set_uniform("u_gbase", [(int(a[4]), int(a[5])) for a in anchor])
 
-    def draw(self, camera, shape=DEPRECATED, *, size=DEPRECATED, **kwargs):
+    def draw(self, camera, shape, **kwargs):
         """Draw one frame into the currently bound framebuffer (the viewer's window).
 
         The rows that see only sky (above the horizon, found on the host) are
@@ -367,7 +339,6 @@ class GLRenderer:
         under a scissor: llvmpipe evaluates both sides of the shader's branch
         for every pixel, so without this the sky costs as much as the ground.
         """
-        shape = _required(renamed("GLRenderer.draw", "shape", shape, "size", size), "GLRenderer.draw", "shape")
         h, w = shape
         sky_rows = sky_row_count(camera, h, w)
         for unit, tex in enumerate(self.textures + self.gauss_textures):
@@ -386,17 +357,15 @@ class GLRenderer:
         finally:
             self.ctx.scissor = None
 
-    def render(self, camera, shape=DEPRECATED, *, supersample=1, size=DEPRECATED, **kwargs):
+    def render(self, camera, shape, *, supersample=1, **kwargs):
         """Render to an image: ``(H, W, 3)`` float32 in [0, 1], row 0 at the top.
 
-        ``shape`` is the picture's ``(height, width)`` (``size=``, the old
-        name, still works for one release with a ``DeprecationWarning``).
+        ``shape`` is the picture's ``(height, width)``.
 
         ``supersample = n`` draws an ``n``-times larger picture (each pixel's
         footprint ``n`` times smaller) and box-filters it down, which is what
         the CPU renderer's ``n x n`` samples per pixel compute.
         """
-        shape = _required(renamed("GLRenderer.render", "shape", shape, "size", size), "GLRenderer.render", "shape")
         h, w = check_size(shape, supersample)
         n = int(supersample)
         self._make_current()
@@ -411,12 +380,10 @@ class GLRenderer:
             img = img.reshape(h, n, w, n, 3).mean(axis=(1, 3), dtype=np.float32)
         return np.ascontiguousarray(img)
 
-    def time_frames(self, camera, shape=DEPRECATED, frames=20, *, size=DEPRECATED, **kwargs):
+    def time_frames(self, camera, shape, frames=20, **kwargs):
         """Seconds per frame drawing ``shape = (height, width)`` offscreen (no read-back), after one warm-up frame."""
         import time
 
-        shape = _required(renamed("GLRenderer.time_frames", "shape", shape, "size", size), "GLRenderer.time_frames",
-                          "shape")
         h, w = check_size(shape)
         self._make_current()
         fbo = self._framebuffer(h, w)

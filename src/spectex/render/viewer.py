@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from ..shading.camera import Atmosphere, Camera
-from . import DEFAULT_ANISOTROPY
+from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["NoDisplay", "check_display", "run_viewer", "Flight"]
 
@@ -143,8 +143,8 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
     """
     check_display()
     import glfw
-    import moderngl
 
+    from .._gl import create_context
     from .gl import GLRenderer, TextOverlay
 
     camera = camera or Camera((0.0, 0.0, 2.0), yaw=0.0, pitch=-10.0)
@@ -162,10 +162,34 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
             raise NoDisplay(f"could not open an OpenGL 3.3 window; {_HINT}")
         glfw.make_context_current(window)
         glfw.swap_interval(0)
-        ctx = moderngl.create_context(require=330)
+        ctx = create_context(standalone=False, what="the viewer")
         _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay)
     finally:
         glfw.terminate()
+
+
+def _press(key, window, flight, glfw) -> None:
+    """One key press: quit, a layer toggle (1-8), mip-maps (M), anisotropy (N) or haze (H)."""
+    if key in (glfw.KEY_ESCAPE, glfw.KEY_Q):
+        glfw.set_window_should_close(window, True)
+    elif glfw.KEY_1 <= key <= glfw.KEY_8:
+        flight.toggle_layer(key - glfw.KEY_1)
+    elif key == glfw.KEY_M:
+        flight.mipmaps = not flight.mipmaps
+    elif key == glfw.KEY_N:
+        flight.anisotropy = not flight.anisotropy
+    elif key == glfw.KEY_H:
+        flight.haze = not flight.haze
+
+
+def _drag(window, flight, glfw, start, fb_h):
+    """Look around while the left button is held; returns the new drag start (None when released)."""
+    if glfw.get_mouse_button(window, glfw.MOUSE_BUTTON_LEFT) != glfw.PRESS:
+        return None
+    mx, my = glfw.get_cursor_pos(window)
+    if start is not None:
+        flight.look(mx - start[0], my - start[1], fb_h)
+    return (mx, my)
 
 
 def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
@@ -192,16 +216,7 @@ def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
             dt = min(now - last, 0.25)
             last = now
             for key in state["keys"]:
-                if key in (glfw.KEY_ESCAPE, glfw.KEY_Q):
-                    glfw.set_window_should_close(window, True)
-                elif glfw.KEY_1 <= key <= glfw.KEY_8:
-                    flight.toggle_layer(key - glfw.KEY_1)
-                elif key == glfw.KEY_M:
-                    flight.mipmaps = not flight.mipmaps
-                elif key == glfw.KEY_N:
-                    flight.anisotropy = not flight.anisotropy
-                elif key == glfw.KEY_H:
-                    flight.haze = not flight.haze
+                _press(key, window, flight, glfw)
             state["keys"].clear()
             if state["scroll"]:
                 flight.scroll(state["scroll"])
@@ -215,13 +230,7 @@ def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
             up = held(glfw.KEY_R, glfw.KEY_SPACE) - held(glfw.KEY_F, glfw.KEY_C)
             flight.move(fwd, side, up, dt)
             fb_w, fb_h = glfw.get_framebuffer_size(window)
-            if glfw.get_mouse_button(window, glfw.MOUSE_BUTTON_LEFT) == glfw.PRESS:
-                mx, my = glfw.get_cursor_pos(window)
-                if state["drag"] is not None:
-                    flight.look(mx - state["drag"][0], my - state["drag"][1], fb_h)
-                state["drag"] = (mx, my)
-            else:
-                state["drag"] = None
+            state["drag"] = _drag(window, flight, glfw, state["drag"], fb_h)
             if fb_w < 1 or fb_h < 1:
                 continue
             ctx.screen.use()

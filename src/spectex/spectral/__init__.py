@@ -10,16 +10,13 @@ Spectral synthesis (6.21.4)
 
 Frequencies are in cycles per pixel (Nyquist is 0.5). See ``docs/tiles.md``.
 
-The analysis that used to live here has its own homes: power spectra and
-their slopes in :mod:`spectex.spectrum` (``radial_power_spectrum``,
-``spectral_slope``, ``SlopeFit``, ``hann_window``), Moisan's decomposition in
-:mod:`spectex.periodic` (``periodic_smooth_decomposition``). The old names
-here still work for one release, with a ``DeprecationWarning`` naming the
-new home.
+Power spectra and their slopes are measured in :mod:`spectex.spectrum`,
+Moisan's decomposition is :mod:`spectex.periodic`.
 """
 
+from ._filters import FILTERS, discrete_filter, filter_passes
 from ._magnify_gl import GLMagnification, magnify_gl
-from ._octaves import FILTERS, discrete_filter, filter_passes, magnify, octave
+from ._octaves import magnify, octave
 from ._synthesis import band_limit, band_limit_planes, octave_amplitudes, octave_sum, spectral_noise
 
 __all__ = [
@@ -36,24 +33,3 @@ __all__ = [
     "octave_sum",
     "spectral_noise",
 ]
-
-# Names that moved out of spectral: name -> new home.
-_MOVED = {
-    "radial_power_spectrum": "spectrum",
-    "spectral_slope": "spectrum",
-    "SlopeFit": "spectrum",
-    "hann_window": "spectrum",
-    "periodic_smooth_decomposition": "periodic",
-}
-
-
-def __getattr__(name):
-    if name in _MOVED:
-        import importlib
-        import warnings
-
-        home = f"spectex.{_MOVED[name]}"
-        warnings.warn(f"spectex.spectral.{name} has moved to {home}.{name} (the old name goes in the next "
-                      f"release)", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module(home), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -64,8 +64,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, renamed
-from ._octaves import _check_filter, _check_image, _factors, discrete_filter, filter_passes
+from .._gl import create_context
+from .._validate import check_choice
+from ._filters import _check_filter, _check_image, _factors, discrete_filter, filter_passes
 
 #: How a pass multiplies texel by weight: the seed's blend, or the shader.
 MULTIPLY = ("blend", "shader")
@@ -183,29 +184,6 @@ class GLMagnification:
     weight_sum: np.ndarray
 
 
-def create_context():
-    """A headless OpenGL 3.3 core context through EGL (moderngl).
-
-    Raises
-    ------
-    OSError
-        If moderngl is missing (``pip install 'spectex[gl]'``) or no EGL
-        OpenGL 3.3 context can be made (on Debian/Ubuntu, Mesa's EGL and
-        llvmpipe come with ``libegl1`` and ``libgl1-mesa-dri``).
-    """
-    try:
-        import moderngl
-    except ImportError:
-        raise OSError("magnify(backend='gl') needs moderngl: pip install 'spectex[gl]'") from None
-    try:
-        return moderngl.create_standalone_context(backend="egl", require=330)
-    except Exception as exc:  # moderngl raises plain Exception subclasses
-        text = " ".join(str(exc).split()) or type(exc).__name__
-        raise OSError(
-            f"magnify(backend='gl') found no headless OpenGL 3.3 context (EGL): {text}; "
-            "install Mesa's EGL and drivers (Debian/Ubuntu: libegl1 libgl1-mesa-dri)") from None
-
-
 def _make_current(ctx):
     """Make ``ctx`` the current context, and leave it current.
 
@@ -228,7 +206,7 @@ def default_context():
     as ``ctx``, or make it current again before its own calls.
     """
     if not _DEFAULT:
-        _DEFAULT.append(create_context())
+        _DEFAULT.append(create_context(what="magnify(backend='gl')"))
     return _DEFAULT[0]
 
 
@@ -321,7 +299,7 @@ def redistribute(x: np.ndarray, footprint: int, factor=(1, 1), start=(0, 0)) -> 
 
 
 def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
-               multiply: str = "blend", ctx=None, filter=DEPRECATED) -> GLMagnification:
+               multiply: str = "blend", ctx=None) -> GLMagnification:
     """Magnify a small periodic image on the GPU, the seed's multi-pass way.
 
     The same result as :func:`~spectex.spectral.magnify` (to float32
@@ -339,8 +317,6 @@ def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
         Magnification ``m`` along rows and columns.
     kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
         The magnification kernel, as for :func:`~spectex.spectral.magnify`.
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     multiply : {'blend', 'shader'}
@@ -376,7 +352,6 @@ def magnify_gl(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
-    kernel = renamed("magnify_gl", "kernel", kernel, "filter", filter, default="bspline")
     kernel, sigma = _check_filter(kernel, sigma)
     multiply = check_choice("multiply", multiply, MULTIPLY)
     m0, m1 = _factors(factor)

@@ -50,120 +50,15 @@ version makes ``T^2`` passes; 4 for its 2 x 2 footprint.)
 
 from __future__ import annotations
 
-import math
 import numbers
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_int, check_rng, renamed
-
-FILTERS = ("box", "tent", "bspline", "catmull-rom", "gaussian")
+from .._validate import check_choice, check_int, check_rng
+from ._filters import _check_filter, _check_image, _factors, _phase_weights
 
 #: Where :func:`magnify` computes: NumPy, or OpenGL through moderngl.
 BACKENDS = ("cpu", "gl")
-
-#: Gaussian truncation radius, in standard deviations.
-GAUSSIAN_TRUNCATE = 3.0
-
-
-def _kernel(name: str, sigma: float):
-    """Return ``(f, radius)``: the continuous filter and its support radius."""
-    if name == "box":
-        return (lambda t: ((t >= -0.5) & (t < 0.5)).astype(np.float64)), 0.5
-    if name == "tent":
-        return (lambda t: np.maximum(0.0, 1.0 - np.abs(t))), 1.0
-    if name == "bspline":
-        def f(t):
-            a = np.abs(t)
-            return np.where(a < 1.0, (4.0 - 6.0 * a**2 + 3.0 * a**3) / 6.0,
-                            np.where(a < 2.0, (2.0 - a) ** 3 / 6.0, 0.0))
-        return f, 2.0
-    if name == "catmull-rom":
-        def f(t):
-            a = np.abs(t)
-            return np.where(a < 1.0, 1.5 * a**3 - 2.5 * a**2 + 1.0,
-                            np.where(a < 2.0, -0.5 * a**3 + 2.5 * a**2 - 4.0 * a + 2.0, 0.0))
-        return f, 2.0
-    radius = GAUSSIAN_TRUNCATE * sigma
-    return (lambda t: np.where(np.abs(t) < radius, np.exp(-0.5 * (t / sigma) ** 2), 0.0)), radius
-
-
-def _check_filter(kernel, sigma):
-    kernel = check_choice("kernel", kernel, FILTERS)
-    sigma = check_float("sigma", sigma, minimum=0.05, maximum=64.0)
-    return kernel, sigma
-
-
-def _phase_weights(filter: str, factor: int, sigma: float):
-    """Polyphase weights.
-
-    Returns ``(weights, first)``: ``weights[r, t]`` is the weight of input
-    texel ``q + first[r] + t`` in output texel ``q m + r``; ``first`` holds at
-    most two distinct, consecutive values, non-decreasing in ``r``.
-    """
-    f, radius = _kernel(filter, sigma)
-    m = factor
-    phi = (np.arange(m) + 0.5) / m - 0.5
-    # Input texels k with |q + phi - k| < radius: k - q in (phi - R, phi + R).
-    first = np.floor(phi - radius).astype(np.int64) + 1
-    taps = int(math.ceil(2.0 * radius))
-    k = first[:, None] + np.arange(taps)[None, :]
-    w = f(phi[:, None] - k)
-    w = w / w.sum(axis=1, keepdims=True)
-    return w, first
-
-
-def filter_passes(kernel: str = "bspline", *, sigma: float = 0.5, filter=DEPRECATED) -> int:
-    """Number of passes per axis that :func:`magnify` makes with ``kernel``.
-
-    It is the number of input texels under the kernel's footprint,
-    ``ceil(2 * radius)``, independent of the input size and of the
-    magnification (see the module's cost model). ``filter=``, the old name
-    of ``kernel``, still works for one release with a ``DeprecationWarning``.
-    """
-    kernel = renamed("filter_passes", "kernel", kernel, "filter", filter, default="bspline")
-    kernel, sigma = _check_filter(kernel, sigma)
-    return int(math.ceil(2.0 * _kernel(kernel, sigma)[1]))
-
-
-def discrete_filter(kernel=DEPRECATED, factor=DEPRECATED, *, sigma: float = 0.5, filter=DEPRECATED):
-    """The magnification kernel discretised for magnification by ``factor``.
-
-    Parameters
-    ----------
-    kernel : {'box', 'tent', 'bspline', 'catmull-rom', 'gaussian'}
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
-    factor : int
-        Magnification ``m`` (output texels per input texel), >= 1.
-    sigma : float
-        Standard deviation of the Gaussian, in input texels (truncated at
-        ``3 sigma``); ignored by the other filters.
-
-    Returns
-    -------
-    taps : ndarray of float64, shape (L,)
-        ``h[j]`` for ``j = start, start + 1, ..., start + L - 1``: the weight
-        that a zero-stuffed input sample puts on the output ``j`` texels
-        after it (see the module docstring).
-    start : int
-        The offset of ``taps[0]``.
-    """
-    kernel = renamed("discrete_filter", "kernel", kernel, "filter", filter)
-    for name, value in (("kernel", kernel), ("factor", factor)):
-        if value is DEPRECATED:
-            raise TypeError(f"discrete_filter() missing required argument: '{name}'")
-    kernel, sigma = _check_filter(kernel, sigma)
-    m = check_int("factor", factor, minimum=1)
-    w, first = _phase_weights(kernel, m, sigma)
-    # Output q m + r reads input q + first[r] + t, i.e. j = p - k m
-    # = r - (first[r] + t) m.
-    js = np.arange(m)[:, None] - (first[:, None] + np.arange(w.shape[1])[None, :]) * m
-    start = int(js.min())
-    taps = np.zeros(int(js.max()) - start + 1)
-    np.add.at(taps, (js - start).ravel(), w.ravel())
-    return taps, start
-
 
 def _union_weights(w: np.ndarray, first: np.ndarray):
     """Polyphase weights over the union of the phases' taps: ``(W, lo)``.
@@ -196,31 +91,8 @@ def _magnify_last(x: np.ndarray, m: int, w: np.ndarray, first: np.ndarray) -> np
     return out.reshape(x.shape[:-1] + (n * m,))
 
 
-def _factors(factor):
-    if isinstance(factor, numbers.Integral) and not isinstance(factor, bool):
-        factor = (factor, factor)
-    if not isinstance(factor, (tuple, list)) or len(factor) != 2:
-        raise ValueError(f"factor must be an int or a (rows, columns) pair of ints, got {factor!r}")
-    return (check_int("factor[0]", factor[0], minimum=1, maximum=1 << 14),
-            check_int("factor[1]", factor[1], minimum=1, maximum=1 << 14))
-
-
-def _check_image(image) -> np.ndarray:
-    """The image as a float32 or float64 array of shape (H, W) or (H, W, C)."""
-    x = np.asarray(image)
-    if x.ndim not in (2, 3):
-        raise ValueError(f"image must have shape (H, W) or (H, W, C), got shape {x.shape}")
-    if x.shape[0] < 1 or x.shape[1] < 1 or (x.ndim == 3 and x.shape[2] < 1):
-        raise ValueError(f"image must not be empty, got shape {x.shape}")
-    if x.dtype not in (np.float32, np.float64):
-        x = x.astype(np.float64)
-    if not np.all(np.isfinite(x)):
-        raise ValueError("image must hold finite values, got NaN or infinity")
-    return x
-
-
 def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
-            backend: str = "cpu", filter=DEPRECATED) -> np.ndarray:
+            backend: str = "cpu") -> np.ndarray:
     """Magnify a small periodic image with a reconstruction kernel, wrapping around.
 
     Separable and vectorised: ``T`` passes per axis, ``T`` the number of
@@ -240,8 +112,6 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
         smooth and approximating, Catmull-Rom interpolating (it passes through
         the input values and can overshoot), the Gaussian has standard
         deviation ``sigma`` input texels, truncated at 3 sigma.
-        ``filter=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     sigma : float
         The Gaussian's standard deviation in input texels.
     backend : {'cpu', 'gl'}
@@ -267,7 +137,6 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
     D. Blythe et al., "Advanced Graphics Programming Techniques Using
     OpenGL", SIGGRAPH 1999 course, section 6.21.3.
     """
-    kernel = renamed("magnify", "kernel", kernel, "filter", filter, default="bspline")
     backend = check_choice("backend", backend, BACKENDS)
     if backend == "gl":
         from ._magnify_gl import magnify_gl
@@ -287,7 +156,7 @@ def magnify(image, factor, *, kernel: str = "bspline", sigma: float = 0.5,
 
 
 def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=None,
-           dtype=np.float32, seed=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
+           dtype=np.float32) -> np.ndarray:
     """One octave: a random ``cells`` image magnified to ``shape``, tiling.
 
     Parameters
@@ -299,13 +168,11 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
         normal values), so the octave holds about ``cells / 2`` cycles per
         period along each axis.
     kernel, sigma
-        See :func:`magnify`. ``filter=``, the old name of ``kernel``, still
-        works for one release with a ``DeprecationWarning``.
+        See :func:`magnify`.
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     dtype : float32 or float64
 
     Returns
@@ -314,7 +181,6 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
     """
     from .._validate import check_shape
 
-    kernel = renamed("octave", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     if isinstance(cells, numbers.Integral):
         c0 = c1 = check_int("cells", cells, minimum=1)
@@ -325,7 +191,7 @@ def octave(shape, cells, *, kernel: str = "bspline", sigma: float = 0.5, rng=Non
             raise ValueError(f"cells must be an int or a (rows, columns) pair of ints >= 1, got {cells!r}") from None
     if h % c0 or w % c1:
         raise ValueError(f"shape {h}x{w} (rows x columns) must be a multiple of cells {c0}x{c1}")
-    rng = check_rng(rng, seed=seed, where="octave")
+    rng = check_rng(rng)
     dtype = np.dtype(dtype)
     if dtype not in (np.float32, np.float64):
         raise ValueError(f"dtype must be float32 or float64, got {dtype}")

@@ -27,8 +27,7 @@ import numbers
 import numpy as np
 
 from .._parallel import fft_workers as _workers
-from .._validate import (DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape,
-                         renamed)
+from .._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape
 from ._octaves import octave
 
 
@@ -54,7 +53,7 @@ def _dtype(dtype):
 # --------------------------------------------------------------------------
 
 def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: float | None = None,
-                   rng=None, dtype=np.float32, seed=DEPRECATED) -> np.ndarray:
+                   rng=None, dtype=np.float32) -> np.ndarray:
     """Periodic Gaussian noise whose power spectrum goes as ``1 / f^beta``.
 
     Every Fourier coefficient is an independent complex normal value scaled
@@ -78,8 +77,7 @@ def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: 
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     dtype : float32 or float64
 
     Returns
@@ -101,7 +99,7 @@ def spectral_noise(shape, *, beta: float = 2.0, low: float | None = None, high: 
     beta = check_float("beta", beta, minimum=-2.0, maximum=8.0)
     low, high = _check_band(low, high)
     dtype = _dtype(dtype)
-    rng = check_rng(rng, seed=seed, where="spectral_noise")
+    rng = check_rng(rng)
     fy = np.fft.fftfreq(h).astype(np.float32)[:, None]
     fx = np.fft.rfftfreq(w).astype(np.float32)[None, :]
     f2 = fy * fy + fx * fx
@@ -308,8 +306,7 @@ def octave_amplitudes(cells, amplitudes="1/f") -> np.ndarray:
 
 
 def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cells: int = 4,
-               kernel: str = "bspline", sigma: float = 0.5, rng=None, dtype=np.float32,
-               seed=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
+               kernel: str = "bspline", sigma: float = 0.5, rng=None, dtype=np.float32) -> np.ndarray:
     """Spectral synthesis by summing octaves made under magnification.
 
     Octave ``k`` is :func:`spectex.spectral.octave` with
@@ -335,13 +332,11 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
     base_cells : int
         Cells of the coarsest octave (4 in the seed).
     kernel, sigma
-        See :func:`spectex.spectral.magnify`. ``filter=``, the old name of
-        ``kernel``, still works for one release with a ``DeprecationWarning``.
+        See :func:`spectex.spectral.magnify`.
     rng : int, numpy.random.Generator or None
         Randomness (SPEC 7): an int gives ``numpy.random.default_rng(rng)``;
         a Generator is used and advanced; None (the default) draws fresh
-        randomness. ``seed=``, the old name, still works for one release
-        with a ``DeprecationWarning``.
+        randomness.
     dtype : float32 or float64
 
     Returns
@@ -349,7 +344,6 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
     ndarray, shape (H, W)
         The weighted sum (not normalised).
     """
-    kernel = renamed("octave_sum", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     base_cells = check_int("base_cells", base_cells, minimum=1)
     if octaves is None:
@@ -370,7 +364,7 @@ def octave_sum(shape, *, amplitudes="1/f", octaves: int | None = None, base_cell
                          f"from base_cells={base_cells}); use spectral_noise for any size")
     amp = octave_amplitudes(cells, amplitudes)
     dtype = _dtype(dtype)
-    rng = check_rng(rng, seed=seed, where="octave_sum")
+    rng = check_rng(rng)
     total = np.zeros((h, w), dtype=dtype)
     for c, a in zip(cells, amp):
         part = octave((h, w), c, kernel=kernel, sigma=sigma, rng=rng, dtype=dtype)

@@ -55,7 +55,98 @@ def _side_width(line):
     return max(1, min(w, n - 1))
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
+def _best_error(err, boxes):
+    """The least error outside ``boxes`` (or anywhere, if every candidate is in one)."""
+    ph, pw = err.shape
+    best = np.inf
+    for y in range(ph):
+        for x in range(pw):
+            skip = False
+            for k in range(boxes.shape[0]):
+                if boxes[k, 0] <= y < boxes[k, 1] and boxes[k, 2] <= x < boxes[k, 3]:
+                    skip = True
+                    break
+            if not skip and err[y, x] < best:
+                best = err[y, x]
+    if best == np.inf:  # every candidate is a continuation
+        for y in range(ph):
+            for x in range(pw):
+                if err[y, x] < best:
+                    best = err[y, x]
+    return best
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pick(err, limit, u):
+    """The position of the ``int(u * count)``-th candidate (raster order) with error <= ``limit``."""
+    ph, pw = err.shape
+    count = 0
+    for y in range(ph):
+        for x in range(pw):
+            if err[y, x] <= limit:
+                count += 1
+    target = min(int(u * count), count - 1)
+    sy = sx = 0
+    seen = 0
+    for y in range(ph):
+        for x in range(pw):
+            if err[y, x] <= limit:
+                if seen == target:
+                    sy, sx = y, x
+                seen += 1
+    return sy, sx
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _squared_difference(view, ex, sy, sx):
+    """Per pixel, the squared colour difference of ``view`` and the block of ``ex`` at ``(sy, sx)``."""
+    b = view.shape[0]
+    nch = view.shape[2]
+    diff = np.empty((b, b), dtype=np.float64)
+    for i in range(b):
+        for j in range(b):
+            s = 0.0
+            for c in range(nch):
+                d = view[i, j, c] - ex[sy + i, sx + j, c]
+                s += d * d
+            diff[i, j] = s
+    return diff
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _new_side(diff, known):
+    """True where the block is pasted: on the new side of the cut of every filled side."""
+    b = diff.shape[0]
+    new = np.ones((b, b), dtype=np.bool_)
+    mid = b // 2
+    if known[:, 0].all():  # left
+        w = _side_width(known[mid, :])
+        path = min_cut_path(diff[:, :w].copy())
+        for i in range(b):
+            for j in range(path[i]):
+                new[i, j] = False
+    if known[0, :].all():  # top
+        h = _side_width(known[:, mid])
+        path = min_cut_path(diff[:h, :].T.copy())
+        for j in range(b):
+            for i in range(path[j]):
+                new[i, j] = False
+    if known[:, b - 1].all():  # right (tileable quilts)
+        w = _side_width(known[mid, ::-1])
+        path = min_cut_path(diff[:, b - w:].copy())
+        for i in range(b):
+            for j in range(b - w + path[i] + 1, b):
+                new[i, j] = False
+    if known[b - 1, :].all():  # bottom (tileable quilts)
+        h = _side_width(known[::-1, mid])
+        path = min_cut_path(diff[b - h:, :].T.copy())
+        for j in range(b):
+            for i in range(b - h + path[j] + 1, b):
+                new[i, j] = False
+    return new
+
+
 def place_block(err, boxes, tolerance, u, view, known, ex):
     """Choose a block among the near-best and paste it along its boundary cuts.
 
@@ -85,76 +176,24 @@ def place_block(err, boxes, tolerance, u, view, known, ex):
         (its width measured along the middle of the edge); pixels on the new
         side of every cut, and all pixels not filled before, are pasted.
     """
-    ph, pw = err.shape
-    best = np.inf
-    for y in range(ph):
-        for x in range(pw):
-            skip = False
-            for k in range(boxes.shape[0]):
-                if boxes[k, 0] <= y < boxes[k, 1] and boxes[k, 2] <= x < boxes[k, 3]:
-                    skip = True
-                    break
-            if not skip and err[y, x] < best:
-                best = err[y, x]
-    if best == np.inf:  # every candidate is a continuation
-        for y in range(ph):
-            for x in range(pw):
-                if err[y, x] < best:
-                    best = err[y, x]
-    limit = best * (1.0 + tolerance)
-    count = 0
-    for y in range(ph):
-        for x in range(pw):
-            if err[y, x] <= limit:
-                count += 1
-    target = min(int(u * count), count - 1)
-    sy = sx = 0
-    seen = 0
-    for y in range(ph):
-        for x in range(pw):
-            if err[y, x] <= limit:
-                if seen == target:
-                    sy, sx = y, x
-                seen += 1
+    # The kernel always sees a C-contiguous block: a slice of the canvas and a wrapped
+    # (copied) block would otherwise be two array layouts, two compilations of the kernel.
+    block = np.ascontiguousarray(view)
+    sy, sx = _place_block(err, boxes, tolerance, u, block, known, ex)
+    if block is not view:
+        view[...] = block
+    return sy, sx
+
+
+@numba.njit(cache=True, nogil=True)
+def _place_block(err, boxes, tolerance, u, view, known, ex):
+    """:func:`place_block`'s kernel; ``view`` C-contiguous."""
+    sy, sx = _pick(err, _best_error(err, boxes) * (1.0 + tolerance), u)
+    new = _new_side(_squared_difference(view, ex, sy, sx), known)
     b = view.shape[0]
-    nch = view.shape[2]
-    diff = np.empty((b, b), dtype=np.float64)
-    for i in range(b):
-        for j in range(b):
-            s = 0.0
-            for c in range(nch):
-                d = view[i, j, c] - ex[sy + i, sx + j, c]
-                s += d * d
-            diff[i, j] = s
-    new = np.ones((b, b), dtype=np.bool_)
-    mid = b // 2
-    if known[:, 0].all():  # left
-        w = _side_width(known[mid, :])
-        path = min_cut_path(diff[:, :w].copy())
-        for i in range(b):
-            for j in range(path[i]):
-                new[i, j] = False
-    if known[0, :].all():  # top
-        h = _side_width(known[:, mid])
-        path = min_cut_path(diff[:h, :].T.copy())
-        for j in range(b):
-            for i in range(path[j]):
-                new[i, j] = False
-    if known[:, b - 1].all():  # right (tileable quilts)
-        w = _side_width(known[mid, ::-1])
-        path = min_cut_path(diff[:, b - w:].copy())
-        for i in range(b):
-            for j in range(b - w + path[i] + 1, b):
-                new[i, j] = False
-    if known[b - 1, :].all():  # bottom (tileable quilts)
-        h = _side_width(known[::-1, mid])
-        path = min_cut_path(diff[b - h:, :].T.copy())
-        for j in range(b):
-            for i in range(b - h + path[j] + 1, b):
-                new[i, j] = False
     for i in range(b):
         for j in range(b):
             if new[i, j] or not known[i, j]:
-                for c in range(nch):
+                for c in range(view.shape[2]):
                     view[i, j, c] = ex[sy + i, sx + j, c]
     return sy, sx

@@ -8,7 +8,7 @@ import numba
 import numpy as np
 
 from .._limits import check_exemplar_pixels, check_work
-from .._validate import DEPRECATED, check_choice, check_float, check_image, check_int, check_rng, check_shape
+from .._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape
 
 _METHODS = ("fast", "exhaustive")
 
@@ -16,6 +16,28 @@ _METHODS = ("fast", "exhaustive")
 # --------------------------------------------------------------------------
 # numba kernels (compiled on first use, cached on disk)
 # --------------------------------------------------------------------------
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _filled_at(filled, yy, xx, tileable):
+    """Whether pixel ``(yy, xx)`` is filled: wrapped around when ``tileable``, else False outside."""
+    h, w = filled.shape
+    if tileable:
+        return filled[yy % h, xx % w]
+    if yy < 0 or yy >= h or xx < 0 or xx >= w:
+        return False
+    return filled[yy, xx]
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _filled_count(filled, y, x, half, tileable):
+    """How many pixels of the ``(2 half + 1)^2`` window around ``(y, x)`` are filled."""
+    c = 0
+    for dy in range(-half, half + 1):
+        for dx in range(-half, half + 1):
+            if _filled_at(filled, y + dy, x + dx, tileable):
+                c += 1
+    return c
+
 
 @numba.njit(cache=True, nogil=True)
 def _frontier(filled, half, tileable):
@@ -30,39 +52,13 @@ def _frontier(filled, half, tileable):
     xs = np.empty(h * w, dtype=np.int64)
     for y in range(h):
         for x in range(w):
-            if filled[y, x]:
-                continue
-            hit = False
-            for dy in range(-1, 2):
-                for dx in range(-1, 2):
-                    yy = y + dy
-                    xx = x + dx
-                    if tileable:
-                        yy %= h
-                        xx %= w
-                    elif yy < 0 or yy >= h or xx < 0 or xx >= w:
-                        continue
-                    if filled[yy, xx]:
-                        hit = True
-            if hit:
+            if not filled[y, x] and _filled_count(filled, y, x, 1, tileable) > 0:
                 ys[n] = y
                 xs[n] = x
                 n += 1
     counts = np.zeros(n, dtype=np.int64)
     for i in range(n):
-        c = 0
-        for dy in range(-half, half + 1):
-            for dx in range(-half, half + 1):
-                yy = ys[i] + dy
-                xx = xs[i] + dx
-                if tileable:
-                    yy %= h
-                    xx %= w
-                elif yy < 0 or yy >= h or xx < 0 or xx >= w:
-                    continue
-                if filled[yy, xx]:
-                    c += 1
-        counts[i] = c
+        counts[i] = _filled_count(filled, ys[i], xs[i], half, tileable)
     return ys[:n].copy(), xs[:n].copy(), counts
 
 
@@ -81,6 +77,117 @@ def _add_candidate(p, mark, stamp, cand, nc):
     return nc
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _gather_window(ex_shape, out, filled, src, y, x, gauss, half, tileable, ky, kx, kw, kv, ks):
+    """Step 1 of a pixel: the filled pixels of its window, into ``ky, kx, kw, kv, ks``.
+
+    Offsets, Gaussian weights, values, and for each the candidate exemplar
+    centre (raster index among the valid centres, -1 if none) that puts this
+    neighbour's source at the same offset. Returns ``(count, total weight)``.
+    """
+    h, w, nch = out.shape
+    eh, ew = ex_shape
+    vw = ew - 2 * half
+    nk = 0
+    total_w = 0.0
+    for dy in range(-half, half + 1):
+        for dx in range(-half, half + 1):
+            yy = y + dy
+            xx = x + dx
+            if tileable:
+                yy %= h
+                xx %= w
+            elif yy < 0 or yy >= h or xx < 0 or xx >= w:
+                continue
+            if not filled[yy, xx]:
+                continue
+            ky[nk] = dy
+            kx[nk] = dx
+            kw[nk] = gauss[dy + half, dx + half]
+            for c in range(nch):
+                kv[nk, c] = out[yy, xx, c]
+            cy = src[yy, xx, 0] - dy
+            cx = src[yy, xx, 1] - dx
+            if cy >= half and cy < eh - half and cx >= half and cx < ew - half:
+                ks[nk] = (cy - half) * vw + (cx - half)
+            else:
+                ks[nk] = -1
+            total_w += kw[nk]
+            nk += 1
+    return nk, total_w
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _candidates(exhaustive, npos, ks, nk, knn, randoms, mark, stamp, cand):
+    """Step 2: every valid centre, or the k-coherence set (each neighbour's
+    coherent centre, its ``knn`` and the random ones). Returns the count."""
+    nc = 0
+    if exhaustive:
+        for p in range(npos):
+            cand[nc] = p
+            nc += 1
+        return nc
+    for k in range(nk):
+        p = ks[k]
+        if p < 0:
+            continue
+        nc = _add_candidate(p, mark, stamp, cand, nc)
+        for j in range(knn.shape[1]):
+            nc = _add_candidate(knn[p, j], mark, stamp, cand, nc)
+    for j in range(randoms.size):
+        nc = _add_candidate(randoms[j], mark, stamp, cand, nc)
+    return nc
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _errors(ex, cand, nc, ky, kx, kw, kv, nk, vw, half, norm, epsilon, err):
+    """Step 3: the normalised weighted SSD of each candidate into ``err``, with
+    an early exit (``inf``) once one cannot be within ``1 + epsilon`` of the
+    best so far. Returns the best."""
+    nch = kv.shape[1]
+    best = np.inf
+    for j in range(nc):
+        p = cand[j]
+        cy = p // vw + half
+        cx = p % vw + half
+        limit = best * (1.0 + epsilon) / norm
+        s = 0.0
+        for k in range(nk):
+            wk = kw[k]
+            ey = cy + ky[k]
+            ex_ = cx + kx[k]
+            d2 = 0.0
+            for c in range(nch):
+                d = kv[k, c] - ex[ey, ex_, c]
+                d2 += d * d
+            s += wk * d2
+            if s > limit:
+                break
+        if s > limit:
+            err[j] = np.inf
+        else:
+            e = s * norm
+            err[j] = e
+            if e < best:
+                best = e
+    return best
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _choose(err, nc, best, epsilon, u, pool):
+    """Step 4: a candidate picked with ``u`` in [0, 1) among those within
+    ``1 + epsilon`` of the best; -1 if none has a finite error."""
+    cut = best * (1.0 + epsilon)
+    npool = 0
+    for j in range(nc):
+        if err[j] <= cut:
+            pool[npool] = j
+            npool += 1
+    if npool == 0:
+        return -1
+    return pool[min(int(u * npool), npool - 1)]
+
+
 @numba.njit(cache=True, nogil=True)
 def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, knn, exhaustive,
                 uniform, random_cands, epsilon, threshold, stamp, stamp_base):
@@ -93,14 +200,11 @@ def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, k
     the best; the pixel is filled only if that error is at most
     ``threshold``.
     """
-    h, w, nch = out.shape
+    nch = out.shape[2]
     eh, ew = ex.shape[0], ex.shape[1]
     win = 2 * half + 1
-    vh = eh - 2 * half  # valid centres per column / row
-    vw = ew - 2 * half
-    npos = vh * vw
-    kk = knn.shape[1]
-    nrand = random_cands.shape[1]
+    vw = ew - 2 * half  # valid centres per row
+    npos = (eh - 2 * half) * vw
     ky = np.empty(win * win, dtype=np.int64)
     kx = np.empty(win * win, dtype=np.int64)
     kw = np.empty(win * win, dtype=np.float64)
@@ -113,90 +217,12 @@ def _fill_round(ex, out, filled, src, order_y, order_x, gauss, half, tileable, k
     for i in range(order_y.size):
         y = order_y[i]
         x = order_x[i]
-        # 1. the filled pixels of the window
-        nk = 0
-        total_w = 0.0
-        for dy in range(-half, half + 1):
-            for dx in range(-half, half + 1):
-                yy = y + dy
-                xx = x + dx
-                if tileable:
-                    yy %= h
-                    xx %= w
-                elif yy < 0 or yy >= h or xx < 0 or xx >= w:
-                    continue
-                if not filled[yy, xx]:
-                    continue
-                ky[nk] = dy
-                kx[nk] = dx
-                kw[nk] = gauss[dy + half, dx + half]
-                for c in range(nch):
-                    kv[nk, c] = out[yy, xx, c]
-                sy = src[yy, xx, 0]
-                sx = src[yy, xx, 1]
-                # candidate centre that puts this neighbour's source at the same offset
-                cy = sy - dy
-                cx = sx - dx
-                if cy >= half and cy < eh - half and cx >= half and cx < ew - half:
-                    ks[nk] = (cy - half) * vw + (cx - half)
-                else:
-                    ks[nk] = -1
-                total_w += kw[nk]
-                nk += 1
-        # 2. candidates
-        nc = 0
-        if exhaustive:
-            for p in range(npos):
-                cand[nc] = p
-                nc += 1
-        else:
-            mark = stamp_base + i + 1
-            for k in range(nk):
-                p = ks[k]
-                if p < 0:
-                    continue
-                nc = _add_candidate(p, mark, stamp, cand, nc)
-                for j in range(kk):
-                    nc = _add_candidate(knn[p, j], mark, stamp, cand, nc)
-            for j in range(nrand):
-                nc = _add_candidate(random_cands[i, j], mark, stamp, cand, nc)
-        # 3. errors, with early exit once a candidate cannot be within (1 + eps) of the best
-        norm = 1.0 / (total_w * nch)
-        best = np.inf
-        for j in range(nc):
-            p = cand[j]
-            cy = p // vw + half
-            cx = p % vw + half
-            limit = best * (1.0 + epsilon) / norm
-            s = 0.0
-            for k in range(nk):
-                wk = kw[k]
-                ey = cy + ky[k]
-                ex_ = cx + kx[k]
-                d2 = 0.0
-                for c in range(nch):
-                    d = kv[k, c] - ex[ey, ex_, c]
-                    d2 += d * d
-                s += wk * d2
-                if s > limit:
-                    break
-            if s > limit:
-                err[j] = np.inf
-            else:
-                e = s * norm
-                err[j] = e
-                if e < best:
-                    best = e
-        # 4. choose among the near-best
-        cut = best * (1.0 + epsilon)
-        npool = 0
-        for j in range(nc):
-            if err[j] <= cut:
-                pool[npool] = j
-                npool += 1
-        if npool == 0:  # no finite error (cannot happen with finite inputs): leave the pixel
+        nk, total_w = _gather_window((eh, ew), out, filled, src, y, x, gauss, half, tileable, ky, kx, kw, kv, ks)
+        nc = _candidates(exhaustive, npos, ks, nk, knn, random_cands[i], stamp_base + i + 1, stamp, cand)
+        best = _errors(ex, cand, nc, ky, kx, kw, kv, nk, vw, half, 1.0 / (total_w * nch), epsilon, err)
+        pick = _choose(err, nc, best, epsilon, uniform[i], pool)
+        if pick < 0:  # no finite error (cannot happen with finite inputs): leave the pixel
             continue
-        pick = pool[min(int(uniform[i] * npool), npool - 1)]
         if err[pick] <= threshold:
             p = cand[pick]
             cy = p // vw + half
@@ -332,7 +358,7 @@ def _coherence_sets(ex: np.ndarray, window: int, k: int) -> np.ndarray:
 
 def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast",
                 epsilon: float = 0.1, max_error: float = 0.3, tileable: bool = False, k: int = 4,
-                progress=None, seed=DEPRECATED) -> np.ndarray:
+                progress=None) -> np.ndarray:
     """Grow a texture pixel by pixel by non-parametric sampling (Efros and Leung 1999).
 
     A 3 x 3 patch from a random place in the exemplar seeds the output
@@ -374,8 +400,6 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     method : {'fast', 'exhaustive'}
         Candidate search, see above.
     epsilon : float
@@ -417,7 +441,7 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
     window = check_int("window", window, minimum=3)
     if window % 2 == 0:
         raise ValueError(f"window must be odd, got {window}")
-    rng = check_rng(rng, seed=seed, where="efros_leung")
+    rng = check_rng(rng)
     method = check_choice("method", method, _METHODS)
     epsilon = check_float("epsilon", epsilon, minimum=0.0)
     max_error = check_float("max_error", max_error, minimum=0.0, exclusive_minimum=True)

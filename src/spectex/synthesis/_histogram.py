@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_image, check_int, check_rng, check_shape
+from .._validate import check_image, check_int, check_rng, check_shape
 
 
-def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0, seed=DEPRECATED) -> np.ndarray:
+def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0) -> np.ndarray:
     """A texture whose pixels are drawn independently from the exemplar's.
 
     Seed 002's first model ("assume every pixel is independent: if the sample
@@ -31,8 +31,6 @@ def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0, seed=DEPRECA
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
 
     Returns
     -------
@@ -46,7 +44,7 @@ def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0, seed=DEPRECA
     """
     ex = check_image("exemplar", exemplar, unit=True)
     h, w = check_shape("shape", shape)
-    rng = check_rng(rng, seed=seed, where="sample_histogram")
+    rng = check_rng(rng)
     flat = ex.reshape(ex.shape[0] * ex.shape[1], -1)
     if joint or flat.shape[1] == 1:
         out = flat[rng.integers(flat.shape[0], size=h * w)]
@@ -75,7 +73,7 @@ def _match_1d(values: np.ndarray, target_sorted: np.ndarray, rng) -> np.ndarray:
 
 
 def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 30,
-                    rng=0, seed=DEPRECATED) -> np.ndarray:
+                    rng=0) -> np.ndarray:
     """Give ``image`` the exemplar's histogram exactly, keeping its order.
 
     Per channel (``joint=False``), each channel's values are ranked and the
@@ -109,8 +107,6 @@ def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 3
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
 
     Returns
     -------
@@ -129,7 +125,7 @@ def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 3
     img = check_image("image", image, unit=True)
     ex = check_image("exemplar", exemplar, unit=True)
     iterations = check_int("iterations", iterations, minimum=1)
-    rng = check_rng(rng, seed=seed, where="match_histogram")
+    rng = check_rng(rng)
     ci = 1 if img.ndim == 2 else img.shape[2]
     ce = 1 if ex.ndim == 2 else ex.shape[2]
     if ci != ce:

@@ -8,9 +8,7 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from .._validate import DEPRECATED, check_choice, check_int, check_rng
+from .._validate import check_choice, check_int, check_rng
 
 _UNITS = ("char", "word")
 #: Most symbols one call of :func:`generate_text` makes (the text is built in memory).
@@ -148,7 +146,7 @@ def train_markov(corpus: str, *, unit: str = "char", order: int = 3, progress=No
     return MarkovModel(unit=unit, order=order, tables=tuple(tables), symbols=tuple(symbols))
 
 
-def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None, seed=DEPRECATED) -> str:
+def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None) -> str:
     """Sample text from a Markov model.
 
     The first ``order`` symbols are a context drawn at random from the
@@ -168,8 +166,6 @@ def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None, seed
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     progress : callable, optional
         Called as ``progress(done, total)`` every 10000 symbols.
 
@@ -181,7 +177,7 @@ def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None, seed
     if not isinstance(model, MarkovModel):
         raise TypeError(f"model must be a MarkovModel, got {type(model).__name__}")
     length = check_int("length", length, minimum=0, maximum=MAX_TEXT_LENGTH)
-    rng = check_rng(rng, seed=seed, where="generate_text")
+    rng = check_rng(rng)
     order = model.order
     out: list[str] = []
     if order > 0:
@@ -203,12 +199,12 @@ def generate_text(model: MarkovModel, length: int, *, rng=0, progress=None, seed
 
 
 def markov_text(corpus: str, *, unit: str = "char", order: int = 3, length: int = 500,
-                rng=0, progress=None, seed=DEPRECATED) -> str:
+                rng=0, progress=None) -> str:
     """Train on ``corpus`` and generate ``length`` symbols in one call.
 
     See :func:`train_markov` and :func:`generate_text` for the parameters;
     ``progress`` counts the training tables, then the generated symbols.
     """
-    rng = check_rng(rng, seed=seed, where="markov_text")  # before the training, which takes time
+    rng = check_rng(rng)  # before the training, which takes time
     model = train_markov(corpus, unit=unit, order=order, progress=progress)
     return generate_text(model, length, rng=rng, progress=progress)

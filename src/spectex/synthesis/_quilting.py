@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .._limits import check_exemplar_pixels, check_work
-from .._validate import DEPRECATED, check_float, check_image, check_int, check_rng, check_shape
+from .._validate import check_float, check_image, check_int, check_rng, check_shape
 
 
 # Batch independent blocks (see quilt); False forces block-by-block work, which
@@ -123,7 +123,7 @@ def _overlap_errors(f_ex, mask_terms, masked, fft_shape, valid, workers=1):
 
 
 def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, tolerance: float = 0.1,
-          rng=0, tileable: bool = False, progress=None, seed=DEPRECATED) -> np.ndarray:
+          rng=0, tileable: bool = False, progress=None) -> np.ndarray:
     """Synthesise a texture by image quilting (Efros and Freeman 2001).
 
     Square blocks of the exemplar are laid in raster order, each overlapping
@@ -172,8 +172,6 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     tileable : bool
         Quilt on a torus: the last column and row of blocks also overlap the
         first ones across the wrap edge (with their own boundary cuts), so
@@ -213,7 +211,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     if overlap >= block:
         raise ValueError(f"overlap must be smaller than block={block}, got {overlap}")
     tolerance = check_float("tolerance", tolerance, minimum=0.0)
-    rng = check_rng(rng, seed=seed, where="quilt")
+    rng = check_rng(rng)
     tileable = bool(tileable)
     if tileable and 2 * overlap >= block:
         raise ValueError(f"overlap must be smaller than block/2={block / 2:g} for a tileable quilt, got {overlap}")

@@ -21,8 +21,7 @@ channel derived from the colour by an emboss filter. One module per concept:
 
 Every name is also here, ``spectex.tiles.make_tile`` and so on. The colour
 helpers ``luma``, ``srgb_to_linear`` and ``linear_to_srgb`` live in
-:mod:`spectex.color`; their old names here still work for one release, with
-a ``DeprecationWarning``.
+:mod:`spectex.color`.
 
 References
 ----------
@@ -48,18 +47,3 @@ __all__ = [
     "mip_chain",
     "preview",
 ]
-
-# Colour helpers whose home is spectex.color: still found here for one release, with a warning.
-_MOVED_TO_COLOR = ("luma", "srgb_to_linear", "linear_to_srgb", "LUMA_REC709")
-
-
-def __getattr__(name):
-    if name in _MOVED_TO_COLOR:
-        import warnings
-
-        from .. import color
-
-        warnings.warn(f"spectex.tiles.{name} has moved to spectex.color.{name} (the old name goes in the "
-                      f"next release)", DeprecationWarning, stacklevel=2)
-        return getattr(color, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -64,8 +64,7 @@ import numba
 import numpy as np
 
 from .._parallel import threads_for as _threads_for
-from .._validate import (DEPRECATED, check_choice, check_float, check_int, check_rng, check_shape,
-                         renamed)
+from .._validate import check_choice, check_float, check_int, check_rng, check_shape
 from ..color import LUMA_REC709
 from .ops import _emboss, fit_range
 
@@ -195,8 +194,7 @@ def _check_octave_size(h, w, small, octaves):
 def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "emboss",
               colormap="earth", cutoff: float = 0.25, beta: float = 2.0, low: float | None = None,
               octaves: int | None = None, kernel: str = "bspline", noise_scale: float = 4.0,
-              azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5,
-              seed=DEPRECATED, size=DEPRECATED, filter=DEPRECATED) -> np.ndarray:
+              azimuth: float = 135.0, strength: float = 1.0, alpha_value: float = 0.5) -> np.ndarray:
     """A seamless, low-pass RGBA tile of coloured random noise (Berger 2006).
 
     See the module docstring for the steps and the cut-off.
@@ -205,16 +203,12 @@ def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "embos
     ----------
     shape : int or (int, int)
         Tile side, or ``(height, width)``; 8 to ``MAX_SIZE`` (8192).
-        ``size=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
         ``method='octaves'`` needs sides that are multiples of its finest
         octave's cells on the working grid (powers of two always work).
     rng : int, numpy.random.Generator or None
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
         The colour field and the alpha noise use independent streams
         spawned from it.
     method : {'spectral', 'octaves', 'noise'}
@@ -238,8 +232,7 @@ def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "embos
         Number of octaves for ``'octaves'`` and ``'noise'``.
     kernel : str
         Magnification kernel for ``'octaves'`` (see
-        :func:`spectex.spectral.magnify`). ``filter=``, the old name, still
-        works for one release with a ``DeprecationWarning``.
+        :func:`spectex.spectral.magnify`).
     noise_scale : float
         Lattice cells across the tile for ``'noise'``.
     azimuth, strength : float
@@ -255,12 +248,10 @@ def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "embos
     from ..color import get_ramp
     from ..spectral import band_limit_planes
 
-    shape = renamed("make_tile", "shape", shape, "size", size, default=512)
-    kernel = renamed("make_tile", "kernel", kernel, "filter", filter, default="bspline")
     h, w = check_shape("shape", shape)
     if min(h, w) < 8 or max(h, w) > MAX_SIZE:
         raise ValueError(f"shape must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
-    rng = check_rng(rng, seed=seed, where="make_tile")
+    rng = check_rng(rng)
     method = check_choice("method", method, METHODS)
     alpha = check_choice("alpha", alpha, ALPHAS)
     from ..spectral import FILTERS

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .._validate import DEPRECATED, check_choice, check_float, check_image, check_rng, check_shape, renamed
+from .._validate import check_choice, check_float, check_image, check_rng, check_shape
 from ..color import luma
 from .from_noise import ALPHAS, MAX_SIZE, _to_unit
 from .ops import fit_range
@@ -75,7 +75,7 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
                 if axis == 0:
                     base, extra = base.T, extra.T
 
-                def ratio(g):
+                def ratio(g, base=base, extra=extra):
                     return _edge_ratio(base + g * extra, band)
 
                 if ratio(0.0) >= 1.0:
@@ -95,7 +95,7 @@ def _seamless(u: np.ndarray, seam: str, band: int = SEAM_BAND) -> np.ndarray:
 
 def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | None = None, rng=0,
                   seam: str = "matched", azimuth: float = 135.0, strength: float = 1.0,
-                  alpha_value: float = 1.0, seed=DEPRECATED, size=DEPRECATED) -> np.ndarray:
+                  alpha_value: float = 1.0) -> np.ndarray:
     """Make a photograph into a seamless RGBA tile.
 
     The photograph (cropped about its centre to ``shape`` if given) is
@@ -135,8 +135,7 @@ def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | Non
         At least 8 x 8.
     shape : None, int or (int, int)
         Tile ``(height, width)`` cropped from the centre; the photograph
-        must be at least that large (it is never upsampled). ``size=``, the
-        old name, still works for one release with a ``DeprecationWarning``.
+        must be at least that large (it is never upsampled).
     alpha : {'none', 'emboss', 'luminance', 'noise', 'keep'}
         As in :func:`make_tile`; ``'keep'`` makes the photograph's own alpha
         channel seamless too (and needs one). ``'none'`` gives
@@ -148,8 +147,6 @@ def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | Non
         Randomness (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, the same int the same result; a
         Generator is used (and advanced); None draws fresh randomness.
-        ``seed=``, the old name, still works for one release with a
-        ``DeprecationWarning``.
     seam : {'matched', 'moisan'}
         How the wrap edges are joined (see above).
     azimuth, strength, alpha_value
@@ -161,11 +158,10 @@ def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | Non
     """
     from ..spectral import band_limit, spectral_noise
 
-    shape = renamed("make_seamless", "shape", shape, "size", size, default=None)
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8, unit=True)
     alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
     seam = check_choice("seam", seam, ("matched", "moisan"))
-    rng = check_rng(rng, seed=seed, where="make_seamless")
+    rng = check_rng(rng)
     if cutoff is not None:
         cutoff = check_float("cutoff", cutoff, minimum=0.0, maximum=0.5, exclusive_minimum=True)
     azimuth = check_float("azimuth", azimuth)
