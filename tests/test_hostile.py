@@ -599,6 +599,8 @@ CASES = [
       for cmd, rest in (("noise", ("perlin", "-o", "x.png")), ("tile", ("-o", "x.png")), ("text", ("c.txt",)),
                         ("synth", ("img.png", "-o", "x.png")), ("fit", ("img.png", "-o", "out")),
                         ("demo", ("-o", "d")))),
+    Case("fit-opacity-denormal", ("fit", "img.png", "--opacity", "1e-320", "-o", "out"), 2,
+         "--opacity must be between 0.001 and 1"),  # found by benchmarks/fuzz_hostile.py: ran for minutes
     Case("render-one-frame-gif", ("render", "tex.toml", *CAMERA, "--size", "16x16", "--frames", "1", "-o",
                                   "x.gif"), 0, changes=("x.gif",)),
 ]

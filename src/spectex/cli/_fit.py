@@ -42,6 +42,8 @@ def register(subparsers) -> None:
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
 
+#: The smallest --opacity: below it a layer is invisible in 8 bits (and the fit's search degenerates).
+MIN_OPACITY = 1e-3
 #: Beyond these the fit is reported as a poor match (``compare`` calls W1 <= 0.03 and <= 1.5 dB close).
 POOR_W1, POOR_BAND_DB = 0.1, 6.0
 
@@ -80,6 +82,8 @@ def run(args) -> int | None:
     from spectex._output import OutputSet
     from spectex.fitting import fit_result, prepare_exemplar
     start = time.perf_counter()
+    if not MIN_OPACITY <= args.opacity <= 1.0:  # a denormal opacity ran for minutes (fuzz_hostile)
+        raise ValueError(f"--opacity must be between {MIN_OPACITY:g} and 1, got {args.opacity:g}")
     if not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
