@@ -38,7 +38,7 @@ def full_contrast_texture(side=256, rng=2):
     tile = make_tile(side, rng=rng)
     lo, hi = np.percentile(tile[..., :3], [1.0, 99.0], axis=(0, 1))
     tile[..., :3] = np.clip((tile[..., :3] - lo) / (hi - lo), 0.0, 1.0)
-    return SpectralTexture.paper_preset(tile)
+    return SpectralTexture.paper_preset(tile, blend="alpha", detail=False)  # the paper's (issue 18's numbers)
 
 
 def views():

@@ -252,8 +252,9 @@ def _paper_ratio(repeats: int) -> None:
     from spectex.texture import SpectralTexture
 
     camera = Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0)
-    frames = _gl_frames({"periodic": SpectralTexture.paper_preset(rng=1),
-                         "stochastic": SpectralTexture.paper_preset(rng=1, tiling="stochastic")},
+    paper = {"blend": "alpha", "detail": False}  # the paper's five layers, as documented
+    frames = _gl_frames({"periodic": SpectralTexture.paper_preset(rng=1, **paper),
+                         "stochastic": SpectralTexture.paper_preset(rng=1, tiling="stochastic", **paper)},
                         repeats, camera=camera)
     per, sto = frames["periodic"][1], frames["stochastic"][1]
     load = os.getloadavg()

@@ -47,7 +47,7 @@ def main(argv=None):
 
     size = (args.height, args.width)
     tile = make_tile(512, rng=0)
-    five = SpectralTexture.paper_preset(tile)
+    five = SpectralTexture.paper_preset(tile, blend="alpha", detail=False)  # the paper's five layers
     one = SpectralTexture(tile, [Layer(size=15.625)])
     camera = Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0)  # the demo's ground view
     rows = []

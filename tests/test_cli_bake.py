@@ -102,7 +102,8 @@ def _fails(argv, capsys):
     (["-o", "{tex}"], "is, or holds, the input"),
     (["-o", "{tile}"], "is, or holds, the input"),
     (["-o", "{dir}"], "is, or holds, the input"),
-    (["-o", "{dir}/x.png"], "must end in .zarr"),
+    (["-o", "{dir}/x.tif"], "must end in .zarr (a store) or .png"),
+    (["-o", "{dir}/x.png"], "--chunk applies to a .zarr store"),
     (["-o", "{dir}/no/x.zarr"], "does not exist"),
     (["-o", "{dir}/x.zarr", "--size", "0x5"], "size"),
     (["-o", "{dir}/x.zarr", "--pixel-size", "-1"], "pixel-size"),
@@ -153,3 +154,34 @@ def test_cli_bake_help_lists_the_options(capsys):
     for option in ("--size", "--pixel-size", "--origin", "--levels", "--chunk", "--shard", "--dtype",
                    "--scheduler", "--workers"):
         assert option in text
+
+
+@pytest.mark.parametrize("dtype, bits", [("uint8", 8), ("uint16", 16)])
+def test_cli_bake_png_is_the_same_pixels_as_the_store(texture_file, tmp_path, capsys, dtype, bits):
+    """-o X.png: the region as one plain PNG, level 0 of the store bit for bit (8 or 16 bits)."""
+    from spectex.io import read_image
+
+    out = tmp_path / "ground.png"
+    argv = ["bake", str(texture_file), "-o", str(out), "--size", "120x90", "--pixel-size", "0.25",
+            "--origin", "100,-50", "--dtype", dtype]
+    assert main(argv) == 0
+    assert f"{bits}-bit RGB" in capsys.readouterr().out
+    tex = SpectralTexture.load(texture_file)
+    ref = to_dtype(tex.bake((90, 120), origin=(100.0, -50.0), pixel_size=0.25), dtype)
+    png = read_image(out)
+    assert png.shape == (90, 120, 3)
+    assert np.array_equal(np.round(png.astype(np.float64) * (2 ** bits - 1)).astype(ref.dtype), ref)
+    assert [p.name for p in tmp_path.iterdir()] == ["ground.png"]  # nothing else left behind
+
+
+@pytest.mark.parametrize("extra, message", [(["--levels", "2"], "--levels applies to a .zarr store"),
+                                            (["--chunk", "32"], "--chunk applies to a .zarr store"),
+                                            (["--workers", "1"], "--workers applies to a .zarr store"),
+                                            (["--dtype", "float32"], "--dtype float32 needs a .zarr store")])
+def test_cli_bake_png_refuses_the_pyramids_options(texture_file, tmp_path, capsys, extra, message):
+    out = tmp_path / "ground.png"
+    argv = ["bake", str(texture_file), "-o", str(out), "--size", "12x9", "--pixel-size", "0.25", *extra]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1
+    assert not out.exists()

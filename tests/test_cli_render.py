@@ -32,19 +32,22 @@ def no_gl(monkeypatch):
 @pytest.mark.gl
 def test_cli_render_demo_writes_pictures_and_report(tmp_path, capsys, gl):
     out = tmp_path / "demo"
-    assert main(["demo", "-o", str(out)]) == 0
+    assert main(["demo", "-o", str(out), "--repeat-peak"]) == 0
     text = capsys.readouterr().out
-    assert "327680 x 327680" in text and "3.05 cm" in text
+    assert "327680 x 327680" in text and "3.05 cm" in text and "2.44 mm texels under the feet" in text
     assert "1.00 MiB" in text and "300.0 GiB" in text
-    assert "OpenGL" in text and "ground" in text and "aerial" in text
-    peaks = re.search(r"periodic layers \(the paper\) ([0-9.]+), stochastic layers ([0-9.]+)", text)
+    assert "OpenGL" in text and "ground" in text and "aerial" in text and "haze 12000 m" in text
+    # the pictures are written before the bakes behind repeat_peak (off the critical path)
+    assert text.index("wrote 7 files") < text.index("repeat_peak")
+    peaks = re.search(r"periodic layers ([0-9.]+), stochastic layers ([0-9.]+)", text)
     assert peaks and float(peaks.group(1)) > 0.5 and float(peaks.group(2)) <= 0.1
     for name in ("ground", "closeup", "aerial"):
         assert read_image(out / f"{name}.png").shape == (540, 960, 3)
     assert read_image(out / "tile_colour.png").shape == (512, 512, 3)
     assert read_image(out / "tile_alpha.png").shape == (512, 512)
     tex = SpectralTexture.load(out / "texture.toml")
-    assert len(tex.layers) == 5 and tex.virtual_size == 327680
+    assert len(tex.layers) == 6 and tex.layers[-1].blend == "fine"
+    assert tex.layers[:5] == SpectralTexture.paper_preset(tex.tiles[0]).layers[:5]
 
 
 def test_cli_render_demo_without_gl_uses_cpu(tmp_path, capsys, no_gl, monkeypatch):
@@ -54,7 +57,11 @@ def test_cli_render_demo_without_gl_uses_cpu(tmp_path, capsys, no_gl, monkeypatc
     monkeypatch.setattr(demo, "REPEAT_BAKE", (128, 16))
     out = tmp_path / "demo"
     assert main(["demo", "-o", str(out)]) == 0
+    assert "repeat_peak" not in capsys.readouterr().out  # off by default: no bake kernel to compile
+    assert main(["demo", "-o", str(out), "--paper", "--haze", "0"]) == 0
     captured = capsys.readouterr()
+    assert "5 layers" in captured.out and "no haze" in captured.out
+    assert len(SpectralTexture.load(out / "texture.toml").layers) == 5
     err = captured.err.strip().splitlines()
     assert len(err) == 1 and "no OpenGL" in err[0] and "CPU" in err[0]
     assert "CPU reference renderer" in captured.out

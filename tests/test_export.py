@@ -33,8 +33,8 @@ def snapshot(folder: Path) -> dict:
     return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
-def test_formats_are_the_five_targets():
-    assert FORMATS == ("web", "glsl", "godot", "materialx", "hlsl")
+def test_formats_are_the_six_targets():
+    assert FORMATS == ("web", "glsl", "godot", "materialx", "hlsl", "blender")
 
 
 @pytest.mark.parametrize("value, expected", [

@@ -28,7 +28,7 @@ except ImportError:  # CI installs it (the test extras): there a missing package
 
 #: The nodes the graph may use: MaterialX standard library nodes, and not ``over``.
 ALLOWED = {"hextiledimage", "position", "dotproduct", "combine2", "subtract", "divide", "image", "convert",
-           "extract", "multiply", "mix", "add", "sqrt", "clamp"}
+           "extract", "multiply", "mix", "add", "sqrt", "clamp", "power", "ifgreater", "combine3"}
 
 
 def textures():
@@ -135,7 +135,7 @@ def _value(text: str, type_: str):
     return values[0] if type_ == "float" else values
 
 
-def evaluate_graph(path: Path, x, y, *, v_up=True):
+def evaluate_graph(path: Path, x, y, *, v_up=True, output="stored"):
     root = ET.parse(path).getroot()
     graph = root.find("nodegraph[@name='NG_spectex_ground']")
     interface = {i.get("name"): _value(i.get("value"), i.get("type")) for i in graph.findall("input")}
@@ -181,6 +181,12 @@ def evaluate_graph(path: Path, x, y, *, v_up=True):
         elif cat == "mix":  # bg (1 - mix) + fg mix
             m = ins["mix"][:, None]
             r = vec(ins["bg"]) * (1.0 - m) + vec(ins["fg"]) * m
+        elif cat == "combine3":
+            r = np.stack([np.broadcast_to(ins[k], x.shape) for k in ("in1", "in2", "in3")], axis=1)
+        elif cat == "power":
+            r = np.power(ins["in1"], ins["in2"])
+        elif cat == "ifgreater":  # in1 where value1 > value2, else in2
+            r = np.where(ins["value1"] > ins["value2"], ins["in1"], ins["in2"])
         elif cat == "sqrt":
             r = np.sqrt(ins["in"])
         elif cat == "clamp":
@@ -202,7 +208,7 @@ def evaluate_graph(path: Path, x, y, *, v_up=True):
         cache[name] = r
         return r
 
-    out = graph.find("output[@name='out']")
+    out = graph.find(f"output[@name='{output}']")
     return value_of(out.get("nodename"))
 
 
@@ -211,12 +217,22 @@ def test_graph_computes_what_spectex_bakes(exported):
     texture, path = exported
     h, w, p = 24, 32, 3.7
     origin = (-300.0, 200.0)
-    baked = texture.bake((h, w), origin=origin, pixel_size=p, filter="linear", mipmaps=False)
+    # standard nodes cannot see a footprint: a fine layer is the variance blend at full alpha there
+    assert any(layer.blend == "fine" for layer in textures()["paper"].layers)
+    reference = SpectralTexture(texture.tiles, [replace(layer, blend="variance") if layer.blend == "fine" else layer
+                                                for layer in texture.layers], bits=texture.bits)
+    assert "is a fine (detail) layer" in path.read_text() or reference == texture
+    baked = reference.bake((h, w), origin=origin, pixel_size=p, filter="linear", mipmaps=False)
     r, c = np.mgrid[0:h, 0:w]
     x = (origin[0] + (c + 0.5) * p).reshape(-1)
     y = (origin[1] + (r + 0.5) * p).reshape(-1)
     graph = evaluate_graph(path, x, y).reshape(h, w, 3)
     np.testing.assert_allclose(graph, baked, atol=2e-5, rtol=0)
+    # the materials' colour ('out') is that colour decoded from sRGB to linear light, once
+    linear = evaluate_graph(path, x, y, output="out").reshape(h, w, 3)
+    decoded = np.where(baked <= 0.04045, baked / 12.92, ((baked + 0.055) / 1.055) ** 2.4)
+    np.testing.assert_allclose(linear, decoded, atol=6e-5, rtol=0)  # the decode steepens 2e-5 at most 2.4-fold
+    assert np.abs(linear - baked).max() > 0.1  # control: the decode is not a no-op
     # control: reading the image with v pointing down (the wrong convention) is visibly different
     flipped = evaluate_graph(path, x, y, v_up=False).reshape(h, w, 3)
     assert np.abs(flipped - baked).max() > 0.05

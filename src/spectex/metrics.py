@@ -17,6 +17,10 @@ measure                      what it says                                    goo
 :func:`repeat_peak`          highest autocorrelation of fine detail at a     <= 0.1
                              long lag, any period and direction
 :func:`tileability`          step across the wrap edge / interior steps      about 1
+:func:`local_contrast`       mean luminance std in windows (a view against   >= 0.6 of the
+                             its tile: how much contrast survives)           tile's
+:func:`mean_chroma`          mean max(RGB) - min(RGB)                        --
+:func:`mean_gradient`        mean |luminance step| between neighbours        --
 ===========================  ==============================================  ==============
 
 :func:`band_power` is estimated in :mod:`spectex.spectrum`, the home of power
@@ -52,6 +56,9 @@ __all__ = [
     "repetition",
     "repeat_peak",
     "tileability",
+    "local_contrast",
+    "mean_chroma",
+    "mean_gradient",
     "compare",
     "Comparison",
     "BandPower",
@@ -66,6 +73,44 @@ def _channels(image: np.ndarray) -> np.ndarray:
 def _luma(image: np.ndarray) -> np.ndarray:
     """One float64 channel: grey as is, RGB(A) by Rec. 709 luma (:func:`spectex.color.luma`), alpha ignored."""
     return luma(image, dtype=np.float64)
+
+
+# --------------------------------------------------------------------------
+# What a first look sees: contrast, colour, sharpness
+# --------------------------------------------------------------------------
+
+def local_contrast(image, *, window: int = 32) -> float:
+    """Mean standard deviation of the luminance in non-overlapping ``window`` x ``window`` blocks.
+
+    The contrast a viewer sees at the scale of a few dozen pixels, whatever
+    the picture does at larger scales: compare a rendered view with its
+    tile's own (``local_contrast(view) / local_contrast(tile)``) to see how
+    much of the tile's contrast the layers, the filtering and the haze left.
+    The picture is cropped to whole blocks (at least one).
+    """
+    y = _luma(check_image("image", image))
+    window = check_int("window", window, minimum=2)
+    h, w = (y.shape[0] // window) * window, (y.shape[1] // window) * window
+    if h == 0 or w == 0:
+        raise ValueError(f"window must be at most the image's sides {y.shape[:2]}, got {window}")
+    blocks = y[:h, :w].reshape(h // window, window, w // window, window)
+    return float(blocks.std(axis=(1, 3)).mean())
+
+
+def mean_chroma(image) -> float:
+    """Mean chroma ``max(R, G, B) - min(R, G, B)`` (HSV's C) over the pixels of an RGB(A) image (alpha ignored)."""
+    image = check_image("image", image, channels=(3, 4))
+    rgb = np.asarray(image[..., :3], dtype=np.float64)
+    return float((rgb.max(axis=-1) - rgb.min(axis=-1)).mean())
+
+
+def mean_gradient(image) -> float:
+    """Mean absolute luminance step between neighbouring pixels, per pixel (rows and columns averaged).
+
+    A sharpness measure: a magnified, blurred texture has small steps.
+    """
+    y = _luma(check_image("image", image))
+    return float(0.5 * (np.abs(np.diff(y, axis=0)).mean() + np.abs(np.diff(y, axis=1)).mean()))
 
 
 # --------------------------------------------------------------------------

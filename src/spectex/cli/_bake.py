@@ -1,4 +1,4 @@
-"""``spectex bake``: a region of a spectral texture as a sharded OME-Zarr pyramid."""
+"""``spectex bake``: a region of a spectral texture as a sharded OME-Zarr pyramid, or as one PNG."""
 
 from __future__ import annotations
 
@@ -16,11 +16,14 @@ def register(subparsers) -> None:
             "directly at 2**k times the pixel size. One task per shard, on this machine's threads "
             "or, with --scheduler tcp://HOST:PORT, on a dask.distributed cluster. Run again with "
             "the same arguments to finish an interrupted bake; other arguments over an existing "
-            "store are refused. See docs/bake.md."
+            "store are refused. With an output ending in .png, the region as one plain PNG instead "
+            "(--dtype uint8 or uint16: 8 or 16 bits per channel), for engines and tools that take "
+            "images. See docs/bake.md."
         ),
     )
     p.add_argument("texture", help="texture file (.toml)")
-    p.add_argument("-o", "--output", required=True, help="output store (a folder ending in .zarr)")
+    p.add_argument("-o", "--output", required=True,
+                   help="output store (a folder ending in .zarr), or one image (.png)")
     p.add_argument("--size", type=_common.size, required=True, metavar="WxH", help="level 0 size in pixels")
     p.add_argument("--pixel-size", type=_common.positive_float, required=True, metavar="P",
                    help="metres per pixel of level 0")
@@ -28,8 +31,8 @@ def register(subparsers) -> None:
                    help="world corner of pixel (0, 0), metres (default: 0,0)")
     p.add_argument("--levels", type=_common.positive_int, default=None,
                    help="pyramid levels (default: until the coarsest fits one chunk)")
-    p.add_argument("--chunk", type=_common.positive_int, default=512, help="chunk edge, pixels (default: 512)")
-    p.add_argument("--shard", type=_common.positive_int, default=4096,
+    p.add_argument("--chunk", type=_common.positive_int, default=None, help="chunk edge, pixels (default: 512)")
+    p.add_argument("--shard", type=_common.positive_int, default=None,
                    help="shard edge, pixels, a multiple of --chunk; one task each (default: 4096)")
     p.add_argument("--dtype", choices=("uint8", "uint16", "float32"), default="uint8",
                    help="stored pixel type (default: uint8 = round(v * 255))")
@@ -81,6 +84,13 @@ def run(args) -> int:
     if _common.given(args, "connect_timeout") and args.scheduler is None:
         _common.refuse(args, ["connect_timeout"], "without --scheduler")
     h, w = args.size
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in (".zarr", ".png"):
+        raise UsageError(f"--output must end in .zarr (a store) or .png (one image), got '{args.output}'")
+    if suffix == ".png":
+        return _run_image(args)
+    args.chunk = 512 if args.chunk is None else args.chunk
+    args.shard = 4096 if args.shard is None else args.shard
     with _common.Progress("baking") as progress:
         result = bake_zarr(args.texture, args.output, (h, w), pixel_size=args.pixel_size, origin=args.origin,
                            levels=args.levels, chunk=args.chunk, shard=args.shard, dtype=args.dtype,
@@ -95,4 +105,22 @@ def run(args) -> int:
     _common.report(f"wrote {result.path}: {len(result.shapes)} levels, {w}x{h} to {lw}x{lh} {result.dtype}, "
                    f"{result.baked} shards baked{resumed}; {result.pixels / 1e6:.1f} Mpx in {result.seconds:.1f} s "
                    f"({result.pixels_per_second / 1e6:.2f} Mpx/s)")
+    return 0
+
+
+def _run_image(args) -> int:
+    """``-o X.png``: the region as one PNG; the pyramid's options are refused, not ignored."""
+    from spectex.bake import bake_image
+
+    from ._common import UsageError
+
+    for option in ("levels", "chunk", "shard", "scheduler", "workers"):
+        if getattr(args, option) is not None:
+            raise UsageError(f"--{option} applies to a .zarr store, not to a .png output")
+    if args.dtype == "float32":
+        raise UsageError("--dtype float32 needs a .zarr store; a .png takes uint8 or uint16")
+    h, w = args.size
+    path = bake_image(args.texture, args.output, (h, w), pixel_size=args.pixel_size, origin=args.origin,
+                      bit_depth=8 if args.dtype == "uint8" else 16)
+    _common.report(f"wrote {path} ({w}x{h}, {8 if args.dtype == 'uint8' else 16}-bit RGB)")
     return 0

@@ -70,6 +70,23 @@ def finite_float(text: str) -> float:
     return value
 
 
+def haze(text: str) -> float:
+    """A haze distance in metres: >= 0 (0: no haze), at most 1e30."""
+    value = finite_float(text)
+    if value < 0 or value > 1e30:
+        raise argparse.ArgumentTypeError(f"must be 0 (no haze) or a distance in metres up to 1e30, got {text}")
+    return value
+
+
+def add_haze(p) -> None:
+    """The ``--haze`` option of the commands that draw a view."""
+    from spectex.shading.constants import DEFAULT_HAZE
+
+    p.add_argument("--haze", type=haze, default=DEFAULT_HAZE, metavar="METRES",
+                   help=f"haze distance: the ground keeps exp(-distance / METRES) of its colour; 0 turns the "
+                        f"haze off, as an engine export draws the texture (default: {DEFAULT_HAZE:g})")
+
+
 def positive_float(text: str) -> float:
     value = finite_float(text)
     if value <= 0:

@@ -20,7 +20,8 @@ def register(subparsers) -> None:
         description=(
             "Berger's spectral texturing, end to end: one seamless 512x512 RGBA noise tile "
             "(emboss alpha) drawn as five layers from 15.625 m to 10 km, finest first, each "
-            "coarser one alpha-blended over it. Renders a ground-plane view to the horizon "
+            "coarser one blended over it (variance-preserving: the tile's contrast survives; --paper for "
+            "the paper's alpha blend), and a sixth, fine detail layer (1.25 m) faded out with distance. Renders a ground-plane view to the horizon "
             "(Figure 1 of Berger's sketch, top), a close-up and an aerial view with OpenGL (headless "
             "EGL; the CPU reference renderer where there is no OpenGL), writes the tile's colour "
             "and alpha (its Figure 1, bottom) and the texture file, and reports the virtual texture "
@@ -32,6 +33,13 @@ def register(subparsers) -> None:
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed of the tile (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL if a context can be made, else the CPU)")
+    p.add_argument("--paper", action="store_true",
+                   help="the paper's own composite: five alpha-blended layers, no detail layer "
+                        "(default: the variance-preserving blend and a fine detail layer)")
+    _common.add_haze(p)
+    p.add_argument("--repeat-peak", action="store_true",
+                   help="also bake top-down views of periodic and stochastic layers and report their "
+                        "repeat_peak (compiles the bake kernel: about a minute on a first run)")
     p.set_defaults(func=run)
 
 
@@ -55,6 +63,7 @@ def run(args) -> int:
 
     from spectex._output import OutputSet
     from spectex.io import write_image
+    from spectex.render import Atmosphere
     from spectex.render import render as _render
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
@@ -66,7 +75,9 @@ def run(args) -> int:
 
     t0 = time.perf_counter()
     tile = make_tile(512, rng=args.seed)
-    texture = SpectralTexture.paper_preset(tile)
+    style = {"blend": "alpha", "detail": False} if args.paper else {}
+    texture = SpectralTexture.paper_preset(tile, **style)
+    atmosphere = Atmosphere(haze_distance=args.haze)
     t_build = time.perf_counter() - t0
 
     images, times = {}, {}
@@ -87,9 +98,10 @@ def run(args) -> int:
         for name, (cam, aniso) in views().items():
             t = time.perf_counter()
             if renderer is not None:
-                images[name] = renderer.render(cam, DEMO_SIZE, anisotropy=aniso)
+                images[name] = renderer.render(cam, DEMO_SIZE, anisotropy=aniso, atmosphere=atmosphere)
             else:
-                images[name] = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso).image
+                images[name] = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso,
+                                       atmosphere=atmosphere).image
             times[name] = time.perf_counter() - t
     finally:
         if renderer is not None:
@@ -108,30 +120,39 @@ def run(args) -> int:
     ratio = texture.layers[1].size / texture.layers[0].size
     h, w = DEMO_SIZE
     report = _common.report
-    report("spectex demo: a five-layer spectral texture (Berger, SIGGRAPH 2003 sketch)")
+    report(f"spectex demo: a {len(texture.layers)}-layer spectral texture (Berger, SIGGRAPH 2003 sketch)")
     report(f"  tile: 512x512 RGBA, emboss alpha, seed {args.seed} ({t_build:.2f} s to make)")
-    report(f"  layers, finest first: {sizes} (steps of x{ratio:.3f})")
-    report(f"  virtual texture: {texture.virtual_size} x {texture.virtual_size} texels, "
-           f"{texture.texel_size * 100:.2f} cm per texel over {texture.layers[-1].size / 1000:g} x "
-           f"{texture.layers[-1].size / 1000:g} km")
+    report(f"  layers: {sizes} (steps of x{ratio:.3f}" + (")" if args.paper else
+           "; the last a fine detail layer), variance-preserving blend (--paper: the paper's alpha blend)"))
+    # the virtual texture of the paper's five layers; the fine layer adds texels under the feet only
+    spectral = [layer.size for layer in texture.layers if layer.blend != "fine"]
+    texel = min(spectral) / texture.tile_shape[1]
+    virtual = int(round(max(spectral) / texel))
+    as_image = virtual ** 2 * 3
+    fine = [layer.size for layer in texture.layers if layer.blend == "fine"]
+    report(f"  virtual texture: {virtual} x {virtual} texels, {texel * 100:.2f} cm per texel over "
+           f"{max(spectral) / 1000:g} x {max(spectral) / 1000:g} km"
+           + (f" (and {fine[0] / texture.tile_shape[1] * 1000:.2f} mm texels under the feet)" if fine else ""))
     report(f"  memory: {texture.nbytes / 2**20:.2f} MiB ({texture.nbytes_mipmapped / 2**20:.2f} MiB with mip-maps) "
-           f"against {texture.nbytes_as_image / 2**30:.1f} GiB as one RGB image "
-           f"(1 : {texture.nbytes_as_image / texture.nbytes_mipmapped:,.0f})")
-    report(f"  renderer: {device}; trilinear mip-mapping and anisotropic filtering, 5 layers in one pass, "
-           "sky and haze")
-    from spectex.metrics import repeat_peak
-
-    side, per_tile = REPEAT_BAKE
-    peaks = {}
-    for tiling in ("periodic", "stochastic"):
-        tex = texture if tiling == "periodic" else SpectralTexture.paper_preset(tile, tiling="stochastic")
-        peaks[tiling] = repeat_peak(tex.bake((side, side), pixel_size=tex.layers[0].size / per_tile),
-                                    min_lag=min(24, side // 2))
-    report(f"  repeat_peak (top-down {side}x{side} bake, {per_tile} px per finest tile; <= 0.1 does not repeat): "
-           f"periodic layers (the paper) {peaks['periodic']:.3f}, stochastic layers {peaks['stochastic']:.3f}")
+           f"against {as_image / 2**30:.1f} GiB as one RGB image "
+           f"(1 : {as_image / texture.nbytes_mipmapped:,.0f})")
+    haze = f"haze {args.haze:g} m" if args.haze else "no haze"
+    report(f"  renderer: {device}; trilinear mip-mapping and anisotropic filtering, {len(texture.layers)} layers "
+           f"in one pass, sky and {haze}")
     for name, (cam, aniso) in views().items():
         x, y, z = cam.position
         report(f"  {name:8s} {w}x{h}: {times[name]:.3f} s  (camera {x:g},{y:g},{z:g}, yaw {cam.yaw:g}, "
                f"pitch {cam.pitch:g}, anisotropy {aniso:g})")
     report(f"  wrote {len(written)} files to {out}/: " + ", ".join(p.name for p in written))
+    if args.repeat_peak:  # after the pictures: the bake kernel's first compilation takes a minute
+        from spectex.metrics import repeat_peak
+
+        side, per_tile = REPEAT_BAKE
+        peaks = {}
+        for tiling in ("periodic", "stochastic"):
+            tex = SpectralTexture.paper_preset(tile, tiling=tiling, **style)
+            peaks[tiling] = repeat_peak(tex.bake((side, side), pixel_size=tex.layers[0].size / per_tile),
+                                        min_lag=min(24, side // 2))
+        report(f"  repeat_peak (top-down {side}x{side} bake, {per_tile} px per finest tile; <= 0.1 does not "
+               f"repeat): periodic layers {peaks['periodic']:.3f}, stochastic layers {peaks['stochastic']:.3f}")
     return 0

@@ -41,6 +41,7 @@ def register(subparsers) -> None:
     p.add_argument("--anisotropy", type=_common.positive_float, default=8.0,
                    help="maximum anisotropic filtering, 1 (off: trilinear only, faster) to 16 (default: 8, "
                         "sharper and alias-free at grazing angles)")
+    _common.add_haze(p)
     p.add_argument("--frames", type=_common.positive_int, default=1, help="frames of a fly-over (default: 1)")
     p.add_argument("--to", type=_common.floats(5), default=None, metavar="X,Y,Z,YAW,PITCH",
                    help="with --frames: fly-over end camera (default: 40 altitudes ahead, same height and angles)")
@@ -68,7 +69,7 @@ def run(args) -> int:
     import time
 
     from spectex.io import check_mp4_size, check_output_path, write_animation, write_image
-    from spectex.render import Camera, check_size
+    from spectex.render import Atmosphere, Camera, check_size
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
 
@@ -99,7 +100,8 @@ def run(args) -> int:
     cameras = flight(start, end, args.frames) if animated else [start]
     texture = SpectralTexture.load(args.texture)
     check_output_path("output", output, _ANIM if animated else _IMAGE)  # again: not one of its tile files
-    kw = dict(filter=args.filter, anisotropy=args.anisotropy, supersample=args.supersample)
+    kw = dict(filter=args.filter, anisotropy=args.anisotropy, supersample=args.supersample,
+              atmosphere=Atmosphere(haze_distance=args.haze))
 
     renderer = None
     if args.backend in ("auto", "gl"):

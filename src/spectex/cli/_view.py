@@ -22,6 +22,7 @@ def register(subparsers) -> None:
                    metavar="X,Y,Z,YAW,PITCH", help="start camera (default: 0,0,2,0,-10)")
     p.add_argument("--fov", type=_common.positive_float, default=60.0, help="vertical field of view (default: 60)")
     p.add_argument("--size", type=_common.size, default=(720, 1280), metavar="WxH", help="window size (default: 1280x720)")
+    _common.add_haze(p)
     p.set_defaults(func=run)
 
 
@@ -34,5 +35,5 @@ def run(args) -> int:
     camera = Camera.from_tuple(args.camera, fov=args.fov)
     texture = SpectralTexture.load(args.texture)  # a bad file is named before a missing display
     check_display()
-    run_viewer(texture, camera=camera, size=args.size)
+    run_viewer(texture, camera=camera, size=args.size, haze=args.haze)
     return 0

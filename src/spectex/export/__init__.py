@@ -8,6 +8,7 @@ One folder per export, every format in it written from the same texture:
 ``godot``      ``godot/``: a Godot 4 spatial shader, its tile, a camera-anchor script
 ``materialx``  ``materialx/``: a MaterialX 1.39 document of standard nodes, and its tile
 ``hlsl``       ``hlsl/``: an include for Unity Shader Graph and Unreal custom nodes
+``blender``    ``blender/``: a script that builds the material in Blender, its tile(s)
 =============  ==========================================================
 
 Every shader is the renderer's own text (:mod:`spectex.export._shader`),
@@ -34,7 +35,7 @@ from ._output import check_output_dir
 __all__ = ["FORMATS", "ExportResult", "check_output_dir", "export", "parse_formats"]
 
 #: Export formats, in the order they are written; each is ``module.write_<name>(texture, folder)``.
-FORMATS = ("web", "glsl", "godot", "materialx", "hlsl")
+FORMATS = ("web", "glsl", "godot", "materialx", "hlsl", "blender")
 
 
 @dataclass(frozen=True)

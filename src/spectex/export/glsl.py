@@ -153,9 +153,10 @@ the camera), and per layer:
 ```glsl
 vec2 jx = dFdx(p), jy = dFdy(p);              // the pixel's footprint on the ground
 vec2 st = spectex_layer_coords(anchor[k], mat[k], p);
-vec4 x = spectex_sample_grad(tile0, st, spectex_layer_deriv(mat[k], jx),
-                             spectex_layer_deriv(mat[k], jy), tex_size, max_aniso);
-c = spectex_blend(SPX_BLEND_ALPHA, c, x, opacity[k], mean[k]);   // SPX_BLEND_FIRST for the first layer
+vec2 dx = spectex_layer_deriv(mat[k], jx), dy = spectex_layer_deriv(mat[k], jy);
+vec4 x = spectex_sample_grad(tile0, st, dx, dy, tex_size, max_aniso);
+float lam = spectex_fade_lod(dx, dy, tex_size);   // used by SPX_BLEND_FINE only
+c = spectex_blend(SPX_BLEND_VARIANCE, c, x, opacity[k], mean[k], lam);   // the layer's blend; SPX_BLEND_FIRST for the first
 ```
 
 `spectex_texture.json` has `matrix` (`M_k` as m00, m01, m10, m11), `offset`,

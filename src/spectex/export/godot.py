@@ -116,9 +116,12 @@ def godot_shader(texture, tile_names) -> str:
         "void spectex_layer(int blend, SPX_TEX_ARG(tile), vec2 anchor, vec4 m, float opacity, vec3 mean,",
         "                   inout vec3 c, vec2 p, vec2 jx, vec2 jy) {",
         "    vec2 st = spectex_layer_coords(anchor, m, p);",
-        "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
-        "                                 SPECTEX_TEX_SIZE, spectex_max_anisotropy);",
-        "    c = spectex_blend(blend, c, x, opacity, mean);",
+        "    vec2 dx = spectex_layer_deriv(m, jx);",
+        "    vec2 dy = spectex_layer_deriv(m, jy);",
+        "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, SPECTEX_TEX_SIZE,",
+        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : spectex_max_anisotropy);  // fine: isotropic",
+        "    float lam = (blend == SPX_BLEND_FINE) ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
+        "    c = spectex_blend(blend, c, x, opacity, mean, lam);",
         "}",
         "",
         *(_STOCHASTIC_LAYER if stochastic else []),
@@ -174,10 +177,12 @@ _STOCHASTIC_LAYER = [
     "    vec2 g = ganchor + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, gbase.x, gbase.y, key,",
     "                                            spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
-    "                                            SPECTEX_TEX_SIZE, spectex_max_anisotropy, gm,",
+    "                                            SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : spectex_max_anisotropy, gm,",
     "                                            SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q, lut_row,",
     "                                            SPECTEX_LUT_ROWS, b0, b1, b2, origin);",
-    "    c = spectex_blend(blend, c, x, opacity, mean);",
+    "    float lam = (blend == SPX_BLEND_FINE)",
+    "        ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE) : 0.0;",
+    "    c = spectex_blend(blend, c, x, opacity, mean, lam);",
     "}",
     "",
 ]
@@ -328,7 +333,9 @@ Written by `spectex export`: `spectex_ground.gdshader` (a spatial shader),
 2. Import the tile(s) losslessly, so that the alpha (each layer's blend weight)
    survives: select {tiles}, Import dock: *Compress > Mode: Lossless*,
    *Mipmaps > Generate: on*, *Process > Fix Alpha Border: off* (it changes the
-   colour of transparent texels), *Process > Premult Alpha: off*, then *Reimport*.
+   colour of transparent texels), *Process > Premult Alpha: off*, *Detect 3D >
+   Compress To: Disabled* (otherwise Godot switches a texture used in 3D to VRAM
+   compression, which damages the alpha), then *Reimport*.
 3. Add a `MeshInstance3D` with a large `PlaneMesh` (e.g. 20 km, a few
    subdivisions) at height 0; *Geometry > Material Override: New ShaderMaterial*,
    shader `spectex_ground.gdshader`; set {', '.join(f'`spectex_tile{i}`' for i in range(len(tile_names)))}

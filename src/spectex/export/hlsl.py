@@ -134,9 +134,12 @@ def hlsl_include(texture, tile_names) -> str:
         "void spectex_layer(int blend, SPX_TEX_ARG(tile), int k, inout vec3 c, vec2 p, vec2 jx, vec2 jy) {",
         "    vec4 m = SPECTEX_MAT[k];",
         "    vec2 st = spectex_layer_coords(SPECTEX_ST_ANCHOR(k), m, p);",
-        "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
-        "                                 SPECTEX_TEX_SIZE, SPECTEX_MAX_ANISOTROPY);",
-        "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k]);",
+        "    vec2 dx = spectex_layer_deriv(m, jx);",
+        "    vec2 dy = spectex_layer_deriv(m, jy);",
+        "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, SPECTEX_TEX_SIZE,",
+        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY);  // fine: isotropic",
+        "    float lam = (blend == SPX_BLEND_FINE) ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
+        "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k], lam);",
         "}",
         "",
         *(_STOCHASTIC_LAYER if stochastic else []),
@@ -181,11 +184,13 @@ _STOCHASTIC_LAYER = [
     "    uint2 base = SPECTEX_G_BASE(k);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), SPECTEX_ST_ANCHOR(k) + rel, g, base.x,",
     "                                            base.y, SPECTEX_KEY[k], spectex_layer_deriv(m, jx),",
-    "                                            spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE, SPECTEX_MAX_ANISOTROPY,",
+    "                                            spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY,",
     "                                            gm, SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q,",
     "                                            SPECTEX_LUT_ROW[k], SPECTEX_LUT_ROWS, SPECTEX_B0[k], SPECTEX_B1[k],",
     "                                            SPECTEX_B2[k], SPECTEX_ORIGIN_RGB[k]);",
-    "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k]);",
+    "    float lam = (blend == SPX_BLEND_FINE)",
+    "        ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE) : 0.0;",
+    "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k], lam);",
     "}",
     "",
 ]
@@ -208,7 +213,13 @@ def _readme(texture, tile_names) -> str:
     if has_stochastic(texture):
         inputs += [f"Gauss{i}" for i in range(len(tile_names))] + ["Lut"]
     call = ", ".join(f"{name}, {name}Sampler" for name in inputs)
-    ports = ", ".join(f"`Tile{i}` (Bare Texture2D), `Tile{i}Sampler` (SamplerState)" for i in range(len(tile_names)))
+    ports = ", ".join(f"`{name}` (Bare Texture2D), `{name}Sampler` (Bare SamplerState)" for name in inputs)
+    extra = ("" if not has_stochastic(texture) else
+             "\n   Stochastic layers also take their Gaussianised levels (`Gauss0`, ...) and the\n"
+             "   look-up table (`Lut`) with their samplers: load them as *Stochastic layers*\n"
+             "   below says and set them as Texture 2D properties too.")
+    lut_sampler = ("" if not has_stochastic(texture) else
+                   " for the tiles and the Gaussianised levels, and one with\n   Filter: Point, Wrap: Clamp for `Lut`")
     return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
 
 Written by `spectex export`: `spectex_ground.hlsl` and {tiles}.
@@ -223,12 +234,14 @@ The include defines `{ENTRY_POINT}(Ground, Tile0, Tile0Sampler, ..., out Color, 
    *Compression: None*, *Generate Mip Maps: on*, *Wrap Mode: Repeat*,
    *Filter Mode: Trilinear*.
 2. Add a *Custom Function* node: *Type: File*, *Source: spectex_ground.hlsl*,
-   *Name: SpectexGround*. Inputs: `Ground` (Vector 2), {ports}; outputs:
-   `Color` (Vector 3), `Linear` (Vector 3).
+   *Name: SpectexGround*, and in the Graph Inspector's node settings
+   *Precision: Single* (Shader Graph calls `SpectexGround_float`; the include
+   has no `_half` version). Inputs, in this order: `Ground` (Vector 2), {ports};
+   outputs: `Color` (Vector 3), `Linear` (Vector 3).{extra}
 3. `Ground`: *Position* node (World) into a *Swizzle* `xz` (Unity: x east,
    z north; times metres per unit if a unit is not a metre). Texture inputs:
-   the tile(s) as Texture 2D properties; samplers: a *Sampler State* node
-   (Linear, Repeat).
+   Texture 2D properties; sampler inputs: a *Sampler State* node (Filter:
+   Trilinear, Wrap: Repeat){lut_sampler}.
 4. `Linear` into *Base Color* (in a linear-colour-space project; `Color` in a
    gamma one).
 

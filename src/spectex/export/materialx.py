@@ -88,14 +88,37 @@ class _Ref:
         self.type_ = type_
 
 
+def _srgb_decode(g: _Graph, colour: _Ref) -> _Ref:
+    """The IEC 61966-2-1 sRGB decode of ``colour``, channel by channel, in math nodes.
+
+    spectex blends the stored (sRGB-encoded) values and its pictures are those values; a
+    renderer's colour inputs are linear light. Not ``srgb_texture_to_lin_rec709``: three.js's
+    MaterialX loader rejects that node, and a colour-space declaration on the image would
+    decode before the blend, not after.
+    """
+    g.comment("the blended colour is sRGB-encoded, as spectex stores and shows it: decode it to "
+              "linear light once, here (c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4)")
+    channels = []
+    for i, name in enumerate("rgb"):
+        c = g.node("extract", "float", f"stored_{name}", in_=colour, index=("integer", str(i)))
+        low = g.node("divide", "float", f"decode_{name}_low", in1=c, in2=("float", "12.92"))
+        shifted = g.node("add", "float", f"decode_{name}_shift", in1=c, in2=("float", "0.055"))
+        scaled = g.node("divide", "float", f"decode_{name}_scale", in1=shifted, in2=("float", "1.055"))
+        high = g.node("power", "float", f"decode_{name}_high", in1=scaled, in2=("float", "2.4"))
+        channels.append(g.node("ifgreater", "float", f"linear_{name}", value1=c, value2=("float", "0.04045"),
+                               in1=high, in2=low))
+    return g.node("combine3", "color3", "ground_linear", in1=channels[0], in2=channels[1], in3=channels[2])
+
+
 def materialx_document(texture, tile_files) -> str:
     """The ``.mtlx`` text for ``texture``; ``tile_files``: per tile, its file name (beside the document)."""
     means = texture.mean_colours()
     root = ET.Element("materialx", version=MATERIALX_VERSION, colorspace="lin_rec709")
     root.append(ET.Comment(
         " spectex spectral texture: layers of one tile at different scales, blended by the tile's alpha "
-        "(docs/export.md). Standard nodes only. The tiles are data, not sRGB colour: their colour space is "
-        "lin_rec709, so no conversion is applied. Filtering and mip-maps are the renderer's; spectex's sky "
+        "(docs/export.md). Standard nodes only. The tiles are data: declared lin_rec709 so that no renderer "
+        "converts them before the blend; the blended colour (output 'stored', sRGB-encoded as spectex shows it) "
+        "is decoded to linear light by math nodes (output 'out', the materials' colour). Filtering and mip-maps are the renderer's; spectex's sky "
         "and distance haze are not part of the material. "))
     g = _Graph(root, "NG_spectex_ground")
     u_axis = g.input("ground_u", "vector3", _vec(GROUND_AXES[0]),
@@ -147,6 +170,10 @@ def materialx_document(texture, tile_files) -> str:
             xc = g.node("multiply", "color3", f"layer{k}_modulate", in1=x, in2=colour)
             colour = g.node("multiply", "color3", f"layer{k}_detail", in1=xc, in2=("float", "2"))
         else:  # variance: c = mu + (a (x - mu) + (1 - a)(c - mu)) / sqrt(a^2 + (1 - a)^2)
+            if layer.blend == "fine":
+                g.comment(f"layer {k} is a fine (detail) layer: spectex fades its alpha out with the pixel's "
+                          "footprint, which standard nodes cannot see; here it is the variance blend at full "
+                          "alpha, so it stays at every distance (the renderer's mip-maps still filter it).")
             mu = _vec(means[layer.tile])
             dx = g.node("subtract", "color3", f"layer{k}_x_dev", in1=x, in2=("color3", mu))
             dc = g.node("subtract", "color3", f"layer{k}_c_dev", in1=colour, in2=("color3", mu))
@@ -158,8 +185,9 @@ def materialx_document(texture, tile_files) -> str:
             den = g.node("sqrt", "float", f"layer{k}_norm", in_=sum2)
             scaled = g.node("divide", "color3", f"layer{k}_dev_scaled", in1=num, in2=den)
             colour = g.node("add", "color3", f"layer{k}_variance", in1=scaled, in2=("color3", mu))
-    out = g.node("clamp", "color3", "ground_colour", in_=colour, low=("float", "0"), high=("float", "1"))
-    g.output("out", out)
+    stored = g.node("clamp", "color3", "ground_colour", in_=colour, low=("float", "0"), high=("float", "1"))
+    g.output("stored", stored)
+    g.output("out", _srgb_decode(g, stored))
 
     surf = ET.SubElement(root, "standard_surface", name="SR_spectex_ground", type="surfaceshader")
     ET.SubElement(surf, "input", name="base", type="float", value="1")

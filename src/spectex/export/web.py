@@ -83,7 +83,7 @@ def layer_table(texture, *, atmosphere=None) -> dict:
         "layers": layers,
         "stochastic": table_info(texture),
         "atmosphere": {"horizon": list(atmosphere.horizon), "zenith": list(atmosphere.zenith),
-                       "haze_distance": float(atmosphere.haze_distance)},
+                       "haze_distance": float(atmosphere.effective_haze)},
     }
 
 

@@ -43,7 +43,7 @@ class RenderResult:
         return (self.image, self.backend)[index]
 
 
-def render(texture, camera, shape, *, backend="auto", **kwargs) -> RenderResult:
+def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs) -> RenderResult:
     """Render ``texture`` seen by ``camera``: a :class:`RenderResult` (``image``, ``backend``).
 
     ``shape`` is the picture's ``(height, width)`` in pixels.
@@ -51,9 +51,18 @@ def render(texture, camera, shape, *, backend="auto", **kwargs) -> RenderResult:
     made, else the CPU). Returns a :class:`RenderResult`. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
+    ``haze``: the haze distance in metres, 0 for none (as an engine export
+    draws the texture): short for ``atmosphere=Atmosphere(haze_distance=haze)``
+    (with ``atmosphere`` given too, its sky colours are kept).
     """
+    from dataclasses import replace
+
     from .._validate import check_choice
 
+    if haze is not None:
+        atmosphere = kwargs.get("atmosphere")
+        kwargs["atmosphere"] = (Atmosphere(haze_distance=haze) if atmosphere is None
+                                else replace(atmosphere, haze_distance=haze))
     backend = check_choice("backend", backend, ("auto", "gl", "cpu"))
     if backend in ("auto", "gl"):
         from .gl import GLRenderer, GLUnavailable

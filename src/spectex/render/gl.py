@@ -291,8 +291,11 @@ class GLRenderer:
 
     # ---------------------------------------------------------------- drawing
     def prepare(self, camera, shape, *, filter="trilinear", anisotropy=DEFAULT_ANISOTROPY, atmosphere=None,
-                enabled=None, sky_only=False):
+                enabled=None, sky_only=False, fade_bias=0.0):
         """Set the uniforms and sampler state for a frame of ``shape = (height, width)``.
+
+        ``fade_bias``: ``log2`` of the supersampling factor, so that a fine
+        layer fades by the footprint of the final pixel (``render`` sets it).
 
         ``anisotropy`` defaults to 8 (:data:`spectex.render.DEFAULT_ANISOTROPY`), as in
         :func:`spectex.render.cpu.render_cpu`; ``draw``, ``render`` and ``time_frames``
@@ -325,6 +328,7 @@ class GLRenderer:
         self._set_uniform("u_zenith", tuple(float(v) for v in view.zenith))
         self._set_uniform("u_haze", view.haze_distance)
         self._set_uniform("u_far", view.far)
+        self._set_uniform("u_fade_bias", float(fade_bias))
         self._set_uniform("u_max_aniso", tables.max_aniso)
         self._set_uniform("u_anchor", [(float(a[0]), float(a[1])) for a in anchor])
         if self.lut_texture is not None:
@@ -372,7 +376,7 @@ class GLRenderer:
         fbo = self._framebuffer(h * n, w * n)
         fbo.use()
         fbo.viewport = (0, 0, w * n, h * n)
-        self.draw(camera, (h * n, w * n), **kwargs)
+        self.draw(camera, (h * n, w * n), fade_bias=float(np.log2(n)), **kwargs)
         data = fbo.read(components=3, alignment=1, dtype="f1")
         img = np.frombuffer(data, dtype=np.uint8).reshape(h * n, w * n, 3)[::-1]  # bottom-left origin
         img = img.astype(np.float32) / np.float32(255.0)

@@ -125,7 +125,7 @@ def _text_image(text: str) -> np.ndarray:
     return np.asarray(img)
 
 
-def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> None:
+def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280), haze=None) -> None:
     """Open the window and fly until it is closed.
 
     Parameters
@@ -135,6 +135,8 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
         Start camera (default: 2 m up, looking north and slightly down).
     size : (int, int)
         Window ``(height, width)``.
+    haze : float, optional
+        Haze distance in metres, 0 for none (default: ``Atmosphere``'s); H toggles it.
 
     Raises
     ------
@@ -163,7 +165,7 @@ def run_viewer(texture, *, camera: Camera | None = None, size=(720, 1280)) -> No
         glfw.make_context_current(window)
         glfw.swap_interval(0)
         ctx = create_context(standalone=False, what="the viewer")
-        _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay)
+        _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay, haze)
     finally:
         glfw.terminate()
 
@@ -192,7 +194,7 @@ def _drag(window, flight, glfw, start, fb_h):
     return (mx, my)
 
 
-def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
+def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay, haze=None):
     state = {"drag": None, "scroll": 0.0, "keys": []}
 
     def on_scroll(_win, _dx, dy):
@@ -206,7 +208,8 @@ def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
     glfw.set_key_callback(window, on_key)
     overlay = TextOverlay(ctx)
     renderer = GLRenderer(texture, ctx=ctx)
-    no_haze = Atmosphere(haze_distance=1e9)
+    hazed = Atmosphere() if haze is None else Atmosphere(haze_distance=haze)  # haze: metres, 0 = none
+    no_haze = Atmosphere(haze_distance=0.0)
     last = time.perf_counter()
     fps_t, fps_n, fps = last, 0, 0.0
     try:
@@ -237,7 +240,7 @@ def _loop(window, ctx, texture, flight, glfw, GLRenderer, TextOverlay):
             ctx.viewport = (0, 0, fb_w, fb_h)
             renderer.draw(flight.camera, (fb_h, fb_w), filter="trilinear" if flight.mipmaps else "linear",
                           anisotropy=DEFAULT_ANISOTROPY if flight.anisotropy else 1.0, enabled=flight.enabled,
-                          atmosphere=None if flight.haze else no_haze)
+                          atmosphere=hazed if flight.haze else no_haze)
             fps_n += 1
             if now - fps_t >= 0.5:
                 fps = fps_n / (now - fps_t)

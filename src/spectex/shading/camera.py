@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_float
-from .constants import FAR_HAZE_RATIO
+from .constants import DEFAULT_HAZE, FAR_HAZE_RATIO, HAZE_OFF
 
 __all__ = ["Camera", "Atmosphere", "ViewParams", "view_params", "MAX_RENDER_PIXELS", "check_size"]
 
@@ -140,11 +140,17 @@ class Atmosphere:
     elevation ``e`` (sine of the ray's angle above the horizon) is ``horizon +
     (1 - exp(-SKY_FALLOFF e)) (zenith - horizon)`` (``SKY_FALLOFF = 4``),
     continuous with the hazed ground at the horizon.
+
+    ``haze_distance=0`` turns the haze off (the ground keeps its colour at
+    every distance, as an engine export draws it; the texture is sampled to
+    the horizon): ``Atmosphere(haze_distance=0)``, or ``render(..., haze=0)``.
+    The default, 12 km, leaves a 1,200 m aerial view with most of the tile's
+    colour (``docs/rendering.md``; the former 4 km took two thirds of it).
     """
 
     horizon: tuple[float, float, float] = (0.78, 0.82, 0.86)
     zenith: tuple[float, float, float] = (0.32, 0.50, 0.78)
-    haze_distance: float = 4000.0
+    haze_distance: float = DEFAULT_HAZE
 
     def __post_init__(self):
         for name in ("horizon", "zenith"):
@@ -154,11 +160,16 @@ class Atmosphere:
             object.__setattr__(self, name, tuple(check_float(f"{name}[{i}]", v[i], minimum=0.0, maximum=1.0)
                                                  for i in range(3)))
         object.__setattr__(self, "haze_distance", check_float("haze_distance", self.haze_distance, minimum=0.0,
-                                                              exclusive_minimum=True))
+                                                              maximum=HAZE_OFF))
+
+    @property
+    def effective_haze(self) -> float:
+        """The haze distance the shaders use: ``HAZE_OFF`` (no haze) for 0."""
+        return HAZE_OFF if self.haze_distance == 0.0 else self.haze_distance
 
     @property
     def far(self) -> float:
-        return FAR_HAZE_RATIO * self.haze_distance
+        return FAR_HAZE_RATIO * self.effective_haze
 
 
 class ViewParams(NamedTuple):
@@ -178,7 +189,7 @@ class ViewParams(NamedTuple):
     ddy: np.ndarray        #: (3,) and along y
     horizon: np.ndarray    #: (3,) RGB
     zenith: np.ndarray     #: (3,) RGB
-    haze_distance: float   #: metres
+    haze_distance: float   #: metres (``HAZE_OFF`` for no haze)
     far: float             #: no texture beyond this distance, metres
     supersample: int       #: n x n samples per pixel
 
@@ -196,4 +207,4 @@ def view_params(camera: Camera, shape, *, atmosphere=None, supersample=1) -> Vie
     ddx, ddy = camera.ray_steps(h, w)
     return ViewParams(float(camera.position[2]), fwd, right, up, float(tan_x), float(tan_y), ddx, ddy,
                       np.array(atmosphere.horizon, dtype=np.float64), np.array(atmosphere.zenith, dtype=np.float64),
-                      float(atmosphere.haze_distance), float(atmosphere.far), int(supersample))
+                      float(atmosphere.effective_haze), float(atmosphere.far), int(supersample))

@@ -14,20 +14,28 @@ branch in ``shading/layers.py`` and one in ``shading/shaders/spectex_layers.glsl
 from __future__ import annotations
 
 __all__ = [
-    "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE",
+    "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE",
+    "FADE_START", "FADE_END",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
     "DEFAULT_MIN_LOD", "DEFAULT_MAX_LOD", "LOD_FLOOR", "ANCHOR_PERIOD",
-    "SKY_FALLOFF", "FAR_HAZE_RATIO", "MAX_LAYERS", "MAX_TILES", "glsl_defines",
+    "SKY_FALLOFF", "FAR_HAZE_RATIO", "DEFAULT_HAZE", "HAZE_OFF", "MAX_LAYERS", "MAX_TILES", "glsl_defines",
 ]
 
 # ------------------------------------------------------------------ layers
 #: How a layer goes over the layers drawn before it; the code is the index.
-BLENDS = ("alpha", "detail", "variance")
-BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE = 0, 1, 2
+BLENDS = ("alpha", "detail", "variance", "fine")
+BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE, BLEND_FINE = 0, 1, 2, 3
+#: ``"fine"``: the variance blend with the layer's alpha faded out by its
+#: footprint, for a detail layer finer than the others: full alpha while a
+#: pixel covers at most ``2**FADE_START`` of its texels (isotropic lambda, the
+#: longer footprint edge), none from ``2**FADE_END`` on, linear in lambda
+#: between; gone before its repetition could be seen or its texels alias.
+FADE_START = 1.0
+FADE_END = 3.0
 #: The code of the first drawn layer, whatever its blend: it sets the colour.
 BLEND_FIRST = -1
 
@@ -84,6 +92,11 @@ ANCHOR_PERIOD = 2.0
 SKY_FALLOFF = 4.0
 #: The texture is not sampled beyond ``FAR_HAZE_RATIO * haze_distance``.
 FAR_HAZE_RATIO = 50.0
+#: Default haze distance, metres: a 1,200 m aerial view keeps two thirds of the tile's colour.
+DEFAULT_HAZE = 12000.0
+#: The haze distance the shaders get for "no haze" (``Atmosphere(haze_distance=0)``): finite in float32,
+#: ``exp(-d / HAZE_OFF)`` is 1 for any distance on Earth.
+HAZE_OFF = 1e30
 
 
 def _glsl_number(value) -> str:
@@ -113,6 +126,8 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
+    lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")
+    lines.append(f"#define SPX_FADE_END {_glsl_number(FADE_END)}")
     lines.append(f"#define SPX_LOD_FLOOR {_glsl_number(LOD_FLOOR)}")
     lines.append(f"#define SPX_SKY_FALLOFF {_glsl_number(SKY_FALLOFF)}")
     lines.append(f"#define SPX_FAR_HAZE_RATIO {_glsl_number(FAR_HAZE_RATIO)}")

@@ -25,11 +25,12 @@ import math
 import numba
 import numpy as np
 
-from .constants import BLEND_ALPHA, BLEND_DETAIL, BLEND_FIRST, GAUSS_MEAN, TILING_STOCHASTIC
+from .constants import (BLEND_ALPHA, BLEND_DETAIL, BLEND_FINE, BLEND_FIRST, FADE_END, FADE_START, GAUSS_MEAN,
+                        LOD_FLOOR, TILING_STOCHASTIC)
 from .sampler import sample_grad
 from .stochastic import lut_lookup, sample_stochastic_grad, triangle_vertices, vertex_offset
 
-__all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "blend",
+__all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
 
 _jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
@@ -57,7 +58,13 @@ def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
       tables (``T.lut``), the grid position from the anchor's
       (``anchor[k, 2:6]``) plus ``T.grid[k]`` times the displacement in
       tile coordinates.
+
+    A layer with the fine blend is sampled isotropically (anisotropy 1: one
+    sample at the longer footprint edge's lambda): it fades out before a
+    footprint is long enough for anisotropic filtering to matter, and the
+    anisotropic loop would cost the GL frame most where it is invisible.
     """
+    aniso = 1.0 if T.blend[k] == BLEND_FINE else T.max_aniso
     if T.tiling[k] == TILING_STOCHASTIC:
         sr = s - anchor[k, 0]
         tr = t - anchor[k, 1]
@@ -65,12 +72,12 @@ def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
         kx = anchor[k, 2] + (g[k, 0, 0] * sr + g[k, 0, 1] * tr)
         ky = anchor[k, 3] + (g[k, 1, 0] * sr + g[k, 1, 1] * tr)
         return sample_stochastic_grad(T.gauss, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s,
-                                      T.wrap_t, T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod,
+                                      T.wrap_t, T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod,
                                       T.max_lod, T.lut, T.tile[k] * T.lut_rows, T.basis[k], T.origin[k],
                                       T.grid[k], np.int64(anchor[k, 4]), np.int64(anchor[k, 5]), T.key[k],
                                       s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
     return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,
-                       T.min_filter, T.mag_filter, T.max_aniso, T.bias, T.min_lod, T.max_lod,
+                       T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod, T.max_lod,
                        s, t, dsdx, dtdx, dsdy, dtdy)
 
 
@@ -99,8 +106,24 @@ def blend_variance(c, x, a, mu, norm):
 
 
 @_jit_inline
+def fade(lam):
+    """The fine blend's fade at a layer's isotropic lambda: 1 up to ``FADE_START``, 0 from ``FADE_END``."""
+    return min(max((FADE_END - lam) * (1.0 / (FADE_END - FADE_START)), 0.0), 1.0)
+
+
+@_jit_inline
+def fade_lod(w0, h0, dsdx, dtdx, dsdy, dtdy):
+    """The isotropic lambda (log2 of the longer footprint edge, level-0 texels) of derivatives of (s, t)."""
+    px = math.sqrt((dsdx * w0) ** 2 + (dtdx * h0) ** 2)
+    py = math.sqrt((dsdy * w0) ** 2 + (dtdy * h0) ** 2)
+    return math.log2(max(max(px, py), LOD_FLOOR))
+
+
+@_jit_inline
 def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
-    """The colour after a layer with blend ``code`` (``constants.BLEND_*``) goes over ``c``."""
+    """The colour after a layer with blend ``code`` (``constants.BLEND_*``) goes over ``c``.
+
+    ``BLEND_FINE`` is the variance blend; the caller has faded ``a`` (:func:`fade`)."""
     if code == BLEND_FIRST:
         return r, g, b
     if code == BLEND_ALPHA:
@@ -112,13 +135,14 @@ def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
 
 
 @_jit_inline
-def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
+def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy, fade_bias):
     """The spectral texture's colour at a ground point, any sampler state.
 
     ``(dx, dy)``: world displacement (metres) from the anchor whose per-layer
     tile coordinates are ``anchor``; ``(jxx, jyx)`` and ``(jxy, jyy)``: the
-    world derivatives of the point along the screen's x and y.
-    Returns RGB clamped to [0, 1] (black if no layer is drawn).
+    world derivatives of the point along the screen's x and y (of one
+    sample); ``fade_bias``: ``log2`` of the samples per pixel along a side,
+    so that the fine blend fades by the pixel's footprint. Returns RGB clamped to [0, 1] (black if no layer is drawn).
     """
     cr = 0.0
     cg = 0.0
@@ -133,6 +157,8 @@ def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy):
         dsdy = mats[k, 0, 0] * jxy + mats[k, 0, 1] * jyy
         dtdy = mats[k, 1, 0] * jxy + mats[k, 1, 1] * jyy
         r, g, b, a = sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy)
+        if T.blend[k] == BLEND_FINE:
+            a = a * fade(fade_lod(T.widths[0], T.heights[0], dsdx, dtdx, dsdy, dtdy) + fade_bias)
         cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a * T.opacity[k], T.mean[k, 0], T.mean[k, 1],
                            T.mean[k, 2])
     return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)
@@ -285,11 +311,12 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
 
 @_jit_inline
 def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off, anchor,
-              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic):
+              px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic, fade_bias):
     """Section 6 on ``m`` samples of a row (the fast path): world points
     ``(px, py)`` relative to the anchor, world lambda ``lamw`` (between
     ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
-    (not clamped); ``lr .. la`` are float32 scratch. ``stochastic`` is
+    (not clamped); ``lr .. la`` are float32 scratch; ``fade_bias`` as in
+    :func:`shade_ground`. ``stochastic`` is
     ``(tiling, gflat, grid, key, lut, lut_rows, basis, origin)`` (one tuple:
     CPython passes a call of more than 30 arguments as ``*args``, which
     numba cannot inline): stochastic layers (``tiling``) read the Gaussian
@@ -335,6 +362,17 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
                 cr[x] = blend_detail(cr[x], lr[x])
                 cg[x] = blend_detail(cg[x], lg[x])
                 cb[x] = blend_detail(cb[x], lb[x])
+        elif code == BLEND_FINE:
+            mr = mean[k, 0]
+            mg = mean[k, 1]
+            mb = mean[k, 2]
+            off_k = lod_off[k] + fade_bias
+            for x in range(m):
+                a = la[x] * op * fade(lamw[x] + off_k)
+                nn = variance_norm(a)
+                cr[x] = blend_variance(cr[x], lr[x], a, mr, nn)
+                cg[x] = blend_variance(cg[x], lg[x], a, mg, nn)
+                cb[x] = blend_variance(cb[x], lb[x], a, mb, nn)
         else:
             mr = mean[k, 0]
             mg = mean[k, 1]

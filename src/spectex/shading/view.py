@@ -76,6 +76,7 @@ def bake_kernel(T, anchor, pixel_size, n, row0, col0, out):
     h, w = out.shape[0], out.shape[1]
     step = pixel_size / n
     inv = 1.0 / (n * n)
+    fbias = math.log2(n)
     for r in numba.prange(h):
         for c in range(w):
             ar = 0.0
@@ -85,7 +86,7 @@ def bake_kernel(T, anchor, pixel_size, n, row0, col0, out):
                 dy = ((row0 + r) + (j + 0.5) / n) * pixel_size
                 for i in range(n):
                     dx = ((col0 + c) + (i + 0.5) / n) * pixel_size
-                    sr, sg, sb = shade_ground(T, anchor, dx, dy, step, 0.0, 0.0, step)
+                    sr, sg, sb = shade_ground(T, anchor, dx, dy, step, 0.0, 0.0, step, fbias)
                     ar += sr
                     ag += sg
                     ab += sb
@@ -107,6 +108,7 @@ def render_kernel(T, anchor, V, rows, out):
     n = V.supersample
     inv = 1.0 / (n * n)
     inv_n = 1.0 / n
+    fbias = math.log2(n)
     height = V.height
     far = V.far
     ddx = V.ddx
@@ -131,7 +133,7 @@ def render_kernel(T, anchor, V, rows, out):
                     if d2 < 0.0 and height * dlen < -d2 * far:
                         tt, jxx, jyx, jxy, jyy = ground_footprint(height, d0, d1, d2, ddx[0], ddx[1], ddx[2],
                                                                   ddy[0], ddy[1], ddy[2], inv_n)
-                        gr, gg, gb = shade_ground(T, anchor, tt * d0, tt * d1, jxx, jyx, jxy, jyy)
+                        gr, gg, gb = shade_ground(T, anchor, tt * d0, tt * d1, jxx, jyx, jxy, jyy, fbias)
                         f = math.exp(-tt * dlen / V.haze_distance)
                         sr = haze(gr, hor[0], f)
                         sg = haze(gg, hor[1], f)
@@ -254,6 +256,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
     H, W = out.shape[0], out.shape[1]
     inv = 1.0 / (n * n)
     inv_n = 1.0 / n
+    fbias = math.log2(n)
     inv_haze = 1.0 / V.haze_distance
     ddx0, ddx1, ddx2 = V.ddx[0], V.ddx[1], V.ddx[2]
     ddy0, ddy1, ddy2 = V.ddy[0], V.ddy[1], V.ddy[2]
@@ -322,7 +325,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
                     cb[x] = 0.0
             else:
                 shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off,
-                          anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic)
+                          anchor, px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic, fbias)
             for i in range(n):
                 for c in range(W):
                     x = c * n + i

@@ -16,6 +16,9 @@ from .mipmap import mip_chain
 
 __all__ = ["emboss", "fit_range", "preview"]
 
+#: Below this many pixels the emboss gradient runs in NumPy (as ``from_noise.NUMPY_MAX``).
+_NUMPY_MAX = 1 << 21
+
 
 @numba.njit(cache=True, parallel=True)
 def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
@@ -28,6 +31,12 @@ def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
             lf = j - 1 if j > 0 else n1 - 1
             rt = j + 1 if j < n1 - 1 else 0
             g[i, j] = cx * (h[i, rt] - h[i, lf]) + cy * (h[up, j] - h[dn, j])
+
+
+def _gradient_numpy(h, cx, cy, g):
+    """:func:`_gradient_kernel` in NumPy (small images: no numba kernel to load)."""
+    g[...] = (cx * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1))
+              + cy * (np.roll(h, 1, axis=0) - np.roll(h, -1, axis=0)))
 
 
 def fit_range(values) -> np.ndarray:
@@ -94,9 +103,10 @@ def emboss(image, *, azimuth: float = 135.0, strength: float = 1.0) -> np.ndarra
 def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
     a = math.radians(azimuth)
     g = np.empty(h.shape, dtype=np.float32)
+    gradient = _gradient_numpy if h.size <= _NUMPY_MAX else _gradient_kernel
     with _threads_for(h.size):
-        _gradient_kernel(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
-                         np.float32(-0.5 * math.sin(a)), g)
+        gradient(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
+                 np.float32(-0.5 * math.sin(a)), g)
     top = max(float(g.max()), -float(g.min()))
     if top == 0.0 or strength == 0.0:
         return np.full(h.shape, 0.5, dtype=np.float32)

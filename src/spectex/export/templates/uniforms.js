@@ -70,7 +70,8 @@ function spectexFrameUniforms(texture, x, y, z, yaw, pitch, fov, width, height, 
       gbase.push(0, 0);
     }
   }
-  const haze = hazeDistance === undefined ? texture.atmosphere.haze_distance : hazeDistance;
+  const given = hazeDistance === undefined ? texture.atmosphere.haze_distance : hazeDistance;
+  const haze = given > 0 ? given : 1e30;  // 0: no haze (spectex's Atmosphere(haze_distance=0), HAZE_OFF)
   const out = {
     u_size: [width, height],
     u_height: z,

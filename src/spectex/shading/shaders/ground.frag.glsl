@@ -22,6 +22,8 @@ uniform vec3 u_horizon;
 uniform vec3 u_zenith;
 uniform float u_haze;         // haze distance (m)
 uniform float u_far;          // beyond this distance: horizon colour, no texture
+uniform float u_fade_bias;    // log2 of the supersampling factor (0 unless supersampled): the fine
+                              // blend fades by the pixel's footprint, not the sample's
 
 uniform sampler2D u_tile[N_TILES];
 uniform vec2 u_tex_size;      // level-0 width, height in texels
@@ -56,12 +58,16 @@ void shade_layer(int k, int blend, SPX_TEX_ARG(tile), inout vec3 c, vec2 p, vec2
     vec4 m = u_mat[k];
     vec2 st = spectex_layer_coords(u_anchor[k], m, p);
 #if ISO_LOD
-    vec4 x = spectex_sample_layer(SPX_TEX(tile), st, lam_w + u_lod_off[k]);
+    float lam = lam_w + u_lod_off[k];
+    vec4 x = spectex_sample_layer(SPX_TEX(tile), st, lam);
 #else
-    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
-                                 u_tex_size, u_max_aniso);
+    vec2 dx = spectex_layer_deriv(m, jx);
+    vec2 dy = spectex_layer_deriv(m, jy);
+    // the fine layer isotropic (spectex_blend: it fades out before anisotropy would matter)
+    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso);
+    float lam = (blend == SPX_BLEND_FINE) ? spectex_fade_lod(dx, dy, u_tex_size) : 0.0;
 #endif
-    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);
+    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 }
 
 #if STOCHASTIC
@@ -75,16 +81,19 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
     vec2 st = u_anchor[k] + rel;
     vec2 g = u_ganchor[k] + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);
 #if ISO_LOD
+    float lam = lam_w + u_lod_off[k];
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
-                                       u_tex_size, lam_w + u_lod_off[k], MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
+                                       u_tex_size, lam, MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
                                        u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
 #else
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,
                                             u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
-                                            u_tex_size, u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
+                                            u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
                                             u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
+    float lam = (blend == SPX_BLEND_FINE)
+        ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), u_tex_size) : 0.0;
 #endif
-    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k]);
+    c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 }
 #endif
 

@@ -194,11 +194,26 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
 }
 #endif
 
+// Section 6: the fine blend's fade (SPX_BLEND_FINE) at a layer's isotropic
+// lambda lam (log2 of the longer footprint edge in level-0 texels): 1 up to
+// SPX_FADE_START, 0 from SPX_FADE_END, linear between.
+float spectex_fade(float lam) {
+    return clamp((SPX_FADE_END - lam) * (1.0 / (SPX_FADE_END - SPX_FADE_START)), 0.0, 1.0);
+}
+
+// The isotropic lambda of the derivatives dx, dy of (s, t) (tex_size: level-0
+// width, height), for spectex_fade.
+float spectex_fade_lod(vec2 dx, vec2 dy, vec2 tex_size) {
+    return log2(max(max(length(dx * tex_size), length(dy * tex_size)), SPX_LOD_FLOOR));
+}
+
 // Section 6: the colour after a layer's sample x (RGBA) goes over c.
 // blend: SPX_BLEND_FIRST (the first drawn layer: sets the colour),
-// SPX_BLEND_ALPHA, SPX_BLEND_DETAIL or SPX_BLEND_VARIANCE (mean: the
-// layer's tile mean colour). Pass a constant and the branches fold away.
-vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean) {
+// SPX_BLEND_ALPHA, SPX_BLEND_DETAIL, SPX_BLEND_VARIANCE (mean: the
+// layer's tile mean colour) or SPX_BLEND_FINE (the variance blend with the
+// alpha times spectex_fade(lam), lam the layer's isotropic lambda; unused
+// by the other blends). Pass a constant and the branches fold away.
+vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float lam) {
     float a = x.a * opacity;
     if (blend == SPX_BLEND_FIRST) {
         return x.rgb;
@@ -206,6 +221,8 @@ vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean) {
         return a * x.rgb + (1.0 - a) * c;
     } else if (blend == SPX_BLEND_DETAIL) {
         return 2.0 * x.rgb * c;
+    } else if (blend == SPX_BLEND_FINE) {
+        a *= spectex_fade(lam);
     }
     return mean + (a * (x.rgb - mean) + (1.0 - a) * (c - mean)) / sqrt(a * a + (1.0 - a) * (1.0 - a));
 }
