@@ -857,6 +857,8 @@ def test_render_returns_a_typed_result(monkeypatch):
     result = render(SpectralTexture.plain(make_tile(16, rng=0), 4.0), Camera((0.0, 0.0, 2.0), pitch=-10.0), (6, 8))
     assert isinstance(result, RenderResult) and dataclasses.is_dataclass(result)
     assert result.image.shape == (6, 8, 3) and result.backend == "cpu"
+    with pytest.raises(TypeError):  # a typed result, not the old tuple (no unpacking shim)
+        _image, _backend = result
 
 
 def test_a_full_disk_while_writing_a_pdf_is_one_line(tmp_path, monkeypatch, capsys):

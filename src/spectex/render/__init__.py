@@ -28,19 +28,10 @@ class RenderResult:
         The picture, RGB in [0, 1], row 0 at the top.
     backend : {"gl", "cpu"}
         The renderer that drew it.
-
-    Unpacking (``image, backend = render(...)``), the old tuple return, still
-    works for one release.
     """
 
     image: np.ndarray
     backend: str
-
-    def __iter__(self):
-        return iter((self.image, self.backend))
-
-    def __getitem__(self, index):
-        return (self.image, self.backend)[index]
 
 
 def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs) -> RenderResult:
