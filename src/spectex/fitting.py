@@ -77,7 +77,7 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
         For an image under 32 pixels on a side, or a flat one (luma standard
         deviation under half an 8-bit step).
     """
-    image = check_image("image", image, channels=(None, 1, 2, 3, 4))
+    image = check_image("image", image, channels=(None, 1, 2, 3, 4), unit=True)
     max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
     h, w = image.shape[:2]
     notes = []

@@ -42,7 +42,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape, check_tile_shape
+from ._validate import (
+    check_choice,
+    check_float,
+    check_image,
+    check_int,
+    check_length,
+    check_rng,
+    check_shape,
+    check_tile_shape,
+)
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_placement"]
@@ -147,7 +156,7 @@ class Layer:
     seed: int = 0
 
     def __post_init__(self):
-        object.__setattr__(self, "size", check_float("size", self.size, minimum=0.0, exclusive_minimum=True))
+        object.__setattr__(self, "size", check_length("size", self.size))
         object.__setattr__(self, "tile", check_int("tile", self.tile, minimum=0))
         off = self.offset
         if not isinstance(off, (tuple, list, np.ndarray)) or len(off) != 2:
@@ -539,7 +548,7 @@ class SpectralTexture:
         n = check_int("supersample", supersample, minimum=1, maximum=16)
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // (n * n))
         ox, oy = _pair("origin", origin)
-        p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+        p = check_length("pixel_size", pixel_size)
         if not isinstance(start, (tuple, list)) or len(start) != 2:
             raise ValueError(f"start must be a pair (row, column) of integers, got {start!r}")
         row0 = check_int("start[0]", start[0], minimum=0)
@@ -560,7 +569,7 @@ class SpectralTexture:
         """
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // max(1, len(self.layers)))
         ox, oy = _pair("origin", origin)
-        p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+        p = check_length("pixel_size", pixel_size)
         from .shading.sampler import MipTexture, sample
 
         r, c = np.mgrid[0:h, 0:w]

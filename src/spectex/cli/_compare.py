@@ -33,6 +33,7 @@ def register(subparsers) -> None:
                    help="IMAGE is a view of a texture at ZOOM times the exemplar's pixel size (>= 1, e.g. 8): "
                         "also search it for the exemplar magnified 2 to 256 times (giant copies)")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
+    _common.add_normalize(p)
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
                    help="also write the reference and IMAGE side by side, labelled, to this image")
     p.set_defaults(func=run)
@@ -73,7 +74,7 @@ def run(args) -> int | None:
 
     from spectex import metrics
     from spectex.figures import montage
-    from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
+    from spectex.io import IMAGE_SUFFIXES, check_output_path, write_image
 
     if args.block is None:
         _common.refuse(args, ["overlap"], "without --block (only to the seam energy of a quilt)")
@@ -84,8 +85,8 @@ def run(args) -> int | None:
     from spectex._validate import check_image
 
     # errors name IMAGE or the reference, not the metric's argument
-    image = check_image("IMAGE", read_image(image_path, name="IMAGE"))
-    reference = check_image("--reference", read_image(reference_path, name="--reference"))
+    image = check_image("IMAGE", _common.read_unit_image(args, image_path, "IMAGE"))
+    reference = check_image("--reference", _common.read_unit_image(args, reference_path, "--reference"))
     image, reference = _as_common_channels(image, reference)
     if args.zoom is not None and args.zoom < 1.0:
         raise ValueError(f"--zoom must be >= 1 (the view's pixel size over the exemplar's), got {args.zoom:g}")

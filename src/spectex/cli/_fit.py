@@ -40,12 +40,18 @@ def register(subparsers) -> None:
                    help="size ratio between neighbouring layers (default: 4)")
     p.add_argument("--opacity", type=_common.positive_float, default=None,
                    help="opacity of the first coarse layer (default: 0.1)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
+    _common.add_normalize(p)
     p.set_defaults(func=run)
 
 
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
+
+#: The smallest --opacity: below it a layer is invisible in 8 bits (and the fit's search degenerates).
+MIN_OPACITY = 1e-3
+#: Beyond these the fit is reported as a poor match (``compare`` calls W1 <= 0.03 and <= 1.5 dB close).
+POOR_W1, POOR_BAND_DB = 0.1, 6.0
 
 #: The fit's texture has two tiles: the photo's (the finest layer) and the coarse layers' own.
 _FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
@@ -84,9 +90,10 @@ def run(args) -> int | None:
 
     from spectex._output import OutputSet
     from spectex.fitting import fit_result, prepare_exemplar
-    from spectex.io import read_image
-
     start = time.perf_counter()
+    # a denormal opacity ran for minutes (fuzz_hostile)
+    if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
+        raise ValueError(f"--opacity must be between {MIN_OPACITY:g} and 1, got {args.opacity:g}")
     if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
@@ -94,7 +101,7 @@ def run(args) -> int | None:
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
-    photo = read_image(args.exemplar, name="EXEMPLAR")
+    photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
     exemplar, _ = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
@@ -135,6 +142,14 @@ def run(args) -> int | None:
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
     _common.report(_structure_line(numbers))
+    misses = []
+    if w1 > POOR_W1:
+        misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
+    if not numbers.band_power_distance_db <= POOR_BAND_DB:  # NaN counts as a miss
+        misses.append(f"band power {numbers.band_power_distance_db:.2f} dB > {POOR_BAND_DB} dB")
+    if misses:  # said, not hidden behind "fitted": the files are written for a look, the match is poor
+        _common.report(f"  poor match: {'; '.join(misses)}; the texture does not reproduce this exemplar well "
+                       "(see comparison.png)")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0
 

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from .._limits import check_exemplar_pixels, check_work
 from .._validate import check_float, check_image, check_int, check_rng, check_shape
 
 
@@ -212,7 +213,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
 
     from ._cut import place_block
 
-    ex = check_image("exemplar", exemplar)
+    ex = check_image("exemplar", exemplar, unit=True)
     out_h, out_w = check_shape("shape", shape)
     block = check_int("block", block, minimum=2)
     if overlap is None:
@@ -229,6 +230,12 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     eh, ew = ex.shape[:2]
     if eh < block or ew < block:
         raise ValueError(f"exemplar of {ew}x{eh} pixels is smaller than block={block}")
+    check_exemplar_pixels("exemplar", ex.shape, "quilting")
+    blocks = -(-out_h // (block - overlap)) * -(-out_w // (block - overlap))
+    nch_ = 1 if ex.ndim == 2 else ex.shape[2]
+    check_work(f"quilting of shape {out_w}x{out_h} in blocks of {block} from a {ew}x{eh} exemplar",
+               blocks * eh * ew * (nch_ + 1) * 2.0 * max(np.log2(eh * ew), 1.0),  # an FFT correlation a block
+               "use a smaller shape or exemplar, or a larger block")
     grey = ex.ndim == 2
     e3 = np.ascontiguousarray(ex[:, :, None] if grey else ex)
     nch = e3.shape[2]
