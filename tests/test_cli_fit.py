@@ -104,7 +104,7 @@ def test_cli_fit_bad_input_leaves_nothing(photos, capsys, photo, match):
 
 def test_cli_fit_bad_options(photos, capsys):
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "o"), "--opacity", "1.5"]) == 2
-    assert "opacity must be <= 1" in error_line(capsys)
+    assert "--opacity must be between 0.001 and 1, got 1.5" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "gravel.png")]) == 2
     assert "must be a folder" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "no" / "such")]) == 2
