@@ -237,6 +237,27 @@ class _TwoTiles(_Problem):
         return SpectralTexture([rgba, self.coarse_tile], self.layers)
 
 
+def _resolve_scale(pixel_size, photo_size, full_side, notes):
+    """The fit's pixel size (metres) and the report's words for it; an assumed scale is noted in ``notes``."""
+    if pixel_size is not None and photo_size is not None:
+        raise ValueError(f"give pixel_size or photo_size, not both (got {pixel_size!r} and {photo_size!r})")
+    if pixel_size is not None:
+        pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+        scale = f"pixel size {pixel_size:g} m (given)"
+    else:
+        assumed = photo_size is None
+        photo_size = DEFAULT_PHOTO_SIZE if assumed else check_float("photo_size", photo_size, minimum=0.0,
+                                                                    exclusive_minimum=True)
+        pixel_size = photo_size / full_side
+        scale = (f"photo {photo_size:g} m across its {full_side}-pixel side, pixel size {pixel_size:.4g} m "
+                 + ("(assumed: a photo of ground taken standing; pass photo_size= or pixel_size=)" if assumed
+                    else "(given)"))
+        if assumed:
+            notes.append(f"assumed the photo is {photo_size:g} m across (pixel size {pixel_size:.4g} m); "
+                         "say it with photo_size= / --photo-size")
+    return pixel_size, scale
+
+
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
@@ -260,22 +281,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
-    if pixel_size is not None and photo_size is not None:
-        raise ValueError(f"give pixel_size or photo_size, not both (got {pixel_size!r} and {photo_size!r})")
-    if pixel_size is not None:
-        pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
-        scale = f"pixel size {pixel_size:g} m (given)"
-    else:
-        assumed = photo_size is None
-        photo_size = DEFAULT_PHOTO_SIZE if assumed else check_float("photo_size", photo_size, minimum=0.0,
-                                                                    exclusive_minimum=True)
-        pixel_size = photo_size / full_side
-        scale = (f"photo {photo_size:g} m across its {full_side}-pixel side, pixel size {pixel_size:.4g} m "
-                 + ("(assumed: a photo of ground taken standing; pass photo_size= or pixel_size=)" if assumed
-                    else "(given)"))
-        if assumed:
-            notes.append(f"assumed the photo is {photo_size:g} m across (pixel size {pixel_size:.4g} m); "
-                         "say it with photo_size= / --photo-size")
+    pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
     h, w = exemplar.shape[:2]
     total = 3 + iterations
     done = 0
