@@ -30,7 +30,7 @@ def test_fit_at_the_top_level_is_the_fitting_modules():
 
 
 def test_layer_placement_is_the_one_rule_of_the_preset_and_the_fit():
-    from spectex.fitting import _layers
+    from spectex.fitting._core import _layers
     from spectex.texture import SpectralTexture, layer_placement
 
     # reference values of main before the rule had one home (paper_preset and _fit._layers)
@@ -184,7 +184,7 @@ def test_help_lists_the_public_names():
     text = pydoc.render_doc(spectex, renderer=pydoc.plaintext)
     for entry in ("class SpectralTexture", "class Layer", "class Camera", "class Atmosphere", "fit(image",
                   "make_tile(shape", "make_seamless(image", "read_image(path", "render (package)",
-                  "spectrum\n", "fitting\n", "periodic\n"):
+                  "spectrum\n", "fitting (package)", "periodic\n"):
         assert entry in text, entry
     assert spectex.Layer is importlib.import_module("spectex.texture").Layer
     assert spectex.Camera is importlib.import_module("spectex.shading.camera").Camera

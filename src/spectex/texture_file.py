@@ -48,7 +48,8 @@ import numpy as np
 from ._validate import _show, check_relative_name
 from .shading.constants import MAX_LAYERS, MAX_TILES
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps",
+           "check_nesting"]
 
 #: File format name and version written to and required in texture files.
 FORMAT = "spectex.spectral-texture"
@@ -166,11 +167,11 @@ def load(path):
                          f"(a texture of {MAX_LAYERS} layers takes about 2 kB)")
     try:
         text = data.decode("utf-8")
-        _check_nesting(text, path)
+        check_nesting(text, path)
         doc = tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
-    except RecursionError:  # a nesting that _check_nesting could not see (inside an odd string): same answer
+    except RecursionError:  # a nesting that check_nesting could not see (inside an odd string): same answer
         raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}") from None
     try:
         return from_dict(doc, base=path.parent)
@@ -178,7 +179,7 @@ def load(path):
         raise ValueError(f"texture file '{path}': {exc}") from None
 
 
-def _check_nesting(text: str, path) -> None:
+def check_nesting(text: str, path) -> None:
     """Refuse a document whose brackets nest deeper than :data:`MAX_NESTING` (before the recursive parser).
 
     Counts ``[``/``{`` against ``]``/``}`` outside quoted strings and comments;

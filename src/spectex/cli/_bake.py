@@ -54,12 +54,12 @@ def check_inputs_apart(texture_path, output) -> None:
 
     out = Path(output).resolve()
     inputs = [Path(texture_path).resolve()]
-    from spectex.texture_file import MAX_FILE_BYTES, _check_nesting
+    from spectex.texture_file import MAX_FILE_BYTES, check_nesting
 
     try:
         if Path(texture_path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
             text = Path(texture_path).read_text(encoding="utf-8")
-            _check_nesting(text, texture_path)
+            check_nesting(text, texture_path)
             doc = tomllib.loads(text)
             names = doc.get("tiles", []) if isinstance(doc, dict) else []
             names = names if isinstance(names, list) else []

@@ -29,12 +29,13 @@ Nothing heavy is imported here: the numba modules load on first use.
 from __future__ import annotations
 
 from . import constants
-from .camera import MAX_RENDER_PIXELS, Atmosphere, Camera, ViewParams, check_size, view_params
 
 __all__ = ["constants", "Camera", "Atmosphere", "ViewParams", "view_params", "check_size", "MAX_RENDER_PIXELS",
            "ShadingTables", "pack", "anchor_coords", "layer_matrix"]
 
-_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables", "layer_matrix": "tables"}
+_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables", "layer_matrix": "tables",
+         "Camera": "camera", "Atmosphere": "camera", "ViewParams": "camera", "view_params": "camera",
+         "check_size": "camera", "MAX_RENDER_PIXELS": "camera"}
 
 
 def __getattr__(name):

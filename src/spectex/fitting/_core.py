@@ -1,32 +1,15 @@
-"""Fitting a spectral texture to an exemplar photograph.
-
-The future work of Berger's sketch (seed 000): "analyze a given image for its
-statistical properties, and use these properties to generate texture tiles
-and mixing parameters for a similar-looking spectral texture".
-
-:func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
-out; :func:`fit_report` for the numbers of a fit (a :class:`FitResult` holds
-both); :func:`prepare_exemplar` for the input conversions (grey, alpha,
-16-bit, crop of huge images); :func:`structure_peak` for whether an exemplar
-is structured. The statistics it matches are those of :mod:`spectex.analysis`.
-
-See ``docs/fitting.md``.
-"""
+"""The fit's shared pieces: constants, exemplar preparation, the fitting problem, the results."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._results import AsDict
-from ._validate import check_choice, check_float, check_image, check_int, check_rng
-from .analysis import cross_scale
-from .color import luma
-
-__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
-           "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
+from .._results import AsDict
+from .._validate import check_float, check_image, check_int
+from ..analysis import cross_scale
+from ..color import luma
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
 MIN_SIZE = 32
@@ -184,7 +167,7 @@ def structure_peak(exemplar) -> float:
     to 0.06 whole and 0.05 to 0.11 as 128 x 128 corners (a small picture's
     noise floor is higher: about ``sqrt(2 ln N / N)``, 0.03 for N = 128^2).
     """
-    from .metrics import repeat_peak
+    from ..metrics import repeat_peak
 
     h, w = exemplar.shape[:2]
     peak = repeat_peak(exemplar, min_lag=min(24, min(h, w) // 2))
@@ -192,7 +175,7 @@ def structure_peak(exemplar) -> float:
 
 
 def _with_tilings(layer_list, tilings, patch):
-    from .texture import Layer
+    from ..texture import Layer
 
     return [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation, opacity=lay.opacity, tiling=t,
                   patch=patch, seed=k if t == "stochastic" else 0)
@@ -200,7 +183,7 @@ def _with_tilings(layer_list, tilings, patch):
 
 
 def _layers(n_layers: int, ratio: float, tile_px: int, pixel_size: float, opacity: float):
-    from .texture import Layer, layer_placement
+    from ..texture import Layer, layer_placement
 
     finest = tile_px * pixel_size
     out = []
@@ -228,7 +211,7 @@ class _Problem:
 
     def __init__(self, exemplar, pixel_size, layer_list, tile_px, ratio, segment, n_regions=3,
                  continuation=None):
-        from .metrics import band_power
+        from ..metrics import band_power
 
         self.exemplar = exemplar
         self.p = pixel_size
@@ -274,7 +257,7 @@ class _Problem:
                                          for fx, fy in _FAR[:n_regions - 1]]
 
     def texture(self, colour, alpha):
-        from .texture import SpectralTexture
+        from ..texture import SpectralTexture
 
         rgba = np.empty(colour.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(colour, 0.0, 1.0)
@@ -297,7 +280,7 @@ class _Problem:
         return bakes[:len(self.origins)]
 
     def band_error(self, bakes):
-        from .metrics import band_power
+        from ..metrics import band_power
 
         fine = self.fine_bakes(bakes)
         power = np.mean([10.0 ** (band_power(b, segment=self.segment)[1] / 10.0) for b in fine], axis=0)
@@ -360,337 +343,6 @@ def _pick_gain(gains, values, target) -> float:
     return float(gains[best])
 
 
-def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
-        ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
-        tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-        patch: float | None = None, method: str = "auto", progress=None):
-    """Fit a spectral texture to an exemplar photograph (Berger's future work).
-
-    **The default, ``method="auto"``** (issue 22; ``spectex._fit_auto`` and
-    ``docs/fitting.md``): each layer carries only what the photo says at its
-    scale. The finest layer is a tile of the photo: for a structured photo
-    (:func:`structure_peak` >= :data:`STRUCTURED_PEAK` and a period along x
-    or y in its autocorrelation) a periodic tile of whole periods cut where
-    its wrap edges show least, kept unless a trial bake of the stochastic
-    alternative is clearly closer by the structural distance
-    (:func:`spectex.metrics.structural_distance`); otherwise the photo's
-    seamless crop or a tileable quilt with a reuse penalty, drawn
-    stochastically with sharpened blend weights (no cross-faded double
-    images). The coarser layers draw a second tile, random-phase noise that
-    continues the photo's spectrum below its lowest frequency, on the main
-    axis of its low-passed colours (never the photo magnified), alpha-blended
-    at a low opacity (0.1). The tile's colours end with the exact
-    histogram step, inside the photo's range. Scale: ``pixel_size``, or
-    ``photo_size`` (metres across the photo's longer side), or, with
-    neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
-    result's notes).
-
-    **``method="legacy"``**, the fit before issue 22, kept only so that
-    ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
-    this text describes (pixel size 1 m by default, opacity 0.2, 3
-    iterations). The texture is ``layers`` layers of one seamless RGBA tile made from the
-    exemplar. Its finest layer shows the tile texel for exemplar pixel
-    (size ``tile_px * pixel_size``, no offset or rotation), each next layer
-    is ``ratio`` times larger (rotated by the golden angle and offset, so
-    the grids do not line up) and alpha-blended over the finer ones. The
-    fit, all on small bakes of the texture at ``pixel_size``:
-
-    1. **Tile**: for an exemplar smaller than 512 pixels, a tile four
-       times its side (up to 512) by tileable image quilting
-       (:func:`spectex.synthesis.quilt`), so the finest layer does not
-       repeat the exemplar at its own period; otherwise the exemplar's
-       central square made seamless (:func:`spectex.tiles.make_seamless`,
-       matched seams). See ``tile_size``.
-    2. **Layer opacities** continue the spectrum: the exemplar's power per
-       octave over its three coarsest bands changes by ``s`` dB per octave
-       towards coarser scales, clamped to at most ``MAX_COARSE_SLOPE``
-       (-1.5: a photograph of a stationary texture holds no more power
-       beyond its size, and a texture in [0, 1] cannot hold a rising
-       spectrum over many octaves); layer ``k >= 1`` gets opacity
-       ``opacity * q^(k-1)`` with ``q = 10^(s log2(ratio) / 20)``, so each
-       coarser layer adds the power the slope asks for at its scale.
-    3. **Alpha** is ``0.5 + g z / 4`` (clipped), ``z`` the tile's
-       standardised luma, smoothed by one texel and without its coarsest
-       structure (a Gaussian of 1/16 of the tile): where the coarse layer is
-       bright (``g > 0``) or dark (``g < 0``) it hides the finer bands.
-       ``g`` is chosen on a grid (-3, -1, 1, 3; refined linearly, checked
-       again at +-0.75 after the other steps) so that the bake's
-       cross-scale dependence (:func:`spectex.analysis.cross_scale`,
-       ``value``) matches the exemplar's.
-    4. **Band power and histograms**: ``iterations`` times, the tile's
-       colour is filtered by a radial gain (piecewise linear in dB against
-       log frequency, periodic) by the difference in dB between the
-       exemplar's and the bake's power per octave (damped by 0.8, at most
-       6 dB a step), and its channels shifted so that the bake's means
-       match; then each tile channel goes through the monotone map that
-       takes the bake's histogram to the exemplar's, and a last band-power
-       step follows (Heeger and Bergen's alternation [2]_, here through
-       the layered texture).
-    5. **Never repeat** (``tiling``): the layers are made stochastic
-       (histogram-preserving tiling and blending of the tile, Heitz and
-       Neyret [6]_; :class:`spectex.texture.Layer`), and the band-power and
-       histogram steps run once more, then the last ones, on bakes of the
-       stochastic texture (the blending moves the band powers a little).
-       Steps 1-4 run on periodic bakes (the same tile, 3x faster). With
-       ``"auto"`` (default) every layer is stochastic unless the exemplar
-       is *structured*, measured: :func:`structure_peak` (its own
-       :func:`~spectex.metrics.repeat_peak`) at least
-       :data:`STRUCTURED_PEAK`; then the finest layer stays periodic
-       (tiling and blending would blur bricks or lines into ghosts; the
-       coarser layers are stochastic still). ``docs/fitting.md`` has the
-       numbers.
-
-    Bakes are regions of the exemplar's size (at most 256 x 256; twice the
-    size for exemplars of 128 or less) on the pixel grid: the exemplar's
-    own place and one or two far away in the coarse layers, so that the fit
-    does not tune one lucky region. Bands that such a region cannot hold
-    are measured on coarser bakes (mip-filtered): an exemplar larger than
-    the region has its coarsest bands matched on a bake at twice the pixel
-    size (against the exemplar reduced 2 x 2), and two bands beyond the
-    exemplar's coarsest are set on the line of the continuation slope
-    ``s`` (a 128 x 128 bake at ``2^m`` times the pixel size), so the
-    texture continues the spectrum at larger scales.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W) or (H, W, C)
-        The exemplar, values in [0, 1] (integers scaled by their dtype's
-        maximum); see :func:`prepare_exemplar` for the conversions (grey,
-        alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
-    pixel_size : float, optional
-        World size of one exemplar pixel (metres); ``texture.bake(shape,
-        pixel_size=pixel_size)`` then renders at the exemplar's scale.
-        Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
-    photo_size : float, optional
-        Metres across the photo's longer side (not with ``pixel_size``);
-        default 1.5 (a photo of ground taken standing). Method "auto" only.
-    method : {"auto", "legacy"}
-        The fit (see above); "legacy" only for comparisons.
-    layers : int
-        Number of layers, 2 to 8.
-    ratio : float
-        Size ratio between neighbouring layers, > 1 (4: two octaves).
-    opacity : float, optional
-        Opacity of the first coarse layer, in (0, 1]; default 0.1 (legacy 0.2).
-    iterations : int, optional
-        Rounds of the band-power step, >= 1; default 2 (legacy 3).
-    tile_size : int, optional
-        Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
-        exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
-        pixels, four times smaller ones. A tile larger than the
-        exemplar is synthesised from it by tileable image quilting
-        (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
-        the finest layer does not repeat at the exemplar's period; otherwise
-        it is the exemplar's central crop made seamless.
-    max_size : int
-        Larger exemplars are analysed on a central crop of this size.
-    rng : int, numpy.random.Generator or None
-        Randomness of the quilting (scikit-image's SPEC 7): an int gives
-        ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give
-        equal textures; a Generator is used (and advanced); None draws fresh
-        randomness.
-    tiling : {"auto", "stochastic", "periodic"}
-        ``"periodic"``: every layer periodic (the fit before stochastic
-        layers; the texture repeats the tile). ``"stochastic"``: every layer
-        stochastic. ``"auto"``: stochastic, but a periodic finest layer for
-        a structured exemplar (step 5).
-    patch : float, optional
-        The stochastic layers' triangle side in tiles; default
-        ``DEFAULT_PATCH`` (0.5).
-    progress : callable, optional
-        ``progress(done, total)`` after each step.
-
-    Returns
-    -------
-    SpectralTexture
-        :func:`fit_result` gives it with the numbers of the fit (a :class:`FitResult`).
-
-    References
-    ----------
-    .. [1] D. R. Berger, "Spectral texturing for real-time applications",
-       SIGGRAPH 2003 Sketches and Applications (the model; the fit is its
-       future work).
-    .. [2] D. J. Heeger and J. R. Bergen, "Pyramid-based texture
-       analysis/synthesis", SIGGRAPH 1995.
-    .. [3] J. Portilla and E. P. Simoncelli, "A parametric texture model
-       based on joint statistics of complex wavelet coefficients", IJCV
-       40(1), 2000 (cross-scale dependence).
-    .. [4] L. Moisan, "Periodic plus smooth image decomposition", JMIV 39(2),
-       2011 (the seamless tile).
-    .. [5] A. A. Efros and W. T. Freeman, "Image quilting for texture
-       synthesis and transfer", SIGGRAPH 2001 (the larger tile).
-    .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
-       a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
-    """
-    kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
-                  iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
-                  method=method, progress=progress, rng=rng)
-    return fit_result(image, **kwargs).texture
-
-
-def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
-               ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
-               tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-               patch: float | None = None, method: str = "auto", progress=None) -> FitResult:
-    """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
-
-    The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
-    give the same texture.
-
-    Returns
-    -------
-    FitResult
-        ``texture`` (the :class:`spectex.SpectralTexture`), ``exemplar``
-        (as analysed, after :func:`prepare_exemplar`), ``pixel_size``,
-        ``notes`` (the input conversions), ``params`` (the fitted
-        parameters: tile size and method, layer opacities, alpha gain, band
-        gains, the band error of each step, tilings, ...) and ``seconds``.
-    """
-    method = check_choice("method", method, FIT_METHODS)
-    if method == "legacy":
-        if photo_size is not None:
-            raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
-        return _fit_legacy(image, pixel_size=1.0 if pixel_size is None else pixel_size, layers=layers,
-                           ratio=ratio, opacity=0.2 if opacity is None else opacity,
-                           iterations=3 if iterations is None else iterations, tile_size=tile_size,
-                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress)
-    from ._fit_auto import fit_auto
-
-    return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
-                    opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
-                    tiling=tiling, patch=patch, progress=progress)
-
-
-def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-                iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-                tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
-    """The fit before issue 22 (``method="legacy"``), kept only so that benchmarks can compare."""
-    import time
-
-    from .tiles import make_seamless
-
-    start = time.perf_counter()
-    pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
-    layers = check_int("layers", layers, minimum=2, maximum=8)
-    ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
-    opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
-    iterations = check_int("iterations", iterations, minimum=1, maximum=50)
-    rng = check_rng(rng)
-    from .shading.constants import DEFAULT_PATCH
-
-    tiling = check_choice("tiling", tiling, FIT_TILINGS)
-    patch = DEFAULT_PATCH if patch is None else check_float("patch", patch, minimum=0.0, exclusive_minimum=True,
-                                                             maximum=4.0)
-    if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be callable, got {type(progress).__name__}")
-    exemplar, notes = prepare_exemplar(image, max_size=max_size)
-    h, w = exemplar.shape[:2]
-    structure = structure_peak(exemplar)
-    if tiling == "periodic":
-        tilings = ["periodic"] * layers
-    elif tiling == "stochastic" or structure < STRUCTURED_PEAK:
-        tilings = ["stochastic"] * layers
-    else:
-        tilings = ["periodic"] + ["stochastic"] * (layers - 1)
-    stochastic = "stochastic" in tilings
-    total = 2 + 4 + 1 + 2 * (iterations + 1) + (2 * STOCHASTIC_ROUNDS if stochastic else 0)
-    done = 0
-
-    def tick():
-        nonlocal done
-        done += 1
-        if progress is not None:
-            progress(done, total)
-
-    if tile_size is None:
-        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
-    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
-    if n <= min(h, w):
-        tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
-        tile_method = "seamless crop"
-    else:
-        from .synthesis import quilt
-
-        block = int(np.clip(min(h, w) // 4, 16, 64))
-        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng).astype(np.float64)
-        tile_method = f"tileable quilt (block {block})"
-    tick()
-    region = (min(h, 256), min(w, 256))
-    from .metrics import band_power
-
-    slope = min(MAX_COARSE_SLOPE, _coarse_slope(band_power(exemplar, segment=region)[1]))
-    q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
-    from .texture import Layer
-
-    base = _layers(layers, ratio, n, pixel_size, 1.0)
-    layer_list = [base[0]] + [Layer(size=lay.size, offset=lay.offset, rotation=lay.rotation,
-                                    opacity=round(opacity * q ** (k - 1), 6))
-                              for k, lay in enumerate(base) if k >= 1]
-    problem = _Problem(exemplar, pixel_size, layer_list, n, ratio, region,
-                       n_regions=2 if min(region) >= 256 else 3, continuation=slope)
-    z = _alpha_field(tile0)
-    tick()
-    colour = tile0
-    gains_db = np.zeros(len(problem.target_bands))
-    history = []  # band-power errors (dB) before each band step
-
-    def spectral_and_histogram(colour, alpha):
-        err = problem.band_error(problem.bakes(colour, alpha))
-        history.append(err.tolist())
-        step = np.clip(0.8 * err, -6.0, 6.0)
-        gains_db[:] += step
-        colour = np.clip(_shape_spectrum(colour, step), 0.0, 1.0)
-        tick()
-        colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), shift_only=True)
-        tick()
-        return colour
-
-    # one round with a neutral alpha, then the alpha gain on a grid, then the rest
-    colour = spectral_and_histogram(colour, _alpha(z, 0.0))
-    grid = (-3.0, -1.0, 1.0, 3.0)
-    values = []
-    for g in grid:
-        values.append(problem.cross(problem.bakes_first(colour, _alpha(z, g))))
-        tick()
-    gain = _pick_gain(grid, values, problem.target_cross)
-    alpha = _alpha(z, gain)
-    for _ in range(iterations - 1):
-        colour = spectral_and_histogram(colour, alpha)
-    # the steps move the dependence a little: check the gain's neighbours once more
-    near = sorted({float(np.clip(gain + d, grid[0], grid[-1])) for d in (-0.75, 0.0, 0.75)})
-    near_values = [problem.cross(problem.bakes_first(colour, _alpha(z, g))) for g in near]
-    tick()
-    best = int(np.argmin(np.abs(np.asarray(near_values) - problem.target_cross)))
-    if near[best] != gain:
-        gain = near[best]
-        alpha = _alpha(z, gain)
-        colour = spectral_and_histogram(colour, alpha)
-    else:
-        tick()
-        tick()
-    if stochastic:
-        # step 5: the final layers; more regions (a stochastic texture's regions differ more than a
-        # periodic one's) and STOCHASTIC_ROUNDS band and mean steps on their bakes
-        problem.layers = layer_list = _with_tilings(layer_list, tilings, patch)
-        problem.set_regions(STOCHASTIC_REGIONS, tile_px=n, ratio=ratio)
-        for _ in range(STOCHASTIC_ROUNDS):
-            colour = spectral_and_histogram(colour, alpha)
-    # the exact histograms (a monotone map per channel), then a last band-power step
-    colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
-    err = problem.band_error(problem.bakes(colour, alpha))
-    history.append(err.tolist())
-    colour = np.clip(_shape_spectrum(colour, np.clip(err, -6.0, 6.0)), 0.0, 1.0)
-    texture = problem.texture(colour, alpha)
-    params = {"tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
-              "coarse_slope_db_per_octave": slope,
-              "opacities": [lay.opacity for lay in layer_list], "alpha_gain": gain,
-              "alpha_grid": dict(zip(grid, values)), "band_gains_db": gains_db.tolist(),
-              "band_error_history_db": history, "alpha_near": dict(zip(near, near_values)),
-              "target_cross_scale": problem.target_cross, "tilings": list(tilings),
-              "structure_peak": structure, "patch": patch}
-    return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
-                     seconds=time.perf_counter() - start)
-
 
 @dataclass(frozen=True, eq=False)
 class FitReport(AsDict):
@@ -752,7 +404,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
         without ``coarse_zoom`` or for an exemplar under 192 pixels).
     """
-    from .metrics import (
+    from ..metrics import (
         band_power,
         band_power_distance,
         clipping,
@@ -804,3 +456,4 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         clipping=clipping(bake, exemplar),
         coarse=coarse,
     )
+

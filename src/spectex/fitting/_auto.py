@@ -24,8 +24,8 @@ import time
 
 import numpy as np
 
-from ._validate import check_choice, check_float, check_int, check_rng
-from .fitting import (
+from .._validate import check_choice, check_float, check_int, check_rng
+from ._core import (
     FIT_TILINGS,
     MAX_ANALYSIS_SIZE,
     MIN_SIZE,
@@ -88,7 +88,7 @@ def structure_period(exemplar, *, min_lag: int = 8):
         correlation :data:`PERIOD_MIN_CORRELATION` or more (no period
         shorter than half the side).
     """
-    from .fitting import _luma
+    from ._core import _luma
 
     lum = _luma(exemplar)
     lum = lum - lum.mean()
@@ -205,8 +205,8 @@ def _trial(exemplar, pixel_size, candidates, patch):
     """Structural distance / floor (:func:`spectex.metrics.structural_distance`) of the finest layer
     alone, for each ``(tiling, tile)``: a bake of the photo's size (at most 256) at its pixel size,
     against the photo's central crop of that size (4 windows each)."""
-    from .metrics import reference_statistics, structural_distance
-    from .texture import Layer, SpectralTexture
+    from ..metrics import reference_statistics, structural_distance
+    from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
     m = min(h, w, 256)
@@ -229,7 +229,7 @@ class _TwoTiles(_Problem):
     coarse_tile = None
 
     def texture(self, colour, alpha):
-        from .texture import SpectralTexture
+        from ..texture import SpectralTexture
 
         rgba = np.empty(colour.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(colour, 0.0, 1.0)
@@ -261,10 +261,10 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
-    from .metrics import band_power
-    from .shading.constants import DEFAULT_PATCH
-    from .texture import Layer, layer_placement
-    from .tiles import make_seamless
+    from ..metrics import band_power
+    from ..shading.constants import DEFAULT_PATCH
+    from ..texture import Layer, layer_placement
+    from ..tiles import make_seamless
 
     start = time.perf_counter()
     layers = check_int("layers", layers, minimum=2, maximum=8)
@@ -305,7 +305,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
         tile_method = "seamless crop"
     else:
-        from .synthesis import quilt
+        from ..synthesis import quilt
 
         block = int(np.clip(min(h, w) // 4, 16, 64))
         tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=1.0).astype(np.float64)

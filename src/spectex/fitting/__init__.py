@@ -1,0 +1,237 @@
+"""Fitting a spectral texture to an exemplar photograph.
+
+The future work of Berger's sketch (seed 000): "analyze a given image for its
+statistical properties, and use these properties to generate texture tiles
+and mixing parameters for a similar-looking spectral texture".
+
+:func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
+out; :func:`fit_report` for the numbers of a fit (a :class:`FitResult` holds
+both); :func:`prepare_exemplar` for the input conversions (grey, alpha,
+16-bit, crop of huge images); :func:`structure_peak` for whether an exemplar
+is structured. The statistics it matches are those of :mod:`spectex.analysis`.
+
+See ``docs/fitting.md``.
+"""
+
+from __future__ import annotations
+
+from .._validate import check_choice
+from ._core import (
+    FIT_METHODS,
+    FIT_TILINGS,
+    MAX_ANALYSIS_SIZE,
+    MIN_SIZE,
+    STRUCTURED_PEAK,
+    FitReport,
+    FitResult,
+    fit_report,
+    prepare_exemplar,
+    structure_peak,
+)
+from ._legacy import _fit_legacy
+
+__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak",
+           "MIN_SIZE", "MAX_ANALYSIS_SIZE", "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
+
+
+def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+        ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+        tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+        patch: float | None = None, method: str = "auto", progress=None):
+    """Fit a spectral texture to an exemplar photograph (Berger's future work).
+
+    **The default, ``method="auto"``** (issue 22; ``spectex.fitting._auto`` and
+    ``docs/fitting.md``): each layer carries only what the photo says at its
+    scale. The finest layer is a tile of the photo: for a structured photo
+    (:func:`structure_peak` >= :data:`STRUCTURED_PEAK` and a period along x
+    or y in its autocorrelation) a periodic tile of whole periods cut where
+    its wrap edges show least, kept unless a trial bake of the stochastic
+    alternative is clearly closer by the structural distance
+    (:func:`spectex.metrics.structural_distance`); otherwise the photo's
+    seamless crop or a tileable quilt with a reuse penalty, drawn
+    stochastically with sharpened blend weights (no cross-faded double
+    images). The coarser layers draw a second tile, random-phase noise that
+    continues the photo's spectrum below its lowest frequency, on the main
+    axis of its low-passed colours (never the photo magnified), alpha-blended
+    at a low opacity (0.1). The tile's colours end with the exact
+    histogram step, inside the photo's range. Scale: ``pixel_size``, or
+    ``photo_size`` (metres across the photo's longer side), or, with
+    neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
+    result's notes).
+
+    **``method="legacy"``**, the fit before issue 22, kept only so that
+    ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
+    this text describes (pixel size 1 m by default, opacity 0.2, 3
+    iterations). The texture is ``layers`` layers of one seamless RGBA tile made from the
+    exemplar. Its finest layer shows the tile texel for exemplar pixel
+    (size ``tile_px * pixel_size``, no offset or rotation), each next layer
+    is ``ratio`` times larger (rotated by the golden angle and offset, so
+    the grids do not line up) and alpha-blended over the finer ones. The
+    fit, all on small bakes of the texture at ``pixel_size``:
+
+    1. **Tile**: for an exemplar smaller than 512 pixels, a tile four
+       times its side (up to 512) by tileable image quilting
+       (:func:`spectex.synthesis.quilt`), so the finest layer does not
+       repeat the exemplar at its own period; otherwise the exemplar's
+       central square made seamless (:func:`spectex.tiles.make_seamless`,
+       matched seams). See ``tile_size``.
+    2. **Layer opacities** continue the spectrum: the exemplar's power per
+       octave over its three coarsest bands changes by ``s`` dB per octave
+       towards coarser scales, clamped to at most ``MAX_COARSE_SLOPE``
+       (-1.5: a photograph of a stationary texture holds no more power
+       beyond its size, and a texture in [0, 1] cannot hold a rising
+       spectrum over many octaves); layer ``k >= 1`` gets opacity
+       ``opacity * q^(k-1)`` with ``q = 10^(s log2(ratio) / 20)``, so each
+       coarser layer adds the power the slope asks for at its scale.
+    3. **Alpha** is ``0.5 + g z / 4`` (clipped), ``z`` the tile's
+       standardised luma, smoothed by one texel and without its coarsest
+       structure (a Gaussian of 1/16 of the tile): where the coarse layer is
+       bright (``g > 0``) or dark (``g < 0``) it hides the finer bands.
+       ``g`` is chosen on a grid (-3, -1, 1, 3; refined linearly, checked
+       again at +-0.75 after the other steps) so that the bake's
+       cross-scale dependence (:func:`spectex.analysis.cross_scale`,
+       ``value``) matches the exemplar's.
+    4. **Band power and histograms**: ``iterations`` times, the tile's
+       colour is filtered by a radial gain (piecewise linear in dB against
+       log frequency, periodic) by the difference in dB between the
+       exemplar's and the bake's power per octave (damped by 0.8, at most
+       6 dB a step), and its channels shifted so that the bake's means
+       match; then each tile channel goes through the monotone map that
+       takes the bake's histogram to the exemplar's, and a last band-power
+       step follows (Heeger and Bergen's alternation [2]_, here through
+       the layered texture).
+    5. **Never repeat** (``tiling``): the layers are made stochastic
+       (histogram-preserving tiling and blending of the tile, Heitz and
+       Neyret [6]_; :class:`spectex.texture.Layer`), and the band-power and
+       histogram steps run once more, then the last ones, on bakes of the
+       stochastic texture (the blending moves the band powers a little).
+       Steps 1-4 run on periodic bakes (the same tile, 3x faster). With
+       ``"auto"`` (default) every layer is stochastic unless the exemplar
+       is *structured*, measured: :func:`structure_peak` (its own
+       :func:`~spectex.metrics.repeat_peak`) at least
+       :data:`STRUCTURED_PEAK`; then the finest layer stays periodic
+       (tiling and blending would blur bricks or lines into ghosts; the
+       coarser layers are stochastic still). ``docs/fitting.md`` has the
+       numbers.
+
+    Bakes are regions of the exemplar's size (at most 256 x 256; twice the
+    size for exemplars of 128 or less) on the pixel grid: the exemplar's
+    own place and one or two far away in the coarse layers, so that the fit
+    does not tune one lucky region. Bands that such a region cannot hold
+    are measured on coarser bakes (mip-filtered): an exemplar larger than
+    the region has its coarsest bands matched on a bake at twice the pixel
+    size (against the exemplar reduced 2 x 2), and two bands beyond the
+    exemplar's coarsest are set on the line of the continuation slope
+    ``s`` (a 128 x 128 bake at ``2^m`` times the pixel size), so the
+    texture continues the spectrum at larger scales.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        The exemplar, values in [0, 1] (integers scaled by their dtype's
+        maximum); see :func:`prepare_exemplar` for the conversions (grey,
+        alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
+    pixel_size : float, optional
+        World size of one exemplar pixel (metres); ``texture.bake(shape,
+        pixel_size=pixel_size)`` then renders at the exemplar's scale.
+        Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
+    photo_size : float, optional
+        Metres across the photo's longer side (not with ``pixel_size``);
+        default 1.5 (a photo of ground taken standing). Method "auto" only.
+    method : {"auto", "legacy"}
+        The fit (see above); "legacy" only for comparisons.
+    layers : int
+        Number of layers, 2 to 8.
+    ratio : float
+        Size ratio between neighbouring layers, > 1 (4: two octaves).
+    opacity : float, optional
+        Opacity of the first coarse layer, in (0, 1]; default 0.1 (legacy 0.2).
+    iterations : int, optional
+        Rounds of the band-power step, >= 1; default 2 (legacy 3).
+    tile_size : int, optional
+        Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
+        exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
+        pixels, four times smaller ones. A tile larger than the
+        exemplar is synthesised from it by tileable image quilting
+        (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
+        the finest layer does not repeat at the exemplar's period; otherwise
+        it is the exemplar's central crop made seamless.
+    max_size : int
+        Larger exemplars are analysed on a central crop of this size.
+    rng : int, numpy.random.Generator or None
+        Randomness of the quilting (scikit-image's SPEC 7): an int gives
+        ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give
+        equal textures; a Generator is used (and advanced); None draws fresh
+        randomness.
+    tiling : {"auto", "stochastic", "periodic"}
+        ``"periodic"``: every layer periodic (the fit before stochastic
+        layers; the texture repeats the tile). ``"stochastic"``: every layer
+        stochastic. ``"auto"``: stochastic, but a periodic finest layer for
+        a structured exemplar (step 5).
+    patch : float, optional
+        The stochastic layers' triangle side in tiles; default
+        ``DEFAULT_PATCH`` (0.5).
+    progress : callable, optional
+        ``progress(done, total)`` after each step.
+
+    Returns
+    -------
+    SpectralTexture
+        :func:`fit_result` gives it with the numbers of the fit (a :class:`FitResult`).
+
+    References
+    ----------
+    .. [1] D. R. Berger, "Spectral texturing for real-time applications",
+       SIGGRAPH 2003 Sketches and Applications (the model; the fit is its
+       future work).
+    .. [2] D. J. Heeger and J. R. Bergen, "Pyramid-based texture
+       analysis/synthesis", SIGGRAPH 1995.
+    .. [3] J. Portilla and E. P. Simoncelli, "A parametric texture model
+       based on joint statistics of complex wavelet coefficients", IJCV
+       40(1), 2000 (cross-scale dependence).
+    .. [4] L. Moisan, "Periodic plus smooth image decomposition", JMIV 39(2),
+       2011 (the seamless tile).
+    .. [5] A. A. Efros and W. T. Freeman, "Image quilting for texture
+       synthesis and transfer", SIGGRAPH 2001 (the larger tile).
+    .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
+       a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
+    """
+    kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
+                  iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
+                  method=method, progress=progress, rng=rng)
+    return fit_result(image, **kwargs).texture
+
+
+def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+               ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+               tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+               patch: float | None = None, method: str = "auto", progress=None) -> FitResult:
+    """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
+
+    The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
+    give the same texture.
+
+    Returns
+    -------
+    FitResult
+        ``texture`` (the :class:`spectex.SpectralTexture`), ``exemplar``
+        (as analysed, after :func:`prepare_exemplar`), ``pixel_size``,
+        ``notes`` (the input conversions), ``params`` (the fitted
+        parameters: tile size and method, layer opacities, alpha gain, band
+        gains, the band error of each step, tilings, ...) and ``seconds``.
+    """
+    method = check_choice("method", method, FIT_METHODS)
+    if method == "legacy":
+        if photo_size is not None:
+            raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
+        return _fit_legacy(image, pixel_size=1.0 if pixel_size is None else pixel_size, layers=layers,
+                           ratio=ratio, opacity=0.2 if opacity is None else opacity,
+                           iterations=3 if iterations is None else iterations, tile_size=tile_size,
+                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress)
+    from ._auto import fit_auto
+
+    return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
+                    opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
+                    tiling=tiling, patch=patch, progress=progress)
+
+
