@@ -79,7 +79,7 @@ def test_paper_preset_gives_the_paper_when_asked(demo_tile):
     assert len(paper.layers) == 5 and {layer.blend for layer in paper.layers} == {"alpha"}
     new = SpectralTexture.paper_preset(demo_tile)
     assert [layer.size for layer in new.layers[:5]] == [layer.size for layer in paper.layers]
-    assert {layer.blend for layer in new.layers[:5]} == {"variance"}
+    assert {layer.blend for layer in new.layers[:5]} == {"cover"}
     assert new.layers[5].blend == "fine" and new.layers[5].size == DETAIL_SIZE
     with pytest.raises(TypeError, match="detail"):
         SpectralTexture.paper_preset(demo_tile, detail="yes")
