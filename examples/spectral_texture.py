@@ -32,7 +32,7 @@ def picture(tile_size: int = 512, width: int = 960, seed: int = 0) -> np.ndarray
     tile = make_tile(tile_size, rng=seed)
     texture = SpectralTexture.paper_preset(tile)
     h = width * 9 // 16
-    view, _ = render(texture, Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0), (h, width))
+    view = render(texture, Camera((0.0, 0.0, 2.5), yaw=35.0, pitch=-9.0, fov=60.0), (h, width)).image
     half = h // 2
     col = _resized(texture.tiles[0][..., :3], half, half)
     alpha = np.repeat(_resized(texture.tiles[0][..., 3:], h - half, half), 3, axis=2)

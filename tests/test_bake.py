@@ -250,6 +250,15 @@ def test_bake_zarr_refuses_paths_that_are_not_its_own(texture, tmp_path):
     (dict(dtype="int8"), ValueError, "dtype"),
     (dict(workers=0), ValueError, "workers"),
     (dict(scheduler="localhost:8786"), ValueError, "scheduler"),
+    (dict(scheduler="inproc://x"), ValueError, "scheduler"),  # issue 26: in-process, never a cluster
+    (dict(scheduler="tcp://host:99999"), ValueError, "scheduler"),
+    (dict(scheduler="tcp://host"), ValueError, "scheduler"),
+    (dict(connect_timeout=0.0), ValueError, "connect_timeout"),
+    (dict(pixel_size=1e300), ValueError, "pixel_size"),
+    (dict(pixel_size=1e-300), ValueError, "pixel_size"),
+    (dict(origin=(1e300, 0.0)), ValueError, "origin"),
+    (dict(shape=(10**9, 10**9)), ValueError, r"shape 1000000000x1000000000 .* over the limit .*BAKE_BYTES"),
+    (dict(shape=(20000, 20000), chunk=16, shard=16), ValueError, r"shards, over the limit .*BAKE_SHARDS"),
     (dict(scheduler="tcp://127.0.0.1:9", workers=2), ValueError, "workers"),
     (dict(path="out.png"), ValueError, "path"),
     (dict(path="missing/out.zarr"), ValueError, "path"),
@@ -266,10 +275,108 @@ def test_bake_zarr_rejects_bad_input_before_writing(texture, tmp_path, monkeypat
 
 
 def test_unreachable_scheduler_writes_nothing(texture, tmp_path):
-    with pytest.raises(OSError, match="cannot reach the scheduler"):
+    with pytest.raises(OSError, match="cannot reach the scheduler tcp://127.0.0.1:9 within 0.5 s"):
         bake_zarr(texture, tmp_path / "t.zarr", (20, 20), pixel_size=1.0, chunk=16, shard=16,
-                  scheduler="tcp://127.0.0.1:9")
+                  scheduler="tcp://127.0.0.1:9", connect_timeout=0.5)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_bake_limits_come_from_the_environment(monkeypatch):
+    from spectex._limits import limit
+
+    monkeypatch.setenv("SPECTEX_MAX_BAKE_BYTES", str(1 << 44))
+    assert limit("BAKE_BYTES", 1 << 40) == 1 << 44
+    for bad in ("", "lots", "-5", "0"):  # a typo never lifts a limit
+        monkeypatch.setenv("SPECTEX_MAX_BAKE_BYTES", bad)
+        assert limit("BAKE_BYTES", 1 << 40) == 1 << 40
+
+
+KW = dict(pixel_size=P, origin=ORIGIN, levels=2, chunk=16, shard=32)
+
+
+def test_a_deleted_or_damaged_shard_is_baked_again_to_the_same_bytes(texture, tmp_path):
+    out = tmp_path / "t.zarr"
+    bake_zarr(texture, out, SHAPE, **KW)
+    whole = store_bytes(out)
+    shards = [f for f in whole if f.startswith("0/c/")]
+    (out / shards[3]).unlink()
+    damaged = out / shards[5]
+    damaged.write_bytes(damaged.read_bytes()[:-7])  # truncated: its recorded size no longer matches
+    result = bake_zarr(texture, out, SHAPE, **KW)
+    assert (result.baked, result.resumed) == (2, result.shards - 2)
+    assert store_bytes(out) == whole
+    # the control: an intact store is complete, nothing baked
+    assert bake_zarr(texture, out, SHAPE, **KW).baked == 0
+
+
+def test_a_second_writer_is_refused_and_a_stale_lock_taken_over(texture, tmp_path):
+    import socket
+    import subprocess
+    import sys
+
+    out = tmp_path / "t.zarr"
+    bake_zarr(texture, out, SHAPE, **KW)
+    whole = store_bytes(out)
+    (out / "0" / "c" / "0" / "0" / "0").unlink()
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        lock = {"pid": live.pid, "host": socket.gethostname()}
+        (out / "spectex.lock").write_text(json.dumps(lock))
+        with pytest.raises(ValueError, match=f"is being baked by process {live.pid} on"):
+            bake_zarr(texture, out, SHAPE, **KW)
+        assert (out / "spectex.lock").exists()  # the other writer's lock is left alone
+        (out / "spectex.lock").write_text(json.dumps(dict(lock, host="elsewhere")))
+        with pytest.raises(ValueError, match="on elsewhere"):  # another host: cannot be checked, refused
+            bake_zarr(texture, out, SHAPE, **KW)
+    finally:
+        live.kill()
+        live.wait()
+    # the same process, now dead: its lock is stale and taken over
+    (out / "spectex.lock").write_text(json.dumps(lock))
+    assert bake_zarr(texture, out, SHAPE, **KW).baked == 1
+    assert not (out / "spectex.lock").exists()
+    assert store_bytes(out) == whole
+
+
+def test_two_bakes_at_once_one_refused_the_store_exact(texture, tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "t.zarr"
+    reference_store = tmp_path / "ref.zarr"
+    bake_zarr(texture, reference_store, SHAPE, **KW)
+    texture.save(tmp_path / "tex.toml")
+    argv = [sys.executable, "-m", "spectex", "bake", str(tmp_path / "tex.toml"), "-o", str(out), "--size",
+            f"{SHAPE[1]}x{SHAPE[0]}", "--pixel-size", str(P), "--origin", f"{ORIGIN[0]},{ORIGIN[1]}",
+            "--levels", "2", "--chunk", "16", "--shard", "32", "--workers", "1"]
+    runs = [subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    done = []
+    for run in runs:
+        _, err = run.communicate(timeout=300)
+        done.append((run.returncode, err))
+    codes = sorted(rc for rc, _ in done)
+    assert codes in ([0, 0], [0, 2]), done  # both finished one after the other, or one refused
+    refused = [err for rc, err in done if rc == 2]
+    assert all("is being baked by process" in err and err.count("\n") == 1 for err in refused), refused
+    shards = {k: v for k, v in store_bytes(out).items() if "/c/" in k}
+    assert shards == {k: v for k, v in store_bytes(reference_store).items() if "/c/" in k}
+    assert json.loads((out / "zarr.json").read_text())["attributes"]["spectex"]["complete"] is True
+    assert not (out / "spectex.lock").exists()
+
+
+def test_leftovers_of_a_killed_run_are_cleaned_by_the_next(texture, tmp_path):
+    out = tmp_path / "t.zarr"
+    bake_zarr(texture, out, SHAPE, **KW)
+    whole = store_bytes(out)
+    (out / ".spectex-progress").mkdir()
+    (out / ".spectex-progress" / ".0.0.0.part").write_text("1")
+    (out / ".spectex-shards.json.part").write_text("{")
+    (out / "0" / ".stray.part").mkdir()
+    (out / "0" / ".stray.part" / "x").write_text("x")
+    (out / "user.txt").write_text("keep")  # not ours: kept
+    bake_zarr(texture, out, SHAPE, **KW)
+    assert store_bytes(out) == whole | {"user.txt": b"keep"}
+    assert not (out / "0" / ".stray.part").exists() and not (out / ".spectex-progress").exists()
 
 
 # --------------------------------------------------------------- a cluster

@@ -136,7 +136,7 @@ def test_haze_zero_turns_the_haze_off_and_is_spelled_plainly(demo_tile):
         Atmosphere(haze_distance=-1.0)
     tex = SpectralTexture.paper_preset(make_tile(64, rng=2))
     cam = Camera((0.0, -1500.0, 1200.0), yaw=20.0, pitch=-40.0)
-    off, _ = render(tex, cam, (36, 64), backend="cpu", haze=0)
+    off = render(tex, cam, (36, 64), backend="cpu", haze=0).image
     same = render_cpu(tex, cam, (36, 64), atmosphere=Atmosphere(haze_distance=0))
     np.testing.assert_array_equal(off, same)
     hazed = render_cpu(tex, cam, (36, 64))

@@ -57,7 +57,8 @@ EXPORT_FILES = ("index.html", "spectex-export.json", "glsl/README.md", "glsl/spe
                 "glsl/spectex_uniforms.js", "glsl/tile.png", "glsl/spectex_layers.es300.glsl",
                 "glsl/spectex_layers.330.glsl", "glsl/ground.es300.vert", "glsl/ground.es300.frag",
                 "glsl/ground.330.vert", "glsl/ground.330.frag", *(f"glsl/mips/tile.level{d}.png" for d in range(5)))
-FIT_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+FIT_FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+             "histograms.png")
 TEMP = re.compile(r"\.part|^\.spectex|^\.tmp")
 
 
@@ -186,6 +187,8 @@ class Case:
     check: object = None          # f(folder, stdout) -> None, extra assertions
     unset: tuple = ()             # environment variables removed for this run
     stdout: str = "pipe"          # 'closed': no standard output at all; 'broken': its reader has gone
+    hup: str | None = None        # SIGHUP in the run: 'default' or 'ignored' (as nohup leaves it), whatever
+                                  # the test process inherited; None: inherited as it is
 
 
 def _earlier_export(folder):
@@ -215,7 +218,7 @@ def _sparse_huge_text(folder):
 
 def _mkdir_with_photo(folder):
     (folder / "out").mkdir()
-    shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile.png")
+    shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile0.png")
 
 
 def _link_in_demo(folder):
@@ -239,6 +242,88 @@ def _link_kept(name, target):
     return check
 
 
+def _write(name, text):
+    def setup(folder):
+        (folder / name).write_text(text)
+    return setup
+
+
+def _nested(folder):  # 2 kB: 1000 nested brackets (the recursive TOML parser's depth)
+    (folder / "nest.toml").write_text("a = " + "[" * 1000 + "]" * 1000 + "\n")
+
+
+def _many_layers(folder):  # 100000 layers: 3 MB, refused by size before parsing
+    toml = (folder / "tex.toml").read_text()
+    (folder / "many.toml").write_text(toml + "\n[[layers]]\ntile = 0\nsize = 1.0\n" * 100000)
+
+
+def _nine_layers(folder):  # small, parsed, refused by count before any tile is read
+    toml = (folder / "tex.toml").read_text()
+    (folder / "nine.toml").write_text(toml + "\n[[layers]]\ntile = 0\nsize = 1.0\n" * 9)
+
+
+def _tiny_layer(folder):
+    toml = (folder / "tex.toml").read_text()
+    (folder / "tiny.toml").write_text(re.sub(r"size = [0-9.e+]+", "size = 1e-308", toml, count=1))
+
+
+def _npy(name, array):
+    def setup(folder):
+        np.save(folder / name, array)
+    return setup
+
+
+_RNG = np.random.default_rng(26)
+_BIG = (_RNG.random((32, 32, 3)) * 5 - 1).astype(np.float32)  # floats from -1 to 4
+_BIG[0, 0, :2] = -1.0, 4.0
+_BIG_EXEMPLAR = "big.png"
+
+
+def _big_exemplar(folder):  # 4096 x 4096 grey zeros: a 16 Mpx exemplar, small on disk
+    side = 4096
+    rows = b"\x00" * ((1 + side) * side)
+    (folder / _BIG_EXEMPLAR).write_bytes(_png(side, side, 8, 0, zlib.compress(rows, 9)))
+
+
+def _user_folder_in_export(folder):
+    _earlier_export(folder)
+    (folder / "exp_prev" / "mine").mkdir()
+
+
+def _user_file_in_manifest(folder):
+    import json
+
+    _earlier_export(folder)
+    (folder / "exp_prev" / "notes.txt").write_text("a user's notes\n")
+    manifest = folder / "exp_prev" / "spectex-export.json"
+    doc = json.loads(manifest.read_text())
+    doc["formats"]["web"].append("notes.txt")
+    doc["sha256"]["notes.txt"] = "0" * 64
+    manifest.write_text(json.dumps(doc))
+
+
+def _finished_bake(folder):
+    from spectex.bake import bake_zarr
+
+    bake_zarr(folder / "tex.toml", folder / "b.zarr", (40, 40), pixel_size=0.1, chunk=16, shard=16)
+
+
+def _bake_locked_by_live(folder):
+    import json
+    import socket
+
+    _finished_bake(folder)
+    (folder / "b.zarr" / "0" / "c" / "0" / "0" / "0").unlink()
+    # this test process: alive while the case runs
+    (folder / "b.zarr" / "spectex.lock").write_text(json.dumps({"pid": os.getpid(), "host": socket.gethostname()}))
+
+
+def _bake_shard_deleted(folder):
+    _finished_bake(folder)
+    (folder / "b.zarr" / "0" / "c" / "0" / "1" / "1").unlink()
+
+
+BAKE = ("--size", "40x40", "--pixel-size", "0.1", "--chunk", "16", "--shard", "16")
 SIGINT, SIGTERM = signal.SIGINT, signal.SIGTERM
 SAME = "is the input"
 CASES = [
@@ -261,7 +346,7 @@ CASES = [
     Case("text-C-o-C", ("text", "c.txt", "-o", "c.txt"), 2, SAME),
     Case("text-C-o-link-to-C", ("text", "c.txt", "-o", "clink.txt"), 2, SAME),
     Case("render-o-own-tile", ("render", "tex.toml", *CAMERA, "-o", "tex.tile.png"), 2, SAME),
-    Case("fit-folder-holds-photo", ("fit", "out/texture.tile.png", "-o", "out"), 2, SAME,
+    Case("fit-folder-holds-photo", ("fit", "out/texture.tile0.png", "-o", "out"), 2, SAME,
          setup=_mkdir_with_photo),
     # --- links, folders and special files as outputs
     Case("noise-o-link-writes-target", ("noise", "perlin", "--size", "16", "-o", "plink.png"), 0,
@@ -367,8 +452,13 @@ CASES = [
          when="demo_prev/.spectex-stage.*", changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
     Case("demo-sigint-existing-early", ("demo", "-o", "demo_prev"), 130, signum=SIGINT, when=2.0,
          changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
+    # SIGHUP's disposition is set for the run: a suite run under nohup (SIGHUP ignored, and inherited) must
+    # test the same thing, and an ignored SIGHUP must stay ignored (the run completes, as nohup asks)
     Case("text-sighup-while-working", ("text", "c.txt", "--length", "8000000", "-o", "prev.txt"), 129,
-         signum=signal.SIGHUP, when=1.5, changes=("prev.txt",)),
+         signum=signal.SIGHUP, when=".prev.*", changes=("prev.txt",), hup="default"),
+    Case("text-sighup-ignored-under-nohup", ("text", "c.txt", "--length", "2000000", "-o", "prev.txt"), 0,
+         signum=signal.SIGHUP, when=".prev.*", changes=("prev.txt",), hup="ignored", check=lambda f, out: (
+             (f / "prev.txt").stat().st_size >= 2000000 or pytest.fail("the run did not complete"))),
     Case("fit-sigterm-existing", ("fit", "img.png", "-o", "fit_prev"), 143, signum=SIGTERM, when=2.0,
          changes=tuple(f"fit_prev/{f}" for f in FIT_FILES)),
     Case("noise-gif-sigint-writing", ("noise", "perlin", "--size", "256", "--frames", "60", "-o", "anim.gif"),
@@ -437,6 +527,83 @@ CASES = [
          "--to does not apply to a single picture"),
     Case("compare-overlap-without-block", ("compare", "m.png", "--reference", "img.png", "--overlap", "4"), 2,
          "--overlap does not apply without --block"),
+    # --- issue 26. Texture files: parsing limits, refused in one line and at once by every command
+    *(Case(f"{cmd}-nested-brackets", (cmd, "nest.toml", *rest), 2, "nests arrays or tables deeper than 16",
+           setup=_nested)
+      for cmd, rest in (("render", (*CAMERA, "-o", "x.png")), ("export", ("-o", "exp",)),
+                        ("bake", ("-o", "b.zarr", *BAKE)), ("view", ()))),
+    Case("render-100000-layers", ("render", "many.toml", *CAMERA, "-o", "x.png"), 2,
+         "over the limit of 1048576 bytes", setup=_many_layers),
+    Case("bake-nine-layers", ("bake", "nine.toml", "-o", "b.zarr", *BAKE), 2,
+         r"holds 1[0-9] layers; a texture has at most 8", setup=_nine_layers),
+    Case("render-layer-size-1e-308", ("render", "tiny.toml", *CAMERA, "-o", "x.png"), 2,
+         r"layers\[0\]\.size.* between 1e-06 and 1e\+09 metres", setup=_tiny_layer),
+    Case("bake-layer-size-1e-308", ("bake", "tiny.toml", "-o", "b.zarr", *BAKE), 2, "between 1e-06 and 1e\\+09",
+         setup=_tiny_layer),
+    # --- bakes: cost, physical values, scheduler addresses, a store that checks itself, one writer
+    Case("bake-pixel-size-1e300", ("bake", "tex.toml", "-o", "b.zarr", "--size", "8x8", "--pixel-size", "1e300"),
+         2, "pixel_size must be between"),
+    Case("bake-size-1e9-squared", ("bake", "tex.toml", "-o", "b.zarr", "--size", "1000000000x1000000000",
+                                   "--pixel-size", "1"), 2, "over the limit of 1099511627776 bytes"),
+    Case("bake-shards-over-limit", ("bake", "tex.toml", "-o", "b.zarr", "--size", "20000x20000", "--pixel-size",
+                                    "1", "--chunk", "16", "--shard", "16"), 2, "shards, over the limit"),
+    *(Case(f"bake-scheduler-{name}", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler", address), 2,
+           "scheduler must be the network address")
+      for name, address in (("inproc", "inproc://x"), ("no-port", "tcp://localhost"), ("port-99999",
+                            "tcp://localhost:99999"), ("words", "not an address"))),
+    Case("bake-scheduler-unreachable", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler",
+                                        "tcp://127.0.0.1:9", "--connect-timeout", "0.5"), 2,
+         "cannot reach the scheduler tcp://127.0.0.1:9 within 0.5 s"),
+    Case("bake-connect-timeout-alone", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--connect-timeout", "3"), 2,
+         "--connect-timeout does not apply without --scheduler"),
+    Case("bake-deleted-shard-rebaked", ("bake", "tex.toml", "-o", "b.zarr", *BAKE), 0,
+         changes=("b.zarr/zarr.json", "b.zarr/0/c/0/1/1", "b.zarr/spectex-shards.json"), setup=_bake_shard_deleted,
+         check=lambda f, out: "1 shards baked" in out or pytest.fail(out)),
+    Case("bake-complete-control", ("bake", "tex.toml", "-o", "b.zarr", *BAKE), 0, setup=_finished_bake,
+         check=lambda f, out: "complete already" in out or pytest.fail(out)),
+    Case("bake-second-writer", ("bake", "tex.toml", "-o", "b.zarr", *BAKE), 2, "is being baked by process",
+         setup=_bake_locked_by_live),
+    # --- values, not only shapes: float images outside [0, 1], complex and signed .npy
+    *(Case(f"{cmd}-float-out-of-range", argv, 2, r"holds values from -1 to 4; a float image must be in \[0, 1\]",
+           setup=_npy("big.npy", _BIG))
+      for cmd, argv in (("fit", ("fit", "big.npy", "-o", "out")),
+                        ("synth", ("synth", "big.npy", "--method", "histogram", "-o", "x.png")),
+                        ("tile", ("tile", "--from", "big.npy", "-o", "x.png")),
+                        ("compare", ("compare", "big.npy", "--reference", "img.png")))),
+    Case("synth-float-normalize-control", ("synth", "big.npy", "--method", "histogram", "--size", "16",
+                                           "--normalize", "-o", "x.png"), 0, changes=("x.png",),
+         setup=_npy("big.npy", _BIG)),
+    Case("tile-normalize-without-from", ("tile", "--normalize", "-o", "x.png"), 2,
+         "--normalize does not apply without --from"),
+    Case("synth-complex-npy", ("synth", "c.npy", "-o", "x.png"), 2, "complex dtype complex64",
+         setup=_npy("c.npy", np.ones((16, 16), np.complex64))),
+    Case("synth-signed-npy", ("synth", "s.npy", "-o", "x.png"), 2, "unsigned integers or floats, got dtype int16",
+         setup=_npy("s.npy", np.ones((16, 16), np.int16))),
+    # --- synthesis cost: exemplar pixels (refused from the header) and estimated operations
+    Case("synth-quilting-16-mpx-exemplar", ("synth", _BIG_EXEMPLAR, "--size", "64", "-o", "x.png"), 2,
+         "16777216 pixels, over the limit of 4194304 pixels for quilting", setup=_big_exemplar),
+    Case("synth-efros-leung-exhaustive-512", ("synth", "img.png", "--method", "efros-leung", "--exhaustive",
+                                             "--window", "5", "--size", "2048", "-o", "x.png"), 2,
+         "operations, over the limit of 1e\\+11"),
+    # --- outputs: an export replaces only what it wrote
+    Case("export-keeps-users-empty-folder", ("export", "tex.toml", "-o", "exp_prev", "--format", "web,glsl"), 2,
+         "holds 'mine/', which the earlier export did not write", setup=_user_folder_in_export),
+    Case("export-hand-edited-manifest", ("export", "tex.toml", "-o", "exp_prev", "--format", "web,glsl"), 2,
+         "holds 'notes.txt'", setup=_user_file_in_manifest),
+    Case("export-replace-control", ("export", "tex.toml", "-o", "exp_prev", "--format", "web,glsl"), 0,
+         changes=("exp_prev/spectex-export.json",), setup=_earlier_export),
+    # --- words: a legal long name, --seed by its name, one-frame animations
+    Case("noise-o-255-byte-name", ("noise", "perlin", "--size", "8", "-o", "a" * 251 + ".png"), 0,
+         changes=("a" * 251 + ".png",)),
+    *(Case(f"{cmd}-seed-too-large", (cmd, *rest, "--seed", "99999999999999999999"), 2,
+           "argument --seed: must be at most 9223372036854775807")
+      for cmd, rest in (("noise", ("perlin", "-o", "x.png")), ("tile", ("-o", "x.png")), ("text", ("c.txt",)),
+                        ("synth", ("img.png", "-o", "x.png")), ("fit", ("img.png", "-o", "out")),
+                        ("demo", ("-o", "d")))),
+    Case("fit-opacity-denormal", ("fit", "img.png", "--opacity", "1e-320", "-o", "out"), 2,
+         "--opacity must be between 0.001 and 1"),  # found by benchmarks/fuzz_hostile.py: ran for minutes
+    Case("render-one-frame-gif", ("render", "tex.toml", *CAMERA, "--size", "16x16", "--frames", "1", "-o",
+                                  "x.gif"), 0, changes=("x.gif",)),
 ]
 
 
@@ -458,6 +625,10 @@ def _run(case: Case, base: Path, work: Path) -> dict:
         env.pop(name, None)
     start = time.perf_counter()
     command = [sys.executable, "-m", "spectex", *argv]
+    if case.hup is not None:  # set SIGHUP's disposition, then become the spectex run (exec keeps it)
+        how = "SIG_DFL" if case.hup == "default" else "SIG_IGN"
+        command = [sys.executable, "-c", f"import os, signal, sys; signal.signal(signal.SIGHUP, signal.{how}); "
+                   "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])", "-m", "spectex", *argv]
     if case.stdout == "closed":
         command = ["sh", "-c", 'exec "$0" "$@" >&-', *command]
     proc = subprocess.Popen(command, cwd=folder, env=env,
@@ -541,6 +712,8 @@ def test_hostile(case, results):
         # KeyboardInterrupt by SIGINT itself (the shell convention for Ctrl-C): status -2.
         expected += (-signal.SIGINT,)
     expected += (0,) if case.signum is not None and r["sent"] is None else ()
+    if case.hup == "ignored":
+        interrupted = False  # the signal was sent, and rightly had no effect
     assert r["rc"] in expected, f"exit status {r['rc']}, stderr: {err}"
     if case.err and r["rc"] != 0:
         assert re.search(case.err, err), err
@@ -613,3 +786,123 @@ def test_text_length_is_bounded():
     with pytest.raises(ValueError, match=f"length must be <= {MAX_TEXT_LENGTH}"):
         generate_text(model, MAX_TEXT_LENGTH + 1)
     assert len(generate_text(model, 5)) == 5
+
+
+# ------------------------------------------------- issue 26, from the library
+
+def test_noise_refuses_a_shape_given_as_coordinates():
+    from spectex import noise
+
+    for f in (noise.fbm, noise.perlin, noise.value, noise.turbulence):
+        with pytest.raises(TypeError, match="takes coordinates, not a shape|looks like a shape"):
+            f((64, 64))
+    # the controls: a list, or an array, of 1-D coordinates is noise at those points
+    assert noise.fbm([0.5, 1.5]).shape == (2,)
+    y, x = np.mgrid[0:8, 0:8] / 4.0
+    assert noise.fbm(x, y).shape == (8, 8)
+
+
+def test_texture_file_limits_are_fast(tmp_path):
+    from spectex.texture import SpectralTexture
+    from spectex.texture_file import load
+
+    preset = SpectralTexture.paper_preset(tile_size=16)
+    preset.save(tmp_path / "t.toml")
+    toml = (tmp_path / "t.toml").read_text()
+    assert len(load(tmp_path / "t.toml").layers) == len(preset.layers)  # the control
+    (tmp_path / "deep.toml").write_text("a = " + "[" * 1000 + "]" * 1000)
+    (tmp_path / "deep_ok.toml").write_text('s = "' + "[" * 1000 + '"\n' + toml)  # brackets in a string: fine
+    (tmp_path / "many.toml").write_text(toml + "\n[[layers]]\ntile = 0\nsize = 1.0\n" * 100000)
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="deeper than 16"):
+        load(tmp_path / "deep.toml")
+    with pytest.raises(ValueError, match="unknown field 's'"):
+        load(tmp_path / "deep_ok.toml")
+    with pytest.raises(ValueError, match="over the limit of 1048576 bytes"):
+        load(tmp_path / "many.toml")
+    assert time.perf_counter() - start < 5.0
+
+
+def test_lengths_are_physical():
+    from spectex.texture import Layer
+
+    assert Layer(size=1e-6).size == 1e-6 and Layer(size=1e9).size == 1e9  # the controls, at the limits
+    for bad in (1e-308, 1e-7, 1e10, 1e300):
+        with pytest.raises(ValueError, match="size must be between 1e-06 and 1e\\+09 metres"):
+            Layer(size=bad)
+
+
+def test_float_images_outside_the_unit_range_are_refused_by_the_library():
+    from spectex.synthesis import efros_leung, quilt, sample_histogram
+
+    ex = np.random.default_rng(0).random((32, 32, 3)).astype(np.float32)
+    assert sample_histogram(ex, (8, 8), rng=0).shape == (8, 8, 3)  # the control
+    assert sample_histogram(ex * (1 + 5e-5), (8, 8), rng=0).max() <= 1.0  # rounding: clipped, taken
+    for f in (lambda e: sample_histogram(e, (8, 8)), lambda e: quilt(e, (16, 16), block=8),
+              lambda e: efros_leung(e, (8, 8), window=5)):
+        with pytest.raises(ValueError, match=r"exemplar holds values from 0 to 2; a float image must be in \[0, 1\]"):
+            f(ex * 2 / ex.max())
+
+
+def test_render_returns_a_typed_result(monkeypatch):
+    import dataclasses
+
+    import spectex.render.gl as glmod
+    from spectex.render import Camera, RenderResult, render
+    from spectex.texture import SpectralTexture
+    from spectex.tiles import make_tile
+
+    def unavailable(**kw):
+        raise glmod.GLUnavailable("no OpenGL 3.3 context (EGL): test")
+
+    monkeypatch.setattr(glmod, "create_context", unavailable)
+    result = render(SpectralTexture.plain(make_tile(16, rng=0), 4.0), Camera((0.0, 0.0, 2.0), pitch=-10.0), (6, 8))
+    assert isinstance(result, RenderResult) and dataclasses.is_dataclass(result)
+    assert result.image.shape == (6, 8, 3) and result.backend == "cpu"
+    with pytest.raises(TypeError):  # a typed result, not the old tuple (no unpacking shim)
+        _image, _backend = result
+
+
+def test_a_full_disk_while_writing_a_pdf_is_one_line(tmp_path, monkeypatch, capsys):
+    import errno
+
+    import matplotlib.figure
+
+    from spectex import io
+    from spectex.cli import main
+
+    io.write_image(tmp_path / "a.png", np.random.default_rng(1).random((32, 32, 3)).astype(np.float32))
+
+    def full(self, *args, **kwargs):  # as matplotlib's PDF writer fails: its clean-up breaks on the OSError
+        try:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        except OSError:
+            raise AttributeError("'Stream' object has no attribute 'pos'")  # noqa: B904 - the chain is the point
+
+    assert main(["spectrum", str(tmp_path / "a.png"), "-o", str(tmp_path / "ok.pdf")]) == 0  # the control
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", full)
+    assert main(["spectrum", str(tmp_path / "a.png"), "-o", str(tmp_path / "x.pdf")]) == 2
+    err = capsys.readouterr().err
+    assert f"output '{tmp_path / 'x.pdf'}' could not be written: No space left on device" in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "ok.pdf"]
+
+
+def test_an_unwritable_numba_cache_falls_back_with_one_line(tmp_path):
+    code = ("import sys; from pathlib import Path; import spectex._numba_cache as m; "
+            "m._probe = lambda folder: not sys.argv[1] == 'ro'; "
+            "folder = m.fall_back(Path(m.__file__).parent); print(folder); "
+            "from spectex.tiles import make_tile; make_tile(16, rng=0)")
+    env = dict(os.environ, PYTHONPATH=str(SRC))
+    env.pop("NUMBA_CACHE_DIR", None)
+    for mode in ("rw", "ro"):
+        run = subprocess.run([sys.executable, "-c", code, mode], env=env, capture_output=True, text=True,
+                             timeout=600)
+        assert run.returncode == 0, run.stderr
+        folder = run.stdout.strip().splitlines()[0]
+        if mode == "rw":  # the control: a writable install says nothing
+            assert folder == "None" and run.stderr == ""
+        else:
+            assert "compiled kernels are not kept between runs" in run.stderr
+            assert run.stderr.count("\n") == 1
+            assert not os.path.exists(folder)  # the private cache is removed at exit

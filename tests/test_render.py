@@ -307,8 +307,10 @@ def test_render_no_gl_falls_back_to_cpu(monkeypatch):
 
     monkeypatch.setattr(glmod, "create_context", unavailable)
     tex = SpectralTexture.plain(make_tile(32, rng=1), 5.0)
-    img, used = render(tex, VIEWS["ground"], (18, 32))
-    assert used == "cpu" and img.shape == (18, 32, 3)
+    result = render(tex, VIEWS["ground"], (18, 32))
+    assert result.backend == "cpu" and result.image.shape == (18, 32, 3)
+    img, used = result  # the old tuple, unpacked, for one release
+    assert used == "cpu" and img is result.image
     with pytest.raises(OSError, match="no OpenGL"):
         render(tex, VIEWS["ground"], (18, 32), backend="gl")
 

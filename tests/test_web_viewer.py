@@ -176,8 +176,9 @@ def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name,
         image = screenshot(page)
     finally:
         page.close()
-    reference, backend = render(textures[texture_name], camera, SIZE, backend="cpu", anisotropy=anisotropy)
-    assert backend == "cpu" and image.shape == reference.shape
+    result = render(textures[texture_name], camera, SIZE, backend="cpu", anisotropy=anisotropy)
+    reference = result.image
+    assert result.backend == "cpu" and image.shape == reference.shape
     value = psnr(image, reference)
     if value < 40.0:
         where = save_difference(f"{texture_name}_{view}_{anisotropy:g}", image, reference)
@@ -195,10 +196,10 @@ def test_stochastic_controls_score_far_below(browser, exports, textures, view):
         image = screenshot(page)
     finally:
         page.close()
-    right, _ = render(textures["paper_stochastic"], camera, SIZE, backend="cpu", anisotropy=8.0)
+    right = render(textures["paper_stochastic"], camera, SIZE, backend="cpu", anisotropy=8.0).image
     assert psnr(image, right) >= 40.0
     for control in (paper_stochastic_texture(seed_shift=1), paper_stochastic_texture(tiling="periodic")):
-        wrong, _ = render(control, camera, SIZE, backend="cpu", anisotropy=8.0)
+        wrong = render(control, camera, SIZE, backend="cpu", anisotropy=8.0).image
         assert psnr(image, wrong) < 30.0
 
 
@@ -219,9 +220,9 @@ def test_stochastic_toggles_and_no_mipmaps_match_cpu(browser, exports, textures)
         page.close()
     texture = textures["mixed_stochastic"]
     enabled = [True, False, True, True]
-    reference, _ = render(texture, camera, SIZE, backend="cpu", enabled=enabled, anisotropy=1.0)
+    reference = render(texture, camera, SIZE, backend="cpu", enabled=enabled, anisotropy=1.0).image
     assert psnr(toggled, reference) >= 40.0
-    reference, _ = render(texture, camera, SIZE, backend="cpu", enabled=enabled, filter="linear", anisotropy=1.0)
+    reference = render(texture, camera, SIZE, backend="cpu", enabled=enabled, filter="linear", anisotropy=1.0).image
     assert psnr(no_mip, reference) >= 40.0
     assert psnr(no_mip, toggled) < 35.0  # control: M changed the picture
 
@@ -258,7 +259,7 @@ def test_anisotropy_is_not_a_no_op(browser, exports, textures):
         image = screenshot(page)
     finally:
         page.close()
-    reference, _ = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0)
+    reference = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0).image
     assert psnr(image, reference) < 52.0
 
 
@@ -275,8 +276,8 @@ def test_layer_toggle_keys_match_cpu_with_layers_off(browser, exports, textures)
         page.close()
     enabled = [False, True, False, True, True, True]
     # the page draws at aniso=1 (its URL): so does the reference
-    reference, _ = render(textures["paper"], camera, SIZE, backend="cpu", enabled=enabled, anisotropy=1.0)
-    all_on, _ = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0)
+    reference = render(textures["paper"], camera, SIZE, backend="cpu", enabled=enabled, anisotropy=1.0).image
+    all_on = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0).image
     assert psnr(image, reference) >= 40.0
     assert psnr(image, all_on) < 35.0  # control: the toggles changed the picture
 
@@ -318,7 +319,7 @@ def test_a_new_fragment_moves_the_camera_and_says_ready_again(browser, exports, 
         image = screenshot(page)
     finally:
         page.close()
-    reference, _ = render(textures["paper"], second, SIZE, backend="cpu", anisotropy=1.0)
+    reference = render(textures["paper"], second, SIZE, backend="cpu", anisotropy=1.0).image
     assert psnr(image, reference) >= 40.0
 
 

@@ -23,6 +23,17 @@ import importlib
 
 from ._version import __version__
 
+
+def _numba_cache() -> None:
+    from pathlib import Path
+
+    from ._numba_cache import fall_back
+
+    fall_back(Path(__file__).resolve().parent)
+
+
+_numba_cache()
+
 _SUBMODULES = (
     "analysis",
     "bake",

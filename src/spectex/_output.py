@@ -200,6 +200,12 @@ def _check_not_input(name: str, dest, path, inputs) -> None:
                          "choose another output name (spectex never writes over an input)")
 
 
+def _short(text: str, limit: int = 64) -> str:
+    """``text`` cut to at most ``limit`` bytes of UTF-8: a temporary name stays legal for a 255-byte output name."""
+    data = os.fsencode(text)
+    return text if len(data) <= limit else os.fsdecode(data[:limit].decode("utf-8", "ignore").encode())
+
+
 def _probe_writable(name: str, folder: Path, path) -> None:
     """Create and remove a file in ``folder``: the only sure test of writability."""
     try:
@@ -359,7 +365,8 @@ def atomic_path(path, *, name: str = "output", inputs=()):
     try:
         try:
             with _signals_held():  # the clean-up below knows the name as soon as the file exists
-                fd, tmp = tempfile.mkstemp(prefix=f".{dest.stem}.", suffix=TEMP_MARK + dest.suffix, dir=folder)
+                fd, tmp = tempfile.mkstemp(prefix=f".{_short(dest.stem)}.", suffix=TEMP_MARK + _short(dest.suffix),
+                                           dir=folder)
                 os.close(fd)
         except OSError as exc:
             raise ValueError(f"{name} {_show(path)} cannot be written: its folder {_show(folder)} is not "
@@ -410,7 +417,7 @@ def _make_stage(where: Path, prefix: str, name: str, path) -> Path:
     stage = None
     try:
         with _signals_held():  # no interrupt between making the stage and remembering it
-            stage = Path(tempfile.mkdtemp(prefix=prefix, suffix=TEMP_MARK, dir=where))
+            stage = Path(tempfile.mkdtemp(prefix=_short(prefix), suffix=TEMP_MARK, dir=where))
     except OSError as exc:
         raise ValueError(f"{name} {_show(path)} cannot be written: {exc.strerror or exc}") from None
     except BaseException:  # a signal held back above, delivered as they are let through again
@@ -506,6 +513,7 @@ class OutputSet:
         stage, self.stage = self.stage, None
         if exc_type is not None:
             shutil.rmtree(stage, ignore_errors=True)
+            _raise_named(self.name, self.path, stage, exc, "the earlier files are as they were")
             return False
         try:
             self._commit(stage)
@@ -558,6 +566,42 @@ class OutputSet:
                     with contextlib.suppress(OSError):
                         os.replace(backup / n, self.folder / n)
                 raise
+
+
+def savefig(fig, path, **kwargs) -> None:
+    """``fig.savefig(path)``, whose failure to write is the ``OSError`` itself.
+
+    Matplotlib's PDF writer, on a full disk, raises an ``AttributeError``
+    from its own clean-up while handling the ``OSError``; the ``OSError`` is
+    what happened, so it is raised instead (and named by the caller).
+    """
+    try:
+        fig.savefig(path, **kwargs)
+    except OSError:
+        raise
+    except Exception as exc:
+        cause = exc
+        while cause is not None and not isinstance(cause, OSError):
+            cause = cause.__context__
+        if cause is None:
+            raise
+        raise cause from None
+
+
+def _raise_named(name, path, stage, exc, after) -> None:
+    """Turn a write into ``stage`` that failed (a full disk: no file name, or one in the stage) into one line.
+
+    A ``ValueError`` that names a file in the stage (a nested writer's) is
+    raised again naming it where it was going, not the hidden stage.
+    """
+    if isinstance(exc, ValueError) and os.fspath(stage) in str(exc):
+        raise ValueError(str(exc).replace(os.fspath(stage), os.fspath(path))) from None
+    if not isinstance(exc, OSError) or isinstance(exc, (BrokenPipeError, InterruptedError)):
+        return
+    if exc.filename is not None and not os.fspath(exc.filename).startswith(os.fspath(stage)):
+        return  # an input or another path: its own message names it
+    message = f"{name} {_show(path)} could not be written: {exc.strerror or exc}; {after}"
+    raise (OSError(message) if exc.errno is None else OSError(exc.errno, message)) from None
 
 
 class OutputFolder:
@@ -636,8 +680,14 @@ class OutputFolder:
     def __exit__(self, exc_type, exc, tb):
         stage, self.stage = self.stage, None
         try:
-            if exc_type is None:
-                self._commit(stage)
+            if exc_type is not None:
+                _raise_named(self.name, self.path, stage, exc, "the earlier folder is as it was")
+                return False
+        finally:
+            if exc_type is not None and os.path.lexists(stage):
+                shutil.rmtree(stage, ignore_errors=True)
+        try:
+            self._commit(stage)
         except OSError as exc:
             raise ValueError(f"{self.name} {_show(self.path)} could not be written: {exc.strerror or exc}; "
                              "the earlier folder is as it was") from None
@@ -653,7 +703,8 @@ class OutputFolder:
         old = None
         with _signals_held():  # never left half-swapped
             if os.path.lexists(self.path):
-                old = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", suffix=".old" + TEMP_MARK, dir=self.parent))
+                old = Path(tempfile.mkdtemp(prefix=f".{_short(self.path.name)}.", suffix=".old" + TEMP_MARK,
+                                            dir=self.parent))
                 os.replace(self.path, old / "previous")
             try:
                 os.replace(stage, self.path)

@@ -12,6 +12,8 @@ import numpy as np
 
 
 def _plain(value):
+    if isinstance(value, AsDict):  # a result inside a result
+        return value.as_dict()
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, np.generic):

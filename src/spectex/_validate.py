@@ -48,6 +48,20 @@ def check_float(name: str, value, *, minimum=None, maximum=None,
     return value
 
 
+#: The world lengths the library takes (metres): a micrometre to a million kilometres. Layer sizes and
+#: pixel sizes outside it are not physical, and their reciprocals leave float32 (all-black bakes).
+MIN_LENGTH = 1e-6
+MAX_LENGTH = 1e9
+
+
+def check_length(name: str, value) -> float:
+    """Return ``value``, a world length in metres within [:data:`MIN_LENGTH`, :data:`MAX_LENGTH`]."""
+    value = check_float(name, value)
+    if not MIN_LENGTH <= value <= MAX_LENGTH:
+        raise ValueError(f"{name} must be between {MIN_LENGTH:g} and {MAX_LENGTH:g} metres, got {value:g}")
+    return value
+
+
 def check_choice(name: str, value, choices) -> str:
     """Return ``value`` if it is one of ``choices``, or raise naming ``name``."""
     if not isinstance(value, str) or value not in choices:
@@ -95,12 +109,19 @@ def check_shape(name: str, value, *, maximum_pixels: int = 1 << 28) -> tuple[int
     return h, w
 
 
-def check_image(name: str, image, *, channels=(None, 1, 2, 3, 4), min_size: int = 1) -> np.ndarray:
+#: How far a float image may stray outside [0, 1] (rounding) and still be taken, clipped, as an image in range.
+UNIT_TOLERANCE = 1e-4
+
+
+def check_image(name: str, image, *, channels=(None, 1, 2, 3, 4), min_size: int = 1,
+                unit: bool = False) -> np.ndarray:
     """Return ``image`` as a float32 ``(H, W)`` or ``(H, W, C)`` array.
 
     Integer images are scaled to [0, 1] by their dtype's maximum (uint8 by
     255, uint16 by 65535); float images are taken as they are and must be
-    finite.
+    finite. With ``unit=True`` (an image to be matched, synthesised from or
+    made a tile of) float values must lie in [0, 1] as well (up to
+    :data:`UNIT_TOLERANCE`, clipped): anything else is refused, not guessed at.
     """
     if not isinstance(image, np.ndarray):
         try:
@@ -127,9 +148,31 @@ def check_image(name: str, image, *, channels=(None, 1, 2, 3, 4), min_size: int 
         image = image.astype(np.float32, copy=False)
         if not np.all(np.isfinite(image)):
             raise ValueError(f"{name} must hold finite values, got NaN or infinity")
+        if unit:
+            image = check_unit_range(name, image, remedy="divide it by its maximum, or rescale it, first")
     else:
         raise TypeError(f"{name} must be a numeric array, got dtype {image.dtype}")
     return image
+
+
+def check_unit_range(name: str, image: np.ndarray, *, remedy: str = "rescale it to [0, 1] first") -> np.ndarray:
+    """Return the float image ``image`` if its values lie in [0, 1] (clipped within rounding), or raise."""
+    lo, hi = float(image.min(initial=0.0)), float(image.max(initial=0.0))
+    if lo < -UNIT_TOLERANCE or hi > 1.0 + UNIT_TOLERANCE:
+        raise ValueError(f"{name} holds values from {lo:.4g} to {hi:.4g}; a float image must be in [0, 1] "
+                         f"({remedy})")
+    if lo < 0.0 or hi > 1.0:
+        image = np.clip(image, 0.0, 1.0)
+    return image
+
+
+def normalize_image(image: np.ndarray) -> np.ndarray:
+    """``image`` with its minimum..maximum mapped to 0..1 (a constant image becomes 0.5), float32."""
+    image = np.asarray(image, dtype=np.float32)
+    lo, hi = float(image.min()), float(image.max())
+    if hi - lo <= 0.0:
+        return np.full_like(image, 0.5)
+    return ((image.astype(np.float64) - lo) / (hi - lo)).astype(np.float32)
 
 
 def check_relative_name(name: str, value: str) -> str:

@@ -89,7 +89,9 @@ def _savefig(fig, path) -> None:
 
     path = Path(path)
     fig.tight_layout()
-    fig.savefig(path, format=path.suffix.lower()[1:] or "png")
+    from ._output import savefig
+
+    savefig(fig, path, format=path.suffix.lower()[1:] or "png")
 
 
 def plot_band_power(path, images, labels, *, segments=None) -> None:

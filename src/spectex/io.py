@@ -21,12 +21,14 @@ pixels before decoding them (decompression bombs are small on disk).
 
 from __future__ import annotations
 
+import contextvars
 import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 
+from ._limits import limit
 from ._output import atomic_path, check_input_file, note_input, plan_output
 from ._validate import check_choice, check_float, check_int
 
@@ -38,7 +40,7 @@ ARRAY_SUFFIXES = (".npy",)
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 #: Most pixels an image file may have to be read (16384 x 8192; 2 GiB as float32 RGBA).
 #: Pillow's own limit (``PIL.Image.MAX_IMAGE_PIXELS``) is set to it while a file is opened.
-MAX_IMAGE_PIXELS = 1 << 27
+MAX_IMAGE_PIXELS = limit("IMAGE_PIXELS", 1 << 27)
 
 
 def check_output_path(name: str, path, suffixes, *, inputs=()) -> Path:
@@ -168,10 +170,19 @@ def _png_bit_depth(path: Path) -> int | None:
     return None
 
 
+#: A tighter limit than MAX_IMAGE_PIXELS for the read in progress: (pixels, "where it comes from"), or None.
+_READ_LIMIT = contextvars.ContextVar("spectex_read_limit", default=None)
+
+
 def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
     if width * height > MAX_IMAGE_PIXELS:
         raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
-                         f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS)")
+                         f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS; "
+                         "set SPECTEX_MAX_IMAGE_PIXELS to raise it)")
+    tighter = _READ_LIMIT.get()
+    if tighter is not None and width * height > tighter[0]:
+        raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
+                         f"{tighter[0]} pixels {tighter[1]}")
 
 
 def _read_npy(path: Path, name: str) -> np.ndarray:
@@ -183,7 +194,11 @@ def _read_npy(path: Path, name: str) -> np.ndarray:
             shape, _, dtype = reader(fh)
     except Exception as exc:
         raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
-    if len(shape) not in (2, 3) or not np.issubdtype(dtype, np.number):
+    if np.issubdtype(dtype, np.complexfloating):
+        raise ValueError(f"{name} must hold real numbers, got the complex dtype {dtype} in '{path}'")
+    if np.issubdtype(dtype, np.signedinteger):
+        raise ValueError(f"{name} must hold unsigned integers or floats, got dtype {dtype} in '{path}'")
+    if len(shape) not in (2, 3) or not (np.issubdtype(dtype, np.number) or dtype == np.bool_):
         raise ValueError(f"{name} must hold a 2-D or 3-D numeric array, got shape {shape} and dtype {dtype} "
                          f"in '{path}'")
     _check_pixels(name, path, shape[1], shape[0])
@@ -193,6 +208,8 @@ def _read_npy(path: Path, name: str) -> np.ndarray:
         arr = np.load(path, allow_pickle=False)
     except Exception as exc:
         raise ValueError(f"{name} is not a readable .npy file: '{path}' ({exc})") from None
+    if np.issubdtype(arr.dtype, np.unsignedinteger):  # like a PNG of that depth: scaled by the dtype's top
+        return (arr.astype(np.float32) / np.float32(np.iinfo(arr.dtype).max)).astype(np.float32)
     return arr.astype(np.float32)
 
 
@@ -237,7 +254,7 @@ def _open_pil(path: Path, name: str):
         found = re.search(r"\((\d+) pixels\)", str(exc))
         count = f"{found.group(1)} pixels" if found else "more pixels"
         raise ValueError(f"{name} '{path}' has {count}, over the limit of {MAX_IMAGE_PIXELS} pixels "
-                         "(spectex.io.MAX_IMAGE_PIXELS)") from None
+                         "(spectex.io.MAX_IMAGE_PIXELS; set SPECTEX_MAX_IMAGE_PIXELS to raise it)") from None
     finally:
         Image.MAX_IMAGE_PIXELS = saved
     try:
@@ -248,7 +265,7 @@ def _open_pil(path: Path, name: str):
     return im
 
 
-def read_image(path, *, name: str = "image") -> np.ndarray:
+def read_image(path, *, name: str = "image", max_pixels=None) -> np.ndarray:
     """Read an image file as float32 in [0, 1].
 
     Conversions, all documented and lossless where the format allows:
@@ -261,7 +278,9 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
     * ``.npy`` files are loaded as they are (float32), and must be 2-D or 3-D.
 
     Images over :data:`MAX_IMAGE_PIXELS` pixels are refused from their header,
-    before anything is decoded.
+    before anything is decoded; ``max_pixels``, a pair ``(pixels, words)``,
+    sets a tighter limit for this read (a synthesis exemplar), its refusal
+    ending with ``words`` (where the limit comes from).
 
     Raises
     ------
@@ -269,6 +288,12 @@ def read_image(path, *, name: str = "image") -> np.ndarray:
         If the file is missing, not a regular file, too large, unreadable or
         not an image; the message names ``name`` and the path.
     """
+    if max_pixels is not None:  # (pixels, why): refused from the header, before decoding
+        token = _READ_LIMIT.set(tuple(max_pixels))
+        try:
+            return read_image(path, name=name)
+        finally:
+            _READ_LIMIT.reset(token)
     path = check_input_file(name, path)
     note_input(path)
     if path.suffix.lower() == ".npy":

@@ -17,6 +17,11 @@ measure                      what it says                                    goo
 :func:`repeat_peak`          highest autocorrelation of fine detail at a     <= 0.1
                              long lag, any period and direction
 :func:`tileability`          step across the wrap edge / interior steps      about 1
+:func:`structural_distance`  Portilla-Simoncelli statistics' distance over   about 1
+                             the photo's own (``ratio``)
+:func:`clipped_fraction`     channel values at 0 or 1                        photo's + 0.01
+:func:`coarse_copies`        the photo, magnified, found in a zoomed-out     photo's own
+                             view (normalised cross-correlation)
 :func:`local_contrast`       mean luminance std in windows (a view against   >= 0.6 of the
                              its tile: how much contrast survives)           tile's
 :func:`mean_chroma`          mean max(RGB) - min(RGB)                        --
@@ -43,9 +48,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._results import AsDict
+from ._texture_stats import (  # structural measures (issue 22), in their own module
+    Clipping,
+    CoarseCopies,
+    StructuralDistance,
+    TextureStatistics,
+    clipped_fraction,
+    clipping,
+    coarse_copies,
+    reference_statistics,
+    structural_distance,
+    texture_statistics,
+)
 from ._validate import check_float, check_image, check_int
 from .color import luma
-from .spectrum import BandPower, band_power  # the estimator's home is spectex.spectrum; a measure of this table
+from .spectrum import (  # the estimator's home is spectex.spectrum; a measure of this table
+    BandPower,
+    band_power,
+)
 
 __all__ = [
     "histogram_w1",
@@ -62,6 +82,16 @@ __all__ = [
     "compare",
     "Comparison",
     "BandPower",
+    "texture_statistics",
+    "TextureStatistics",
+    "structural_distance",
+    "StructuralDistance",
+    "reference_statistics",
+    "clipped_fraction",
+    "clipping",
+    "Clipping",
+    "coarse_copies",
+    "CoarseCopies",
 ]
 
 
@@ -556,6 +586,16 @@ class Comparison(AsDict):
         filtering or blending changed).
     seam_energy : float or None
         :func:`seam_energy` for the ``block`` layout, if one was given.
+    structure : StructuralDistance or None
+        :func:`structural_distance` of the image to the reference: ``ratio``
+        about 1 is as close as the photo is to itself (``None`` for a
+        reference without two 32 x 32 windows, or a flat one).
+    clipping : Clipping
+        :func:`clipping`: the image's clipped values against the reference's
+        own plus 1 point.
+    coarse : CoarseCopies or None
+        With ``zoom``: :func:`coarse_copies`, the image taken as a view at
+        ``zoom`` times the reference's pixel size.
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     """
@@ -572,6 +612,9 @@ class Comparison(AsDict):
     repeat_peak_reference: float | None
     exact_repetition: float | None
     seam_energy: float | None = None
+    structure: StructuralDistance | None = None
+    clipping: Clipping | None = None
+    coarse: CoarseCopies | None = None
 
 
 def _repeat_peak_or_none(image):
@@ -581,7 +624,23 @@ def _repeat_peak_or_none(image):
     return repeat_peak(image, min_lag=min(24, side // 2))
 
 
-def compare(image, *, reference, block: int | None = None, overlap: int = 0) -> Comparison:
+def _structure_or_none(image, reference):
+    """:func:`structural_distance`, or None where the reference cannot give a floor (too small, flat)
+    or the image is smaller than a window."""
+    from ._texture_stats import MIN_WINDOW
+
+    if min(reference.shape[:2]) < MIN_WINDOW or max(reference.shape[:2]) < 2 * MIN_WINDOW:
+        return None
+    if float(np.std(_luma(reference))) <= 1e-6:
+        return None
+    try:
+        return structural_distance(image, reference)
+    except ValueError:  # the image under one window, or a reference without two
+        return None
+
+
+def compare(image, *, reference, block: int | None = None, overlap: int = 0,
+            zoom: float | None = None) -> Comparison:
     """All the measures of ``image`` against a ``reference`` (an exemplar).
 
     Call it as ``compare(image, reference=exemplar)``: the image judged
@@ -596,6 +655,10 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0) -> 
         The exemplar (or any reference image); the same number of channels.
     block, overlap : int, optional
         With ``block``, also the seam energy for that block layout.
+    zoom : float, optional
+        The image is a zoomed-out view of a texture, rendered at ``zoom``
+        times the reference's pixel size: also search it for magnified
+        copies of the reference (:func:`coarse_copies`).
 
     Returns
     -------
@@ -604,6 +667,8 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0) -> 
     """
     image = check_image("image", image)
     reference = check_image("reference", reference)
+    if zoom is not None:
+        zoom = check_float("zoom", zoom, minimum=1.0)
     w1 = tuple(float(v) for v in histogram_w1(image, reference))
     try:
         bands, pr, pi = _common_bands(reference, image, 4)
@@ -621,4 +686,6 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0) -> 
         band_power_distance_db=distance, tileability_image=tile_i, tileability_reference=tile_r,
         verbatim_copy=copy, repeat_peak_image=_repeat_peak_or_none(image),
         repeat_peak_reference=_repeat_peak_or_none(reference), exact_repetition=exact,
-        seam_energy=seam_energy(image, block, overlap) if block is not None else None)
+        seam_energy=seam_energy(image, block, overlap) if block is not None else None,
+        structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
+        coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None)

@@ -46,7 +46,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape, check_tile_shape
+from ._validate import (
+    check_choice,
+    check_float,
+    check_image,
+    check_int,
+    check_length,
+    check_rng,
+    check_shape,
+    check_tile_shape,
+)
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_placement"]
@@ -155,7 +164,7 @@ class Layer:
     seed: int = 0
 
     def __post_init__(self):
-        object.__setattr__(self, "size", check_float("size", self.size, minimum=0.0, exclusive_minimum=True))
+        object.__setattr__(self, "size", check_length("size", self.size))
         object.__setattr__(self, "tile", check_int("tile", self.tile, minimum=0))
         off = self.offset
         if not isinstance(off, (tuple, list, np.ndarray)) or len(off) != 2:
@@ -184,6 +193,27 @@ class Layer:
         dx = np.asarray(x, dtype=np.float64) - self.offset[0]
         dy = np.asarray(y, dtype=np.float64) - self.offset[1]
         return m[0, 0] * dx + m[0, 1] * dy, m[1, 0] * dx + m[1, 1] * dy
+
+
+#: The stochastic tables of the last few tiles, by content: a fit builds many textures that share a
+#: tile (its coarse layers' one), and the tables are a deterministic function of the texels.
+_TABLES = {}
+_TABLES_KEPT = 4
+
+
+def _cached_tables(tile):
+    import hashlib
+
+    from .shading.stochastic import stochastic_tables
+
+    key = (tile.shape, tile.dtype.str, hashlib.blake2b(np.ascontiguousarray(tile).data, digest_size=16).digest())
+    tables = _TABLES.pop(key, None)
+    if tables is None:
+        tables = stochastic_tables(tile)
+    _TABLES[key] = tables  # most recent last
+    while len(_TABLES) > _TABLES_KEPT:
+        del _TABLES[next(iter(_TABLES))]
+    return tables
 
 
 def _as_layer(i, value) -> Layer:
@@ -452,9 +482,7 @@ class SpectralTexture:
         tile's texels (what a file stores rebuilds them exactly).
         """
         if self._stochastic is None:
-            from .shading.stochastic import stochastic_tables
-
-            self._stochastic = [stochastic_tables(tile) for tile in self.tiles]
+            self._stochastic = [_cached_tables(tile) for tile in self.tiles]
         return self._stochastic
 
     def stochastic_store(self, *, mipmaps=True):
@@ -536,7 +564,7 @@ class SpectralTexture:
         n = check_int("supersample", supersample, minimum=1, maximum=16)
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // (n * n))
         ox, oy = _pair("origin", origin)
-        p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+        p = check_length("pixel_size", pixel_size)
         if not isinstance(start, (tuple, list)) or len(start) != 2:
             raise ValueError(f"start must be a pair (row, column) of integers, got {start!r}")
         row0 = check_int("start[0]", start[0], minimum=0)
@@ -557,7 +585,7 @@ class SpectralTexture:
         """
         h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // max(1, len(self.layers)))
         ox, oy = _pair("origin", origin)
-        p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+        p = check_length("pixel_size", pixel_size)
         from .shading.sampler import MipTexture, sample
 
         r, c = np.mgrid[0:h, 0:w]

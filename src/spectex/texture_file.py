@@ -45,8 +45,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validate import check_relative_name
-from .shading.constants import MAX_TILES
+from ._validate import _show, check_relative_name
+from .shading.constants import MAX_LAYERS, MAX_TILES
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps"]
 
@@ -55,6 +55,10 @@ FORMAT = "spectex.spectral-texture"
 FORMAT_VERSION = 2
 #: Versions :func:`load` reads.
 READ_VERSIONS = (1, 2)
+#: The largest texture file :func:`load` reads (bytes), and the deepest nesting of brackets in it: a
+#: texture of the most layers is about 2 kB and nests 2 deep, so these only stop hostile files early.
+MAX_FILE_BYTES = 1 << 20
+MAX_NESTING = 16
 
 _HEADER = """# spectex spectral texture: layers of one tile at different scales.
 # Layers are drawn in order (finest first); each later one is blended over the
@@ -155,15 +159,56 @@ def load(path):
 
     path = check_input_file("texture", path)
     note_input(path)  # no output of this command may replace it
+    with open(path, "rb") as fh:  # read at most one byte over the limit, whatever the file's claimed size
+        data = fh.read(MAX_FILE_BYTES + 1)
+    if len(data) > MAX_FILE_BYTES:
+        raise ValueError(f"texture file '{path}' is over the limit of {MAX_FILE_BYTES} bytes "
+                         f"(a texture of {MAX_LAYERS} layers takes about 2 kB)")
     try:
-        text = path.read_text(encoding="utf-8")
+        text = data.decode("utf-8")
+        _check_nesting(text, path)
         doc = tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
+    except RecursionError:  # a nesting that _check_nesting could not see (inside an odd string): same answer
+        raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}") from None
     try:
         return from_dict(doc, base=path.parent)
     except (ValueError, TypeError) as exc:
         raise ValueError(f"texture file '{path}': {exc}") from None
+
+
+def _check_nesting(text: str, path) -> None:
+    """Refuse a document whose brackets nest deeper than :data:`MAX_NESTING` (before the recursive parser).
+
+    Counts ``[``/``{`` against ``]``/``}`` outside quoted strings and comments;
+    a texture file needs a depth of 2 (``offset = [0.0, 0.0]`` inside
+    ``[[layers]]``).
+    """
+    depth = 0
+    quote = None
+    comment = False
+    escaped = False
+    for ch in text:
+        if comment:
+            comment = ch != "\n"
+        elif quote is not None:
+            if escaped:
+                escaped = False
+            elif ch == "\\" and quote == '"':
+                escaped = True
+            elif ch == quote or ch == "\n":
+                quote = None
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            comment = True
+        elif ch in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}")
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
 
 
 def from_dict(doc: dict, *, base="."):
@@ -175,15 +220,15 @@ def from_dict(doc: dict, *, base="."):
     known = {"format", "version", "bits", "tiles", "layers", "stochastic"}
     extra = sorted(set(doc) - known)
     if extra:
-        raise ValueError(f"unknown field {extra[0]!r} (known: {', '.join(sorted(known))})")
+        raise ValueError(f"unknown field {_show(extra[0])} (known: {', '.join(sorted(known))})")
     for key in ("format", "version", "tiles", "layers"):
         if key not in doc:
             raise ValueError(f"missing field '{key}'")
     if doc["format"] != FORMAT:
-        raise ValueError(f"field 'format' must be {FORMAT!r}, got {doc['format']!r}")
+        raise ValueError(f"field 'format' must be {FORMAT!r}, got {_show(doc['format'])}")
     version = doc["version"]
     if not isinstance(version, int) or isinstance(version, bool):
-        raise ValueError(f"field 'version' must be an integer, got {version!r}")
+        raise ValueError(f"field 'version' must be an integer, got {_show(version)}")
     if version not in READ_VERSIONS:
         raise ValueError(f"field 'version' is {version}; this spectex reads versions "
                          f"{', '.join(str(v) for v in READ_VERSIONS)}")
@@ -193,21 +238,24 @@ def from_dict(doc: dict, *, base="."):
         want = _stochastic_doc()
         got = doc["stochastic"]
         if not isinstance(got, dict):
-            raise ValueError(f"field 'stochastic' must be a table, got {got!r}")
+            raise ValueError(f"field 'stochastic' must be a table, got {_show(got)}")
         for key in sorted(set(got) | set(want)):
             if key not in want:
                 raise ValueError(f"unknown field 'stochastic.{key}' (known: {', '.join(sorted(want))})")
             if got.get(key) != want[key]:
-                raise ValueError(f"field 'stochastic.{key}' is {got.get(key)!r}; this spectex builds the "
+                raise ValueError(f"field 'stochastic.{key}' is {_show(got.get(key))}; this spectex builds the "
                                  f"stochastic tables with {want[key]!r}")
     bits = doc.get("bits", 8)
     if bits not in (8, 32) or isinstance(bits, bool):
-        raise ValueError(f"field 'bits' must be 8 or 32, got {bits!r}")
+        raise ValueError(f"field 'bits' must be 8 or 32, got {_show(bits)}")
     names = doc["tiles"]
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
-        raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {names!r}")
+        raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {_show(names)}")
     if len(names) > MAX_TILES:
         raise ValueError(f"field 'tiles' names {len(names)} files; a texture has at most {MAX_TILES} tiles")
+    raw_layers = doc["layers"]
+    if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
+        raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
     from .io import read_image
 
     tiles = []
@@ -229,7 +277,7 @@ def from_dict(doc: dict, *, base="."):
     allowed = set(_LAYER_FIELDS if version == 1 else _LAYER_FIELDS_V2)
     for i, entry in enumerate(raw_layers):
         if not isinstance(entry, dict):
-            raise ValueError(f"field 'layers[{i}]' must be a table, got {entry!r}")
+            raise ValueError(f"field 'layers[{i}]' must be a table, got {_show(entry)}")
         extra = sorted(set(entry) - allowed)
         if extra:
             raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
@@ -237,7 +285,7 @@ def from_dict(doc: dict, *, base="."):
             raise ValueError(f"missing field 'layers[{i}].size'")
         for key in ("size", "rotation", "opacity", "patch"):
             if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
-                raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {entry[key]!r}")
+                raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {_show(entry[key])}")
         if entry.get("tiling") == "stochastic" and "stochastic" not in doc:
             raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
         try:

@@ -26,18 +26,32 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import check_choice, check_float, check_int, check_shape
+from .._limits import limit
+from .._validate import MAX_LENGTH, check_choice, check_float, check_int, check_length, check_shape
 from ._block import DTYPES, run_window, to_dtype, window_packed
 
-__all__ = ["BakeResult", "bake_zarr", "level_shapes", "MAX_SHARD_BYTES"]
+__all__ = ["BakeResult", "bake_zarr", "level_shapes", "MAX_SHARD_BYTES", "MAX_BAKE_BYTES", "MAX_BAKE_SHARDS"]
 
 #: Largest shard, in bytes of stored pixels (3 * shard**2 * itemsize): 256 MiB.
 MAX_SHARD_BYTES = 1 << 28
-#: Folder inside the store for the per-shard markers of an unfinished bake.
+#: Most bytes a whole pyramid may hold, uncompressed (``$SPECTEX_MAX_BAKE_BYTES``; 1 TiB).
+MAX_BAKE_BYTES = limit("BAKE_BYTES", 1 << 40)
+#: Most shards (tasks) of one bake (``$SPECTEX_MAX_BAKE_SHARDS``): bounds the bookkeeping.
+MAX_BAKE_SHARDS = limit("BAKE_SHARDS", 1 << 18)
+#: Tasks handed to the scheduler at a time: the graph is built a batch at a time, never whole.
+BATCH = 1024
+#: Folder inside the store for the per-shard markers of an unfinished bake (each holds its shard's size).
 MARKERS = ".spectex-progress"
+#: File inside a finished store: each shard's size in bytes (-1: no file, an all-zero shard).
+MANIFEST = "spectex-shards.json"
+#: Lock file inside the store while a bake writes it (the owner's PID and host, JSON); not hidden, so that
+#: a user sees that a bake is (or was, if it was killed) writing the store.
+LOCK = "spectex.lock"
+#: Network schemes of dask.distributed that reach a scheduler in another process.
+_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 #: The attribute group of our own parameters in the root ``zarr.json``.
 ATTRS = "spectex"
-_ADDRESS = re.compile(r"^[a-z][a-z0-9+.-]*://\S+$")
+_ADDRESS = re.compile(r"^([a-z][a-z0-9+.-]*)://(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})$")
 _PARTIAL = re.compile(r"\.[0-9a-f]{32}\.partial$")  # zarr's LocalStore temporary files
 
 
@@ -110,7 +124,7 @@ def default_levels(shape, chunk) -> int:
 
 
 def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=None, chunk=512, shard=4096,
-              dtype="uint8", scheduler=None, workers=None, progress=None) -> BakeResult:
+              dtype="uint8", scheduler=None, workers=None, progress=None, connect_timeout=10.0) -> BakeResult:
     """Bake a region of a spectral texture into a sharded OME-Zarr pyramid.
 
     Level ``k`` is ``texture.bake`` of the same region at ``pixel_size *
@@ -149,6 +163,8 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
         Threads of the local scheduler (default: all cores). Not with ``scheduler``.
     progress : callable, optional
         Called as ``progress(done_pixels, total_pixels)`` as shards finish.
+    connect_timeout : float
+        Seconds to wait for ``scheduler`` to answer (default 10).
 
     Returns
     -------
@@ -162,7 +178,18 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     and the float32 strip of ``chunk`` rows with its conversion (about 200
     MiB for uint8 at ``shard=4096``, ``chunk=512``; measured 193 MiB). It
     depends on ``chunk`` and ``shard`` only, never on ``shape``
-    (``benchmarks/bench_bake.py --memory``).
+    (``benchmarks/bench_bake.py --memory``). The task graph is handed to
+    the scheduler :data:`BATCH` shards at a time, so its memory is bounded too.
+
+    The whole pyramid may hold at most :data:`MAX_BAKE_BYTES` uncompressed
+    and :data:`MAX_BAKE_SHARDS` shards (environment variables
+    ``SPECTEX_MAX_BAKE_BYTES`` and ``SPECTEX_MAX_BAKE_SHARDS`` raise them).
+
+    A bake trusts nothing it finds: every shard recorded as written (by a
+    marker, or in a finished store's ``spectex-shards.json``) is checked to
+    be there with its recorded size, and one that is not is baked again. A
+    lock file (``spectex.lock``: PID and host) refuses a second writer; the
+    lock of a process that no longer runs on this host is taken over.
     """
     from .. import texture_file
     from ..texture import SpectralTexture
@@ -185,10 +212,11 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     if not folder.is_dir():
         raise ValueError(f"path is in a folder that does not exist: '{path}'")
     h, w = check_shape("shape", shape, maximum_pixels=1 << 62)
-    p = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
+    p = check_length("pixel_size", pixel_size)
     if not isinstance(origin, (tuple, list)) or len(origin) != 2:
         raise ValueError(f"origin must be a pair (x, y) of numbers, got {origin!r}")
-    ox, oy = check_float("origin[0]", origin[0]), check_float("origin[1]", origin[1])
+    ox = check_float("origin[0]", origin[0], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
+    oy = check_float("origin[1]", origin[1], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
     dtype = check_choice("dtype", dtype, DTYPES)
     chunk = check_int("chunk", chunk, minimum=16)
     if chunk % 16:
@@ -202,9 +230,21 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
                          f"over the limit of {MAX_SHARD_BYTES / 2**20:.0f} MiB")
     top = 1 + math.ceil(math.log2(max(h, w))) if max(h, w) > 1 else 1
     levels = default_levels((h, w), chunk) if levels is None else check_int("levels", levels, minimum=1, maximum=top)
+    stored = sum(3 * lh * lw * itemsize for lh, lw in level_shapes((h, w), levels))
+    if stored > MAX_BAKE_BYTES:
+        raise ValueError(f"shape {w}x{h} (--size) at {dtype} makes {levels} levels of {stored:.3g} bytes, over the "
+                         f"limit of {MAX_BAKE_BYTES} bytes (SPECTEX_MAX_BAKE_BYTES; set it to raise the limit)")
+    n_shards = sum(-(-lh // shard) * -(-lw // shard) for lh, lw in level_shapes((h, w), levels))
+    if n_shards > MAX_BAKE_SHARDS:
+        raise ValueError(f"shape {w}x{h} (--size) with shard {shard} makes {n_shards} shards, over the limit of "
+                         f"{MAX_BAKE_SHARDS} (SPECTEX_MAX_BAKE_SHARDS; set it to raise the limit, or a larger shard)")
+    connect_timeout = check_float("connect_timeout", connect_timeout, minimum=0.0, exclusive_minimum=True,
+                                  maximum=3600.0)
     if scheduler is not None:
-        if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler):
-            raise ValueError(f"scheduler must be an address such as tcp://host:8786, got {scheduler!r}")
+        found = _ADDRESS.match(scheduler) if isinstance(scheduler, str) else None
+        if found is None or found.group(1) not in _SCHEMES or not 1 <= int(found.group(3)) <= 65535:
+            raise ValueError(f"scheduler must be the network address of a dask.distributed scheduler, "
+                             f"{'|'.join(_SCHEMES)}://HOST:PORT such as tcp://host:8786, got {scheduler!r}")
         if workers is not None:
             raise ValueError("workers applies to the local scheduler only; a cluster has its own workers "
                              f"(got workers={workers!r} with scheduler={scheduler!r})")
@@ -226,30 +266,47 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     params = json.loads(json.dumps(params))  # as the attributes will read back (lists, floats)
 
     # --- connect first: an unreachable scheduler must not leave a store behind
-    client = _connect(scheduler) if scheduler is not None else None
+    client = _connect(scheduler, connect_timeout) if scheduler is not None else None
+    path = path.absolute()
     try:
-        path = path.absolute()
-        state = _open_or_create(path, params, text, shapes, chunk, shard, dtype)
-        tasks = [(k, i, j) for k, (lh, lw) in enumerate(shapes)
-                 for i in range(-(-lh // shard)) for j in range(-(-lw // shard))]
-        if state == "complete":
-            return BakeResult(path, shapes, sizes, dtype, len(tasks), 0, len(tasks), 0, 0.0)
-        done = _finished_markers(path)
-        todo = [t for t in tasks if _marker_name(*t) not in done]
-        job = _Job(str(path), window_packed(texture, (ox, oy), p), tuple(shapes), tuple(sizes), chunk, shard,
-                   dtype)
-        total = sum(_shard_pixels(job, *t) for t in todo)
-        t0 = time.perf_counter()
-        if todo:
-            if client is None:
-                _run_local(job, todo, workers, progress, total)
-            else:
-                _run_distributed(job, todo, client, progress, total)
-        seconds = time.perf_counter() - t0
-        _finish(path, params, text, sizes, (ox, oy), tasks)
+        with _Lock(path):
+            return _bake_locked(texture, path, params, text, shapes, sizes, (ox, oy), p, chunk, shard, dtype,
+                                client, workers, progress)
+    except OSError as exc:
+        if exc.filename is not None and not str(exc.filename).startswith(str(path)):
+            raise
+        # zarr's writes fail without a file name: name the store, and say that a rerun finishes it
+        raise OSError(exc.errno, f"store '{path}' could not be written: {exc.strerror or exc}; run the "
+                                 "same bake again to finish it") from None
     finally:
         if client is not None:
             client.close()
+
+
+def _bake_locked(texture, path, params, text, shapes, sizes, origin, p, chunk, shard, dtype, client, workers,
+                 progress) -> BakeResult:
+    """The bake, once this process holds the store's lock."""
+    ox, oy = origin
+    state = _open_or_create(path, params, text, shapes, chunk, shard, dtype)
+    tasks = [(k, i, j) for k, (lh, lw) in enumerate(shapes)
+             for i in range(-(-lh // shard)) for j in range(-(-lw // shard))]
+    done = _verified(path, shapes, state)
+    if state == "complete" and len(done) == len(tasks):
+        return BakeResult(path, shapes, sizes, dtype, len(tasks), 0, len(tasks), 0, 0.0)
+    if state == "complete":  # a shard went missing or changed since: the store is unfinished again
+        _reopen(path, done)
+    todo = [t for t in tasks if _marker_name(*t) not in done]
+    job = _Job(str(path), window_packed(texture, (ox, oy), p), tuple(shapes), tuple(sizes), chunk, shard,
+               dtype)
+    total = sum(_shard_pixels(job, *t) for t in todo)
+    t0 = time.perf_counter()
+    if todo:
+        if client is None:
+            _run_local(job, todo, workers, progress, total)
+        else:
+            _run_distributed(job, todo, client, progress, total)
+    seconds = time.perf_counter() - t0
+    _finish(path, params, text, sizes, (ox, oy), tasks)
     return BakeResult(path, shapes, sizes, dtype, len(tasks), len(todo), len(tasks) - len(todo), total, seconds)
 
 
@@ -291,9 +348,16 @@ def bake_shard(job: _Job, k: int, i: int, j: int) -> int:
     # half-written file left by a killed worker would be read, or fail its checksum: remove it first.
     (Path(job.path) / str(k) / array.metadata.encode_chunk_key((0, i, j))).unlink(missing_ok=True)
     array[:, r0:r0 + sh, c0:c0 + sw] = buf
+    shard_file = Path(job.path) / str(k) / array.metadata.encode_chunk_key((0, i, j))
+    try:
+        size = shard_file.stat().st_size
+    except FileNotFoundError:
+        size = -1  # zarr writes no file for a shard that is all fill value (black)
     marker = Path(job.path) / MARKERS / _marker_name(k, i, j)
     marker.parent.mkdir(parents=True, exist_ok=True)
-    marker.touch()
+    part = marker.with_name(f".{marker.name}.part")
+    part.write_text(str(size))
+    os.replace(part, marker)  # a marker is whole or absent
     return sh * sw
 
 
@@ -302,8 +366,79 @@ def _marker_name(k, i, j) -> str:
 
 
 def _finished_markers(path: Path) -> set[str]:
+    return set(_recorded_markers(path))
+
+
+def _recorded_markers(path: Path) -> dict[str, int | None]:
+    """Marker name -> the shard size it records (None: unreadable, an older marker without a size)."""
     folder = path / MARKERS
-    return {f.name for f in folder.iterdir()} if folder.is_dir() else set()
+    out = {}
+    if not folder.is_dir():
+        return out
+    for f in folder.iterdir():
+        if f.name.startswith("."):
+            continue
+        try:
+            out[f.name] = int(f.read_text().strip())
+        except (OSError, ValueError):
+            out[f.name] = None
+    return out
+
+
+def _shard_file(path: Path, name: str) -> Path:
+    k, i, j = name.split(".")
+    return path / k / "c" / "0" / i / j  # zarr v3's default chunk key encoding, "/" separated
+
+
+def _verified(path: Path, shapes, state) -> set[str]:
+    """The shards recorded as written whose file is there with the recorded size (or absent, as recorded).
+
+    A marker (or a manifest entry) that does not match its shard is
+    removed, so that the shard is baked again.
+    """
+    if state == "new":
+        return set()
+    if state == "complete":
+        try:
+            recorded = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
+            if not isinstance(recorded, dict):
+                recorded = {}
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+            recorded = {}
+    else:
+        recorded = _recorded_markers(path)
+    good = set()
+    for name, size in recorded.items():
+        if not isinstance(name, str) or not re.fullmatch(r"\d+\.\d+\.\d+", name) or int(name.split(".")[0]) >= len(shapes):
+            continue
+        if isinstance(size, int) and not isinstance(size, bool):
+            try:
+                found = _shard_file(path, name).stat().st_size
+            except FileNotFoundError:
+                found = -1
+            if found == size:
+                good.add(name)
+                continue
+        if state != "complete":
+            (path / MARKERS / name).unlink(missing_ok=True)
+    return good
+
+
+def _reopen(path: Path, good: set[str]) -> None:
+    """Make a finished store unfinished again, keeping the shards in ``good`` (as markers)."""
+    import zarr
+
+    recorded = json.loads((path / MANIFEST).read_text(encoding="utf-8")) if (path / MANIFEST).is_file() else {}
+    group = zarr.open_group(store=str(path), mode="r+")
+    attrs = dict(group.attrs)
+    attrs.pop("ome", None)  # a reader must not take the store for a finished image now
+    attrs[ATTRS] = dict(attrs[ATTRS], complete=False)
+    group.attrs.put(attrs)
+    folder = path / MARKERS
+    folder.mkdir(exist_ok=True)
+    for name in good:
+        (folder / name).write_text(str(recorded[name]))
+    (path / MANIFEST).unlink(missing_ok=True)
 
 
 def _run_local(job, todo, workers, progress, total) -> None:
@@ -311,12 +446,6 @@ def _run_local(job, todo, workers, progress, total) -> None:
     from dask.threaded import get
 
     job_key = "spectex-bake-job-" + _token(job)
-    graph = {job_key: job}
-    keys = []
-    for k, i, j in todo:
-        key = f"spectex-bake-{k}-{i}-{j}"
-        graph[key] = (bake_shard, job_key, k, i, j)
-        keys.append(key)
     done = [0]
 
     def posttask(key, result, dsk, state, worker_id):
@@ -325,19 +454,28 @@ def _run_local(job, todo, workers, progress, total) -> None:
             if progress is not None:
                 progress(done[0], total)
 
-    with Callback(posttask=posttask):
-        get(graph, keys, num_workers=workers or os.cpu_count() or 1)
+    for start in range(0, len(todo), BATCH):  # a bounded graph at a time
+        graph = {job_key: job}
+        keys = []
+        for k, i, j in todo[start:start + BATCH]:
+            key = f"spectex-bake-{k}-{i}-{j}"
+            graph[key] = (bake_shard, job_key, k, i, j)
+            keys.append(key)
+        with Callback(posttask=posttask):
+            get(graph, keys, num_workers=workers or os.cpu_count() or 1)
 
 
-def _connect(scheduler):
+def _connect(scheduler, timeout):
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
     try:
-        return Client(scheduler, timeout="10s", set_as_default=False)
+        return Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
     except (OSError, TimeoutError) as exc:
-        raise OSError(f"cannot reach the scheduler {scheduler}: {exc}") from None
+        raise OSError(f"cannot reach the scheduler {scheduler} within {timeout:g} s: {exc}") from None
+    except ValueError as exc:  # an address that dask.distributed cannot parse
+        raise ValueError(f"scheduler {scheduler!r} is not an address dask.distributed can reach: {exc}") from None
 
 
 def _run_distributed(job, todo, client, progress, total) -> None:
@@ -345,14 +483,15 @@ def _run_distributed(job, todo, client, progress, total) -> None:
 
     job_future = client.scatter(job, broadcast=True)
     token = _token(job)
-    futures = [client.submit(bake_shard, job_future, k, i, j, key=f"spectex-bake-{k}-{i}-{j}-{token}",
-                             pure=False, retries=2)
-               for k, i, j in todo]
     done = 0
-    for future in as_completed(futures, loop=client.loop):  # this client's loop: it need not be the default
-        done += future.result()
-        if progress is not None:
-            progress(done, total)
+    for start in range(0, len(todo), BATCH):  # a bounded number of futures at a time
+        futures = [client.submit(bake_shard, job_future, k, i, j, key=f"spectex-bake-{k}-{i}-{j}-{token}",
+                                 pure=False, retries=2)
+                   for k, i, j in todo[start:start + BATCH]]
+        for future in as_completed(futures, loop=client.loop):  # this client's loop: it need not be the default
+            done += future.result()
+            if progress is not None:
+                progress(done, total)
 
 
 def _token(job) -> str:
@@ -360,6 +499,96 @@ def _token(job) -> str:
 
 
 # ---------------------------------------------------------------------- store
+class _Lock:
+    """The store's lock file, held while a bake writes it: ``{"pid": ..., "host": ...}``.
+
+    Made whole (written beside, then hard-linked to its name, which fails if
+    it exists), so a second writer always reads a complete lock. A lock
+    whose process is gone on this host is taken over; one of a live process
+    or of another host is refused in one line. A store folder that this
+    lock made, and that holds nothing else when the bake fails, is removed.
+    """
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.lock = path / LOCK
+        self.made = False
+
+    def __enter__(self):
+        import socket
+
+        path = self.path
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"path '{path}' exists and is not a spectex bake; choose another path")
+        try:
+            path.mkdir()
+            self.made = True
+        except FileExistsError:
+            pass
+        me = {"pid": os.getpid(), "host": socket.gethostname()}
+        part = path / f".{LOCK}.{os.getpid()}.part"
+        try:
+            part.write_text(json.dumps(me), encoding="utf-8")
+            for _ in range(3):
+                try:
+                    os.link(part, self.lock)
+                    return self
+                except FileExistsError:
+                    pass
+                owner = _lock_owner(self.lock)
+                if owner is not None and _alive(owner, me["host"]):
+                    raise ValueError(f"path '{path}' is being baked by process {owner['pid']} on "
+                                     f"{owner['host']} (lock file '{self.lock}'); wait for it to finish, or "
+                                     "remove the lock file if that process is gone")
+                self.lock.unlink(missing_ok=True)  # a stale lock: its process is gone
+            raise ValueError(f"path '{path}': cannot take the lock file '{self.lock}' (other bakes keep taking it)")
+        except BaseException:
+            part.unlink(missing_ok=True)
+            self._remove_made()
+            raise
+        finally:
+            part.unlink(missing_ok=True)
+
+    def __exit__(self, *exc):
+        if _lock_owner(self.lock) == {"pid": os.getpid(), "host": __import__("socket").gethostname()}:
+            self.lock.unlink(missing_ok=True)
+        if exc[0] is not None:
+            self._remove_made()
+        return False
+
+    def _remove_made(self):
+        if self.made:
+            try:
+                self.path.rmdir()  # only if empty: nothing was written
+            except OSError:
+                pass
+
+
+def _lock_owner(lock: Path):
+    try:
+        owner = json.loads(lock.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not isinstance(owner, dict) or not isinstance(owner.get("pid"), int) or not isinstance(owner.get("host"), str):
+        return None
+    return {"pid": owner["pid"], "host": owner["host"]}
+
+
+def _alive(owner, host) -> bool:
+    """Whether the lock's owner may still run: always for another host (it cannot be checked from here)."""
+    if owner["host"] != host:
+        return True
+    if owner["pid"] == os.getpid():
+        return False  # this process's own lock, left by a call that was interrupted
+    try:
+        os.kill(owner["pid"], 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
 def _require() -> None:
     missing = []
     for name in ("zarr", "dask"):
@@ -403,7 +632,7 @@ def _open_or_create(path: Path, params, text, shapes, chunk, shard, dtype) -> st
     import zarr
     from zarr.codecs import ZstdCodec
 
-    if path.exists() or path.is_symlink():
+    if (path / "zarr.json").exists() or set(os.listdir(path)) - {LOCK}:
         attrs = _read_attrs(path) if path.is_dir() else None
         ours = attrs.get(ATTRS) if isinstance(attrs, dict) else None
         if not isinstance(ours, dict) or "bake" not in ours:
@@ -415,13 +644,11 @@ def _open_or_create(path: Path, params, text, shapes, chunk, shard, dtype) -> st
             raise ValueError(f"path '{path}' holds a bake with other arguments ({diff}: "
                              f"{_brief(stored.get(diff))} there, {_brief(params.get(diff))} now); "
                              "remove it or choose another path")
+        _clean_leftovers(path)
         if ours.get("complete") is True:
             shutil.rmtree(path / MARKERS, ignore_errors=True)  # left by a run stopped after its last write
             return "complete"
         state = "resume"
-        for f in path.rglob("*.partial"):  # temporary files of writes that a killed worker left
-            if _PARTIAL.search(f.name):
-                f.unlink(missing_ok=True)
     else:
         state = "new"
         zarr.create_group(store=str(path), zarr_format=3,
@@ -440,6 +667,17 @@ def _open_or_create(path: Path, params, text, shapes, chunk, shard, dtype) -> st
     return state
 
 
+def _clean_leftovers(path: Path) -> None:
+    """Remove the temporary files a killed run left: zarr's ``.*.partial``, our ``.*.part`` (we hold the lock)."""
+    for f in [*path.rglob("*.partial"), *path.rglob(".*.part")]:
+        if f.is_symlink() or not (_PARTIAL.search(f.name) or f.name.endswith(".part")):
+            continue
+        if f.is_dir():
+            shutil.rmtree(f, ignore_errors=True)
+        else:
+            f.unlink(missing_ok=True)
+
+
 def _brief(value) -> str:
     text = json.dumps(value)
     return text if len(text) <= 40 else text[:37] + "..."
@@ -448,10 +686,15 @@ def _brief(value) -> str:
 def _finish(path, params, text, sizes, origin, tasks) -> None:
     import zarr
 
-    missing = set(_marker_name(*t) for t in tasks) - _finished_markers(path)
+    recorded = _recorded_markers(path)
+    missing = set(_marker_name(*t) for t in tasks) - set(recorded)
     if missing:
         raise OSError(f"bake of '{path}' ended with {len(missing)} shards unwritten (e.g. {sorted(missing)[0]}); "
                       "run it again to finish them")
+    manifest = {name: recorded[name] for name in sorted(_marker_name(*t) for t in tasks)}
+    part = path / f".{MANIFEST}.part"
+    part.write_text(json.dumps(manifest), encoding="utf-8")
+    os.replace(part, path / MANIFEST)
     group = zarr.open_group(store=str(path), mode="r+")
     group.attrs.put({
         "ome": ome_metadata(path.name, sizes, origin, params["dtype"]),

@@ -144,6 +144,8 @@ def main(argv=None) -> int:
 
 def _one_line(exc: BaseException) -> str:
     text = str(exc) or type(exc).__name__
+    if isinstance(exc, OSError) and exc.strerror and exc.filename is None:
+        text = exc.strerror  # "[Errno 28] No space left on device": the number says nothing more
     return " ".join(text.split())
 
 

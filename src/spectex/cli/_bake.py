@@ -40,6 +40,8 @@ def register(subparsers) -> None:
                    help="dask.distributed scheduler address, tcp://HOST:PORT (default: threads on this machine)")
     p.add_argument("--workers", type=_common.positive_int, default=None,
                    help="threads on this machine (default: all cores); not with --scheduler")
+    p.add_argument("--connect-timeout", type=_common.positive_float, default=10.0, metavar="SECONDS",
+                   help="how long to wait for --scheduler to answer (default: 10)")
     p.set_defaults(func=run)
 
 
@@ -52,11 +54,17 @@ def check_inputs_apart(texture_path, output) -> None:
 
     out = Path(output).resolve()
     inputs = [Path(texture_path).resolve()]
+    from spectex.texture_file import MAX_FILE_BYTES, _check_nesting
+
     try:
-        doc = tomllib.loads(Path(texture_path).read_text(encoding="utf-8"))
-        names = doc.get("tiles", []) if isinstance(doc, dict) else []
-        inputs += [(Path(texture_path).parent / n).resolve() for n in names if isinstance(n, str)]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        if Path(texture_path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
+            text = Path(texture_path).read_text(encoding="utf-8")
+            _check_nesting(text, texture_path)
+            doc = tomllib.loads(text)
+            names = doc.get("tiles", []) if isinstance(doc, dict) else []
+            names = names if isinstance(names, list) else []
+            inputs += [(Path(texture_path).parent / n).resolve() for n in names[:64] if isinstance(n, str)]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ValueError, RecursionError):
         pass  # the texture's own loader says what is wrong with it
     for path in inputs:
         if path == out or out in path.parents:
@@ -73,6 +81,8 @@ def run(args) -> int:
     if not Path(args.texture).is_file():
         raise UsageError(f"texture file not found: '{args.texture}'")
     check_inputs_apart(args.texture, args.output)
+    if _common.given(args, "connect_timeout") and args.scheduler is None:
+        _common.refuse(args, ["connect_timeout"], "without --scheduler")
     h, w = args.size
     suffix = Path(args.output).suffix.lower()
     if suffix not in (".zarr", ".png"):
@@ -84,7 +94,8 @@ def run(args) -> int:
     with _common.Progress("baking") as progress:
         result = bake_zarr(args.texture, args.output, (h, w), pixel_size=args.pixel_size, origin=args.origin,
                            levels=args.levels, chunk=args.chunk, shard=args.shard, dtype=args.dtype,
-                           scheduler=args.scheduler, workers=args.workers, progress=progress)
+                           scheduler=args.scheduler, workers=args.workers, progress=progress,
+                           connect_timeout=args.connect_timeout)
     lh, lw = result.shapes[-1]
     if result.baked == 0:
         _common.report(f"{result.path} is complete already ({len(result.shapes)} levels, {w}x{h} to {lw}x{lh}); "

@@ -48,6 +48,18 @@ def nonneg_int(text: str) -> int:
     return value
 
 
+#: The largest --seed (numpy's seeds go further, but the library takes a non-negative int64).
+MAX_SEED = 2 ** 63 - 1
+
+
+def seed(text: str) -> int:
+    """A ``--seed``: a whole number from 0 to :data:`MAX_SEED` (the CLI's word for the library's ``rng``)."""
+    value = nonneg_int(text)
+    if value > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_SEED}, got {text}")
+    return value
+
+
 def finite_float(text: str) -> float:
     try:
         value = float(text)
@@ -250,3 +262,25 @@ class Steps:
                 self._bar.stop()
                 self._bar = None
         return False
+
+
+def add_normalize(parser) -> None:
+    """The ``--normalize`` option of the commands that read a photo or exemplar (fit, synth, tile, compare)."""
+    parser.add_argument("--normalize", action="store_true",
+                        help="map a float image's minimum..maximum to 0..1 (without it, float images "
+                             "(.npy, float TIFF) outside [0, 1] are refused)")
+
+
+def read_unit_image(args, path, name: str, *, max_pixels=None):
+    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
+    from spectex._validate import check_unit_range, normalize_image
+    from spectex.io import read_image
+
+    import numpy as np
+
+    image = read_image(path, name=name, max_pixels=max_pixels)
+    if not np.all(np.isfinite(image)):
+        raise ValueError(f"{name} must hold finite values, got NaN or infinity")
+    if getattr(args, "normalize", False):
+        return normalize_image(image)
+    return check_unit_range(name, image, remedy="--normalize maps its minimum..maximum to 0..1")

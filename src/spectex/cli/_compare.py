@@ -14,7 +14,11 @@ def register(subparsers) -> None:
             "--reference: per-channel histogram Wasserstein-1 distance, power per octave band and its "
             "RMS distance in dB, tileability of both, the largest verbatim copy of the reference in "
             "IMAGE, how strongly the fine detail of each repeats (repeat_peak, any period and "
-            "direction), and with --block the seam energy of a quilt. Grey against colour compares "
+            "direction), the structural distance (Portilla-Simoncelli texture statistics) as a "
+            "ratio to the exemplar's own floor (about 1: as close as the photo is to itself), the "
+            "clipped values against the exemplar's, with --zoom a search for magnified copies of the "
+            "exemplar in IMAGE taken as a zoomed-out view, "
+            "and with --block the seam energy of a quilt. Grey against colour compares "
             "the colour image's luma."
         ),
     )
@@ -25,7 +29,11 @@ def register(subparsers) -> None:
     p.add_argument("--block", type=_common.positive_int, default=None,
                    help="quilt block size, for the seam energy")
     p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="with --block: quilt overlap, for the seam energy (default: 0)")
+    p.add_argument("--zoom", type=_common.positive_float, default=None,
+                   help="IMAGE is a view of a texture at ZOOM times the exemplar's pixel size (>= 1, e.g. 8): "
+                        "also search it for the exemplar magnified 2 to 256 times (giant copies)")
     p.add_argument("--json", action="store_true", help="print the measures as JSON")
+    _common.add_normalize(p)
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
                    help="also write the reference and IMAGE side by side, labelled, to this image")
     p.set_defaults(func=run)
@@ -66,7 +74,7 @@ def run(args) -> int | None:
 
     from spectex import metrics
     from spectex.figures import montage
-    from spectex.io import IMAGE_SUFFIXES, check_output_path, read_image, write_image
+    from spectex.io import IMAGE_SUFFIXES, check_output_path, write_image
 
     if args.block is None:
         _common.refuse(args, ["overlap"], "without --block (only to the seam energy of a quilt)")
@@ -77,16 +85,27 @@ def run(args) -> int | None:
     from spectex._validate import check_image
 
     # errors name IMAGE or the reference, not the metric's argument
-    image = check_image("IMAGE", read_image(image_path, name="IMAGE"))
-    reference = check_image("--reference", read_image(reference_path, name="--reference"))
+    image = check_image("IMAGE", _common.read_unit_image(args, image_path, "IMAGE"))
+    reference = check_image("--reference", _common.read_unit_image(args, reference_path, "--reference"))
     image, reference = _as_common_channels(image, reference)
-    result = metrics.compare(image, reference=reference, block=args.block, overlap=args.overlap)
+    if args.zoom is not None and args.zoom < 1.0:
+        raise ValueError(f"--zoom must be >= 1 (the view's pixel size over the exemplar's), got {args.zoom:g}")
+    try:
+        result = metrics.compare(image, reference=reference, block=args.block, overlap=args.overlap,
+                                 zoom=args.zoom)
+    except ValueError as exc:
+        if args.zoom is None:
+            raise
+        raise ValueError(f"--zoom {args.zoom:g}: {exc}") from None
     if args.json:  # strict JSON: NaN and infinity (flat images) become null
         print(json.dumps(_finite(result.as_dict()), indent=2, allow_nan=False))
     else:
         _print_table(result, image, reference)
     if output is not None:
-        labels = [f"reference: {Path(reference_path).name}", f"image: {Path(image_path).name}"]
+        label = f"image: {Path(image_path).name}"
+        if result.structure is not None:
+            label += f", structure {result.structure.ratio:.2f}x the photo's own"
+        labels = [f"reference: {Path(reference_path).name}", label]
         write_image(output, montage([reference, image], labels))
         _common.report(f"wrote {output}")
     return 0
@@ -131,5 +150,21 @@ def _print_table(r, image, reference) -> None:
     print(f"repetition image / ref.    {num(r.repeat_peak_image, '{:.3f}')} / "
           f"{num(r.repeat_peak_reference, '{:.3f}')}   (repeat_peak of the fine detail, any period; "
           "<= 0.1 does not repeat)")
+    if r.structure is None:
+        print("structural distance        n/a (the reference needs two 32x32 windows and some texture)")
+    else:
+        st = r.structure
+        print(f"structural distance        {num(st.ratio, '{:.2f}')} x the reference's own floor "
+              f"({num(st.distance, '{:.3f}')} / {num(st.floor, '{:.3f}')}; about 1 is as close as the "
+              "reference is to itself)")
+        print("  per group (x floor)      " + "  ".join(f"{g} {num(v, '{:.2f}')}"
+                                                      for g, v in st.group_ratios.items()))
+    c = r.clipping
+    print(f"clipped values image / ref. {100 * c.image:.1f}% / {100 * c.reference:.1f}%   "
+          + ("(within the reference's + 1 point)" if c.within else "(MORE than the reference's + 1 point)"))
+    if r.coarse is not None:
+        k = r.coarse
+        print(f"magnified copies (zoom {k.zoom:g})  {num(k.value, '{:.3f}')} (reference's own "
+              f"{num(k.reference, '{:.3f}')}): " + ("none found" if k.within else "FOUND, the reference magnified"))
     if r.seam_energy is not None:
         print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

@@ -31,7 +31,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("-o", "--output", type=_common.output_name, default=DEFAULT_OUT, metavar="DIR",
                    help=f"output folder, made if missing (default: {DEFAULT_OUT})")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed of the tile (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed of the tile (default: 0)")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
                    help="renderer (default: auto: OpenGL if a context can be made, else the CPU)")
     p.add_argument("--paper", action="store_true",
@@ -101,8 +101,8 @@ def run(args) -> int:
             if renderer is not None:
                 images[name] = renderer.render(cam, DEMO_SIZE, anisotropy=aniso, atmosphere=atmosphere)
             else:
-                images[name], _ = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso,
-                                          atmosphere=atmosphere)
+                images[name] = _render(texture, cam, DEMO_SIZE, backend="cpu", anisotropy=aniso,
+                                       atmosphere=atmosphere).image
             times[name] = time.perf_counter() - t
     finally:
         if renderer is not None:

@@ -28,7 +28,7 @@ def register(sub) -> None:
                    help="fbm and turbulence: amplitude ratio between octaves (default 0.5)")
     p.add_argument("--basis", choices=("perlin", "value"), default="perlin",
                    help="fbm and turbulence: the noise summed (default perlin)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default 0)")
     p.add_argument("--tileable", action="store_true", help="make the image tile seamlessly")
     p.add_argument("--colormap", default=None, metavar="NAME",
                    help="colour ramp: grey, earth, stone, sand, moss, marble, wood, clouds, fire, lava, "

@@ -74,9 +74,12 @@ def run(args) -> int:
     from spectex.texture import SpectralTexture
 
     # Everything is checked before anything is drawn or written.
-    animated = args.frames > 1
+    from pathlib import Path
+
+    # an animation when it has frames to move through, or when the output is one (a one-frame .gif, as noise)
+    animated = args.frames > 1 or Path(args.output).suffix.lower() in _ANIM
     if not animated:
-        _common.refuse(args, ["to", "fps"], "to a single picture (only with --frames 2 or more)")
+        _common.refuse(args, ["to", "fps"], "to a single picture (only with --frames 2 or more, or a .gif/.mp4)")
     output = check_output_path("output", args.output, _ANIM if animated else _IMAGE, inputs=[args.texture])
     h, w = check_size(args.size, args.supersample, name="--size")
     if animated and output.suffix.lower() == ".mp4":

@@ -43,6 +43,7 @@ def register(subparsers) -> None:
 def run(args) -> int | None:
     import numpy as np
 
+    from spectex._output import savefig
     from spectex.io import atomic_path, check_output_path, read_image
     from spectex.color import luma
     from spectex.spectrum import radial_power_spectrum, spectral_slope
@@ -101,6 +102,6 @@ def run(args) -> int | None:
     ax.legend(loc="lower left", fontsize=9)
     fig.tight_layout()
     with atomic_path(output) as tmp:
-        fig.savefig(tmp, format=output.suffix.lower()[1:])
+        savefig(fig, tmp, format=output.suffix.lower()[1:])
     _common.report(f"wrote {output}")
     return 0

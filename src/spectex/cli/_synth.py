@@ -42,7 +42,8 @@ def register(subparsers) -> None:
     p.add_argument("--tileable", action="store_true",
                    help="efros-leung and quilting: make the output tile seamlessly (histogram output, "
                         "white noise, always does)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
+    _common.add_normalize(p)
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
                    help="output image (.png, .jpg, .tif, ..., or .npy)")
@@ -50,7 +51,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int | None:
-    from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, read_image, write_image
+    from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, write_image
     from spectex import synthesis
 
     output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES,
@@ -62,10 +63,15 @@ def run(args) -> int | None:
     if args.match is not None and args.method != "histogram":
         raise ValueError(f"--match works with --method histogram, got --method {args.method}")
     _refuse_unused(args)
-    exemplar = read_image(args.exemplar, name="exemplar")
+    from spectex._limits import SYNTH_EXEMPLAR_PIXELS
+
+    tighter = None if args.method == "histogram" else (
+        SYNTH_EXEMPLAR_PIXELS, f"for {args.method} (SPECTEX_MAX_SYNTH_EXEMPLAR_PIXELS; set it to raise the limit, "
+                               "or crop or shrink the exemplar)")
+    exemplar = _common.read_unit_image(args, args.exemplar, "exemplar", max_pixels=tighter)
     joint = args.colours == "joint"
     if args.match is not None:
-        image = read_image(args.match, name="match image")
+        image = _common.read_unit_image(args, args.match, "match image")
         result = synthesis.match_histogram(image, exemplar, joint=joint, rng=args.seed)
     elif args.method == "histogram":
         result = synthesis.sample_histogram(exemplar, args.size, joint=joint, rng=args.seed)

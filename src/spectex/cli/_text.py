@@ -27,7 +27,7 @@ def register(subparsers) -> None:
     p.add_argument("--order", type=_common.nonneg_int, default=3, help="Markov order, 0 to 12 (default: 3)")
     p.add_argument("--length", type=_common.nonneg_int, default=500,
                    help="number of letters or words to generate (default: 500)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     p.add_argument("-o", "--output", type=_common.output_name, default=None,
                    help="write the text to this file instead of standard output")
     p.set_defaults(func=run)

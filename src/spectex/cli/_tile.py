@@ -37,7 +37,7 @@ def register(subparsers) -> None:
                         "photograph's own)")
     p.add_argument("--size", type=_common.size, default=None, metavar="N|WxH",
                    help="tile size (default: 512; with --from: the whole photograph)")
-    p.add_argument("--seed", type=_common.nonneg_int, default=0, help="random seed (default: 0)")
+    p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     p.add_argument("--from", dest="source", default=None, metavar="EXEMPLAR",
                    help="make this photograph tileable instead of making noise")
     p.add_argument("--seam", choices=("matched", "moisan"), default="matched",
@@ -64,6 +64,7 @@ def register(subparsers) -> None:
                    help="--alpha none: the constant alpha (default: 0.5; with --from: 1)")
     p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
                    help="PNG bits per channel (default: 8)")
+    _common.add_normalize(p)
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
                    help="output RGBA image (.png, .tif, .webp, or .npy)")
@@ -72,7 +73,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int | None:
     from spectex._output import OutputSet
-    from spectex.io import check_output_path, read_image, write_image
+    from spectex.io import check_output_path, write_image
     from spectex._validate import check_shape
     from spectex.tiles import MAX_SIZE, make_seamless, make_tile, preview as make_preview
 
@@ -95,7 +96,7 @@ def run(args) -> int | None:
     with steps:
         if args.source is not None:
             steps.step(f"reading {args.source}")
-            photo = read_image(args.source, name="--from image")
+            photo = _common.read_unit_image(args, args.source, "--from image")
             steps.step("making it tileable")
             tile = make_seamless(photo, shape=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
                                  rng=args.seed, seam=args.seam, azimuth=args.azimuth,
@@ -141,6 +142,7 @@ def _refuse_unused(args) -> None:
         alpha = args.alpha or "none"
     else:
         _common.refuse(args, ["seam"], "without --from (noise tiles have no seams to join)")
+        _common.refuse(args, ["normalize"], "without --from (noise tiles are made in [0, 1])")
         alpha = args.alpha or "emboss"
         method = args.method
         if method == "noise":

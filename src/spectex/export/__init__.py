@@ -108,7 +108,7 @@ def export(texture, output, *, formats=None) -> ExportResult:
     from .._version import __version__
     from spectex.texture import SpectralTexture
 
-    from ._output import MANIFEST, output_folder
+    from ._output import MANIFEST, file_hashes, output_folder
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")
@@ -125,6 +125,8 @@ def export(texture, output, *, formats=None) -> ExportResult:
             "generator": f"spectex {__version__}",
             "texture": repr(texture),
             "formats": {name: [p.as_posix() for p in paths] for name, paths in written.items()},
+            # what a later export checks before it replaces this folder: only files it wrote, unchanged
+            "sha256": file_hashes(tmp),
         }
         (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     return ExportResult(folder=output, files={name: [output / p for p in paths] for name, paths in written.items()})

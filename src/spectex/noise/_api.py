@@ -19,6 +19,12 @@ def _coords(x, y, z):
     given = [("x", x)] + [(n, c) for n, c in (("y", y), ("z", z)) if c is not None]
     if y is None and z is not None:
         raise ValueError("z was given without y: pass x, y and z for 3-D noise")
+    if (y is None and isinstance(x, tuple) and len(x) in (2, 3)
+            and all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in x)):
+        # fbm((64, 64)) would be 1-D noise at x = 64 and x = 64: two equal numbers, not an image
+        raise TypeError(f"x must be coordinates (a number or an array), got the tuple {x!r}, which looks like a "
+                        "shape; the noise functions take coordinates, not a shape: for an image, pass a grid, "
+                        "e.g. y, x = numpy.mgrid[0:64, 0:64] / 16.0, then fbm(x, y)")
     arrays = []
     for name, c in given:
         if c is None:

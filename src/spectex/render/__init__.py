@@ -8,18 +8,38 @@ follow ``docs/sampling.md``. Nothing heavy is imported here.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import numpy as np
+
 from ..shading.camera import Atmosphere, Camera, check_size
 from ._defaults import DEFAULT_ANISOTROPY
 
-__all__ = ["Camera", "Atmosphere", "check_size", "render", "DEFAULT_ANISOTROPY"]
+__all__ = ["Camera", "Atmosphere", "check_size", "render", "RenderResult", "DEFAULT_ANISOTROPY"]
 
 
-def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs):
-    """Render ``texture`` seen by ``camera``: ``(H, W, 3)`` float32.
+@dataclass(frozen=True, eq=False)
+class RenderResult:
+    """What :func:`render` drew.
+
+    Attributes
+    ----------
+    image : ndarray of float32, shape (H, W, 3)
+        The picture, RGB in [0, 1], row 0 at the top.
+    backend : {"gl", "cpu"}
+        The renderer that drew it.
+    """
+
+    image: np.ndarray
+    backend: str
+
+
+def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs) -> RenderResult:
+    """Render ``texture`` seen by ``camera``: a :class:`RenderResult` (``image``, ``backend``).
 
     ``shape`` is the picture's ``(height, width)`` in pixels.
     ``backend``: ``"gl"``, ``"cpu"`` or ``"auto"`` (GL when a context can be
-    made, else the CPU). Returns ``(image, backend_used)``. The other
+    made, else the CPU). Returns a :class:`RenderResult`. The other
     keywords go to the renderer (``filter``, ``anisotropy``, default
     :data:`DEFAULT_ANISOTROPY`, ``supersample``, ``atmosphere``, ``enabled``).
     ``haze``: the haze distance in metres, 0 for none (as an engine export
@@ -40,10 +60,10 @@ def render(texture, camera, shape, *, backend="auto", haze=None, **kwargs):
 
         try:
             with GLRenderer(texture) as renderer:
-                return renderer.render(camera, shape, **kwargs), "gl"
+                return RenderResult(renderer.render(camera, shape, **kwargs), "gl")
         except GLUnavailable:
             if backend == "gl":
                 raise
     from .cpu import render_cpu
 
-    return render_cpu(texture, camera, shape, **kwargs), "cpu"
+    return RenderResult(render_cpu(texture, camera, shape, **kwargs), "cpu")

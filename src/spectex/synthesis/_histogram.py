@@ -42,7 +42,7 @@ def sample_histogram(exemplar, shape, *, joint: bool = True, rng=0) -> np.ndarra
        sampling", ICCV 1999, section 1 (the independent-pixel model their
        Markov model replaces).
     """
-    ex = check_image("exemplar", exemplar)
+    ex = check_image("exemplar", exemplar, unit=True)
     h, w = check_shape("shape", shape)
     rng = check_rng(rng)
     flat = ex.reshape(ex.shape[0] * ex.shape[1], -1)
@@ -122,8 +122,8 @@ def match_histogram(image, exemplar, *, joint: bool = False, iterations: int = 3
     .. [3] J. Rabin, G. Peyre, J. Delon, M. Bernot, "Wasserstein barycenter
        and its application to texture mixing", SSVM 2011 (sliced transport).
     """
-    img = check_image("image", image)
-    ex = check_image("exemplar", exemplar)
+    img = check_image("image", image, unit=True)
+    ex = check_image("exemplar", exemplar, unit=True)
     iterations = check_int("iterations", iterations, minimum=1)
     rng = check_rng(rng)
     ci = 1 if img.ndim == 2 else img.shape[2]

@@ -158,7 +158,7 @@ def make_seamless(image, *, shape=None, alpha: str = "none", cutoff: float | Non
     """
     from ..spectral import band_limit, spectral_noise
 
-    image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8)
+    image = check_image("image", image, channels=(None, 1, 2, 3, 4), min_size=8, unit=True)
     alpha = check_choice("alpha", alpha, ALPHAS + ("keep",))
     seam = check_choice("seam", seam, ("matched", "moisan"))
     rng = check_rng(rng)

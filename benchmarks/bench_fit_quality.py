@@ -1,0 +1,214 @@
+"""Benchmark: how close a fitted texture is to its photo, against its peers (issue 22).
+
+Run from the repository root::
+
+    python benchmarks/bench_fit_quality.py            # 8 photos, all methods (many minutes on 2 cores)
+    python benchmarks/bench_fit_quality.py --quick    # 3 photos, smaller renders
+    python benchmarks/bench_fit_quality.py --grid docs/images/fit_quality.jpg
+
+In one run, on the photos of ``benchmarks/exemplars.py`` (scikit-image's gravel, brick,
+grass, moon, a tissue slide and a deep-field crop; procedural paving and tiles), each of:
+
+* ``fit``: the current default, ``spectex.fitting.fit_result(photo)``;
+* ``legacy``: the old default, ``fit_result(photo, method="legacy")`` where ``fit`` has a
+  ``method`` keyword (else the row is left out);
+* ``t&b lin`` and ``t&b hist``: tiling and blending (Heitz and Neyret 2018, linear and
+  histogram-preserving blends, ``benchmarks/tiling_blending.py``);
+* ``quilt``: image quilting, :func:`spectex.synthesis.quilt` (block 48).
+
+A *near* render covers twice the photo's side at its pixel size (a fit's bake; the peers'
+output), a *far* view eight times its pixel size (a fit's bake of 512 x 512 pixels, 8 times the
+photo's side; tiling and blending's output of 4 times the photo's side reduced 8 x 8, quilting's
+near render reduced 8 x 8: the peers hold nothing coarser than the photo). Columns:
+
+* ``s 1x``: :func:`spectex.metrics.structural_distance` ratio of the near render's photo-sized
+  corner (the photo's own place) to the photo: about 1 is as close as the photo is to itself;
+* ``s near``: the same over windows spread over the whole near render;
+* ``clip``: clipped channel values of the near render, percent (the photo's in the header);
+* ``rp near``, ``rp far``: :func:`spectex.metrics.repeat_peak` of the near render and of the far
+  view (<= 0.1 does not repeat);
+* ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
+  with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
+* ``s``: seconds to make the texture (fit or synthesis of the near render).
+
+The machine, its load and the date are printed with the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from exemplars import exemplars
+from tiling_blending import tile_and_blend
+
+METHODS = ("fit", "legacy", "t&b lin", "t&b hist", "quilt")
+
+
+def _cpu():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def _down(image, f):
+    h, w = image.shape[:2]
+    img = image[: h // f * f, : w // f * f]
+    return img.reshape(h // f, f, w // f, f, *img.shape[2:]).mean(axis=(1, 3))
+
+
+def _rgb(image):
+    return np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2 else image[:, :, :3]
+
+
+def _make(method, photo, near_shape, far_side, rng):
+    """``(near, far, seconds)`` of one method on one photo; None where the method does not exist."""
+    from spectex import fitting
+    from spectex.synthesis import quilt
+
+    if method in ("fit", "legacy"):
+        kwargs = {}
+        if method == "legacy":
+            if "method" not in inspect.signature(fitting.fit_result).parameters:
+                return None
+            kwargs["method"] = "legacy"
+        t0 = time.perf_counter()
+        result = fitting.fit_result(photo, rng=rng, **kwargs)
+        seconds = time.perf_counter() - t0
+        p = result.pixel_size
+        near = result.texture.bake(near_shape, pixel_size=p)
+        far = result.texture.bake((far_side, far_side), pixel_size=8.0 * p)
+        return near, far, seconds
+    t0 = time.perf_counter()
+    if method == "t&b lin":
+        near = tile_and_blend(photo, near_shape, blend="linear", rng=rng)
+        big = tile_and_blend(photo, (4 * far_side, 4 * far_side), blend="linear", rng=rng)
+    elif method == "t&b hist":
+        near = tile_and_blend(photo, near_shape, blend="histogram", rng=rng)
+        big = tile_and_blend(photo, (4 * far_side, 4 * far_side), blend="histogram", rng=rng)
+    else:
+        near = quilt(photo, near_shape, block=48, rng=rng)
+        big = near
+    seconds = time.perf_counter() - t0
+    return near, _down(big, 8), seconds
+
+
+def _measure(photo, near, far):
+    from spectex import metrics
+
+    h, w = photo.shape[:2]
+    prepared = metrics.reference_statistics(photo)
+    s1 = metrics.structural_distance(near[:h, :w], photo, prepared=prepared)
+    sn = metrics.structural_distance(near, photo, prepared=prepared)
+    clip = metrics.clipping(near, photo)
+    copies = metrics.coarse_copies(far, photo, zoom=8) if min(far.shape[:2]) >= 96 else None
+    return {"s 1x": s1.ratio, "s near": sn.ratio, "clip": 100 * clip.image, "clip photo": 100 * clip.reference,
+            "rp near": metrics.repeat_peak(near),
+            "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
+            "copies": copies.value if copies else float("nan"),
+            "copies photo": copies.reference if copies else float("nan"),
+            "copies flag": (copies is not None and not copies.within),
+            "groups": s1.group_ratios}
+
+
+def _grid(rows, path):
+    """Photo | each method's near render (photo-sized corner) | far views, one row per photo."""
+    from PIL import Image, ImageDraw
+
+    cell = 192
+    names = ["photo"] + [f"{m} near" for m in METHODS] + ["fit far", "legacy far"]
+    pics = []
+    for name, photo, made in rows:
+        h, w = photo.shape[:2]
+        row = [_rgb(photo)]
+        for m in METHODS:
+            row.append(_rgb(made[m][0][:h, :w]) if made.get(m) else None)
+        for m in ("fit", "legacy"):
+            row.append(_rgb(made[m][1]) if made.get(m) else None)
+        pics.append((name, row))
+    width, height = cell * len(names), (cell + 14) * len(pics) + 14
+    canvas = Image.new("RGB", (width, height), (255, 255, 255))
+    draw = ImageDraw.Draw(canvas)
+    for j, n in enumerate(names):
+        draw.text((j * cell + 4, 1), n, fill=(0, 0, 0))
+    for i, (name, row) in enumerate(pics):
+        y = 14 + i * (cell + 14)
+        draw.text((4, y), name, fill=(0, 0, 0))
+        for j, img in enumerate(row):
+            if img is None:
+                continue
+            im = Image.fromarray((np.clip(img, 0, 1) * 255 + 0.5).astype(np.uint8)).resize((cell - 4, cell - 4),
+                                                                                         Image.LANCZOS)
+            canvas.paste(im, (j * cell + 2, y + 12))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    canvas.save(path, quality=88)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="3 photos at 256 x 256, smaller renders")
+    ap.add_argument("--grid", type=Path, default=None, help="write the picture grid here (PNG or JPEG)")
+    ap.add_argument("--only", default=None, help="comma-separated photo names")
+    ap.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods")
+    ap.add_argument("--rng", type=int, default=0)
+    args = ap.parse_args(argv)
+    methods = [m for m in args.methods.split(",") if m]
+    load = os.getloadavg()
+    print(f"machine: {_cpu()}, {os.cpu_count()} CPUs, load average {load[0]:.1f}; "
+          f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    sets = exemplars(quick=args.quick)
+    if args.only:
+        keep = args.only.split(",")
+        sets = [(n, p) for n, p in sets if n in keep]
+    if args.quick:
+        sets = [(n, p[:256, :256]) for n, p in sets]
+    rows = []
+    header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
+             f"{'copies':>7s} {'s':>6s}"
+    print(header)
+    means = {m: [] for m in methods}
+    for name, photo in sets:
+        h, w = photo.shape[:2]
+        near_shape = (2 * h, 2 * w)
+        far_side = 256 if args.quick else 512
+        made = {}
+        first = True
+        for m in methods:
+            out = _make(m, photo, near_shape, far_side, args.rng)
+            if out is None:
+                continue
+            near, far, seconds = out
+            made[m] = (near, far)
+            r = _measure(photo, near, far)
+            means[m].append(r["s 1x"])
+            if first:
+                print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f})")
+                first = False
+            flag = "*" if r["copies flag"] else " "
+            print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
+                  f"{r['rp far']:6.3f} {r['copies']:6.2f}{flag} {seconds:6.1f}", flush=True)
+        rows.append((name, photo, made))
+        if args.grid is not None:  # after every photo: a long run stopped early keeps its picture
+            _grid(rows, args.grid)
+    print("mean s 1x: " + ", ".join(f"{m} {np.mean(v):.2f}" for m, v in means.items() if v))
+    if args.grid is not None:
+        print(f"wrote {args.grid}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

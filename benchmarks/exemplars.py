@@ -1,0 +1,94 @@
+"""The photos the fit-quality benchmarks use (issue 22): one loader, shared by
+``bench_fit_quality.py`` and anyone redesigning the fit, so both measure on the same set.
+
+All offline: scikit-image's bundled pictures (gravel, brick, grass, moon, a crop of the
+immunohistochemistry slide, a crop of the Hubble deep field: black sky, so a clipping test)
+and two procedurally made structured photos (irregular cobble paving, a regular grid of
+tiles), drawn with a fixed seed. Each is float32 in [0, 1], grey ``(H, W)`` or RGB
+``(H, W, 3)``, 512 x 512 unless said.
+
+    from exemplars import exemplars        # run from benchmarks/, or put it on sys.path
+    for name, photo in exemplars(): ...
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: The set, in order; ``quick`` keeps the first three of :data:`QUICK`.
+NAMES = ("gravel", "brick", "grass", "moon", "tissue", "deep_field", "paving", "tiles")
+QUICK = ("gravel", "brick", "paving")
+
+
+def _skimage(name):
+    import skimage.data
+
+    return getattr(skimage.data, name)().astype(np.float32) / 255.0
+
+
+def _noise(shape, rng, sigma):
+    from scipy import ndimage
+
+    n = ndimage.gaussian_filter(rng.standard_normal(shape), sigma, mode="wrap")
+    return n / n.std()
+
+
+def paving(side: int = 512, *, cell: float = 44.0, rng=7) -> np.ndarray:
+    """Irregular cobbles (a jittered Voronoi diagram) in mortar, RGB: each stone its own grey-brown,
+    domed (lighter towards its middle), with fine grain; mortar darker and rough."""
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng(rng)
+    n = int(np.ceil(side / cell)) + 2
+    gy, gx = np.mgrid[-1:n - 1, -1:n - 1]
+    pts = np.stack([gy.ravel(), gx.ravel()], axis=1) * cell + rng.uniform(0.15, 0.85, (gy.size, 2)) * cell
+    yy, xx = np.mgrid[0:side, 0:side]
+    d, idx = cKDTree(pts).query(np.stack([yy.ravel(), xx.ravel()], axis=1).astype(np.float64), k=2)
+    edge = (d[:, 1] - d[:, 0]).reshape(side, side)  # distance to the cell's border, times about 2
+    cell_id = idx[:, 0].reshape(side, side)
+    base = rng.uniform(0.35, 0.7, len(pts))
+    tint = rng.normal(0.0, 0.02, (len(pts), 3)) + np.array([0.04, 0.0, -0.05])
+    dome = np.clip(edge / (0.5 * cell), 0.0, 1.0) ** 0.5
+    grain = 0.05 * _noise((side, side), rng, 0.8) + 0.04 * _noise((side, side), rng, 3.0)
+    stone = (base[cell_id] * (0.75 + 0.25 * dome) + grain)[:, :, None] + tint[cell_id]
+    mortar_level = 0.22 + 0.05 * _noise((side, side), rng, 1.5)
+    mortar = np.clip((4.0 - edge) / 2.0, 0.0, 1.0)[:, :, None]
+    img = stone * (1.0 - mortar) + (mortar_level[:, :, None] + np.array([0.02, 0.02, 0.0])) * mortar
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def tiles(side: int = 512, *, period: int = 64, grout: int = 5, rng=11) -> np.ndarray:
+    """A regular grid of square ceramic tiles in grout, RGB: each tile a slightly different
+    terracotta, with mottling; a structured, periodic photo."""
+    rng = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side]
+    ty, tx = yy // period, xx // period
+    k = ty * (side // period + 1) + tx
+    colour = np.array([0.72, 0.42, 0.30]) + rng.normal(0.0, 0.035, (k.max() + 1, 3))
+    mottle = 0.05 * _noise((side, side), rng, 4.0) + 0.03 * _noise((side, side), rng, 1.0)
+    img = colour[k] * (1.0 + mottle[:, :, None])
+    fy, fx = yy % period, xx % period
+    g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
+    grout_colour = 0.78 + 0.04 * _noise((side, side), rng, 1.0)
+    img[g] = grout_colour[g][:, None] * np.array([1.0, 0.97, 0.92])
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def load(name: str) -> np.ndarray:
+    """One exemplar by name (see :data:`NAMES`)."""
+    if name in ("gravel", "brick", "grass", "moon"):
+        return _skimage(name)
+    if name == "tissue":
+        return _skimage("immunohistochemistry")
+    if name == "deep_field":
+        return _skimage("hubble_deep_field")[180:692, 240:752]
+    if name == "paving":
+        return paving()
+    if name == "tiles":
+        return tiles()
+    raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES)}")
+
+
+def exemplars(quick: bool = False):
+    """``[(name, image), ...]``: all of :data:`NAMES`, or :data:`QUICK` with ``quick``."""
+    return [(name, load(name)) for name in (QUICK if quick else NAMES)]

@@ -1,0 +1,270 @@
+"""A hostile trial of the command line: many bad inputs across every command (issue 26).
+
+Not a test (it takes minutes and its cases are generated, not chosen): a
+tool that finds what the table-driven ``tests/test_hostile.py`` should
+learn. Every case runs ``python -m spectex ...`` in a fresh folder of
+hostile inputs and is judged *answered well* when
+
+* it exits 0, or 2 with exactly one line on standard error;
+* no traceback is printed;
+* a refusal (exit 2) comes within 5 s and 1 GB of peak memory;
+* every file that was there before is byte-identical afterwards.
+
+Run::
+
+    PYTHONPATH=src python benchmarks/fuzz_hostile.py [--workers 2] [--limit N] [--log fuzz.tsv]
+
+It prints the counts and every case that was not answered well.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import itertools
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+CAMERA = ("--camera", "0,0,2,0,-10")
+BAD_INTS = ("0", "-1", "-99999999999999999999", "99999999999999999999", "1e3", "nan", "abc", "", "0x10", "٣")
+BAD_FLOATS = ("nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "0", "-0", "abc", "", "1,2")
+BAD_SIZES = ("0x0", "-1x5", "100000x100000", "1x1", "x", "5x", "3x4x5", "1e3x1e3", "nan", "65536x1", "2x99999999")
+BAD_PATHS = ("", "/", "/dev/null/x.png", "/proc/self/x.png", "nofolder/x.png", "a" * 300 + ".png", "x.unknown",
+             "dir.png", "link.png", "tex.toml", "img.png", ".", "..", "\x7f.png", "-o")
+
+
+#: Texture-file fields and hostile values for them (each a file m<i>.toml).
+MUTATIONS = [(f, v) for f, vs in {
+    "size": ("-1.0", "0.0", "inf", "nan", "1e300", '"big"', "[1.0]", "true"),
+    "opacity": ("-5.0", "2.0", "nan", '"x"'),
+    "rotation": ("inf", "1e308", '"x"'),
+    "offset": ("[1.0]", "[nan, 0.0]", "[1e300, 0.0]", '"x"', "[[1.0], [2.0]]"),
+    "blend": ('"nope"', "1", '""'),
+    "tiling": ('"nope"', '"stochastic"'),
+    "tile": ("5", "-1", "1.5", "99999999999999999999"),
+    "version": ("99", "0", '"2"'),
+    "bits": ("16", "true"),
+    "tiles": ('[]', '["../x.png"]', '["/etc/passwd"]', '[1]', '["tex.toml"]'),
+}.items() for v in vs]
+
+
+def _mutate(toml: str, field: str, value: str) -> str:
+    """``toml`` with the first line ``field = ...`` given ``value`` (added to the first layer if absent)."""
+    lines = toml.splitlines()
+    for k, line in enumerate(lines):
+        if line.split("=")[0].strip() == field:
+            lines[k] = f"{field} = {value}"
+            return "\n".join(lines) + "\n"
+    return toml.replace("[[layers]]", f"[[layers]]\n{field} = {value}", 1)
+
+
+def make_inputs(folder: Path) -> None:
+    from spectex import io
+    from spectex.texture import SpectralTexture
+
+    rng = np.random.default_rng(26)
+    io.write_image(folder / "img.png", rng.random((48, 48, 3)).astype(np.float32))
+    SpectralTexture.paper_preset(tile_size=16).save(folder / "tex.toml")
+    np.save(folder / "big.npy", (rng.random((32, 32, 3)) * 4 - 1).astype(np.float32))
+    np.save(folder / "c.npy", np.ones((16, 16), np.complex64))
+    np.save(folder / "i.npy", np.ones((16, 16), np.int32))
+    np.save(folder / "b.npy", np.ones((16, 16), bool))
+    np.save(folder / "one.npy", np.ones((1, 1, 3), np.float32))
+    np.save(folder / "five.npy", np.ones((8, 8, 5), np.float32))
+    np.save(folder / "f16.npy", rng.random((16, 16)).astype(np.float16))
+    (folder / "nest.toml").write_text("a = " + "[" * 1000 + "]" * 1000)
+    toml = (folder / "tex.toml").read_text()
+    (folder / "many.toml").write_text(toml + "\n[[layers]]\ntile = 0\nsize = 1.0\n" * 20)
+    (folder / "tiny.toml").write_text(toml.replace("size = ", "size = 1e-308 #", 1))
+    (folder / "neg.toml").write_text(toml.replace("opacity = ", "opacity = -5 #", 1))
+    (folder / "bin.toml").write_bytes(b"\xff\xfe\x00garbage")
+    for i, (field, value) in enumerate(MUTATIONS):
+        (folder / f"m{i}.toml").write_text(_mutate(toml, field, value))
+    (folder / "c.txt").write_text("the cat sat on the mat. " * 50)
+    (folder / "dir.png").mkdir()
+    os.symlink("img.png", folder / "link.png")
+    (folder / "empty.png").write_bytes(b"")
+
+
+def cases() -> list[tuple[str, ...]]:
+    out: list[tuple[str, ...]] = []
+    # numbers and sizes, per command and option
+    per_command = {
+        "noise": (("perlin", "-o", "x.png"), {"--size": BAD_SIZES, "--scale": BAD_FLOATS, "--octaves": BAD_INTS,
+                                               "--seed": BAD_INTS, "--frames": BAD_INTS, "--fps": BAD_FLOATS}),
+        "tile": (("-o", "x.png"), {"--size": BAD_SIZES, "--cutoff": BAD_FLOATS, "--beta": BAD_FLOATS,
+                                   "--seed": BAD_INTS, "--strength": BAD_FLOATS}),
+        "spectrum": (("img.png",), {"--fmax": BAD_FLOATS}),
+        "render": (("tex.toml", *CAMERA, "-o", "x.png"), {"--size": BAD_SIZES, "--frames": BAD_INTS,
+                                                           "--supersample": BAD_INTS}),
+        "synth": (("img.png", "-o", "x.png"), {"--size": BAD_SIZES, "--block": BAD_INTS, "--overlap": BAD_INTS,
+                                               "--tolerance": BAD_FLOATS, "--seed": BAD_INTS}),
+        "text": (("c.txt",), {"--length": BAD_INTS, "--order": BAD_INTS, "--seed": BAD_INTS}),
+        "compare": (("img.png", "--reference", "img.png"), {"--block": BAD_INTS}),
+        "fit": (("img.png", "-o", "fitout"), {"--pixel-size": BAD_FLOATS, "--layers": BAD_INTS,
+                                              "--ratio": BAD_FLOATS, "--opacity": BAD_FLOATS}),
+        "bake": (("tex.toml", "-o", "b.zarr", "--size", "32x32", "--pixel-size", "0.1"),
+                 {"--pixel-size": BAD_FLOATS, "--size": BAD_SIZES, "--chunk": BAD_INTS, "--shard": BAD_INTS,
+                  "--levels": BAD_INTS, "--origin": ("nan,0", "1e300,0", "1", "a,b"),
+                  "--scheduler": ("inproc://x", "tcp://", "tcp://h", "tcp://h:0", "x", "tcp://127.0.0.1:9"),
+                  "--connect-timeout": BAD_FLOATS}),
+        "export": (("tex.toml", "-o", "exp"), {"--format": ("", "web,", "nope", "web,web", ",")}),
+    }
+    for command, (base, options) in per_command.items():
+        for option, values in options.items():
+            for value in values:
+                if option == "--connect-timeout":
+                    out.append((command, *base, "--scheduler", "tcp://127.0.0.1:9", option, value))
+                else:
+                    out.append((command, *base, option, value))
+    for kind, option, value in itertools.product(("fbm", "turbulence"), ("--gain", "--lacunarity"), BAD_FLOATS):
+        out.append(("noise", kind, option, value, "--size", "16", "-o", "x.png"))
+    for kind, value in itertools.product(("perlin", "value", "marble", "wood"), BAD_FLOATS):
+        out.append(("noise", kind, "--scale", value, "--size", "16", "-o", "x.png"))
+    # hostile inputs to every command that reads one
+    readers = {
+        "spectrum": lambda f: ("spectrum", f),
+        "synth": lambda f: ("synth", f, "--method", "histogram", "--size", "16", "-o", "x.png"),
+        "tile": lambda f: ("tile", "--from", f, "-o", "x.png"),
+        "compare": lambda f: ("compare", f, "--reference", "img.png"),
+        "fit": lambda f: ("fit", f, "-o", "fitout"),
+    }
+    images = ("big.npy", "c.npy", "i.npy", "b.npy", "one.npy", "five.npy", "f16.npy", "empty.png", "dir.png",
+              "link.png", "tex.toml", "c.txt", "nothere.png", "/dev/zero", "/dev/null")
+    out += [make(f) for make, f in itertools.product(readers.values(), images)]
+    textures = ("nest.toml", "many.toml", "tiny.toml", "neg.toml", "bin.toml", "img.png", "c.txt", "nothere.toml",
+                "/dev/zero")
+    for t in textures:
+        out += [("render", t, *CAMERA, "--size", "16x16", "-o", "x.png"), ("export", t, "-o", "exp"),
+                ("bake", t, "-o", "b.zarr", "--size", "16x16", "--pixel-size", "0.1"), ("view", t)]
+    for i in range(len(MUTATIONS)):
+        out += [("render", f"m{i}.toml", *CAMERA, "--size", "16x16", "-o", "x.png"),
+                ("bake", f"m{i}.toml", "-o", "b.zarr", "--size", "16x16", "--pixel-size", "0.1")]
+    # output paths, for every command that writes
+    writers = {
+        "noise": ("noise", "perlin", "--size", "16", "-o"), "tile": ("tile", "--size", "16", "-o"),
+        "spectrum": ("spectrum", "img.png", "-o"), "synth": ("synth", "img.png", "--size", "16", "-o"),
+        "render": ("render", "tex.toml", *CAMERA, "--size", "16x16", "-o"), "text": ("text", "c.txt", "-o"),
+        "compare": ("compare", "img.png", "--reference", "img.png", "-o"), "fit": ("fit", "img.png", "-o"),
+        "export": ("export", "tex.toml", "-o"), "demo": ("demo", "-o"),
+        "bake": ("bake", "tex.toml", "--size", "16x16", "--pixel-size", "0.1", "-o"),
+    }
+    out += [(*w, p) for w, p in itertools.product(writers.values(), BAD_PATHS)]
+    # unknown options and missing arguments
+    for command in writers:
+        out += [(command,), (command, "--nope"), (command, "--help-me"), (command, "-o")]
+    return out
+
+
+def run(argv, base: Path, work: Path, index: int) -> dict:
+    folder = work / f"c{index}"
+    shutil.copytree(base, folder, symlinks=True)
+    before = snapshot(folder)
+    env = dict(os.environ, PYTHONWARNINGS="", DISPLAY="", WAYLAND_DISPLAY="")
+    start = time.perf_counter()
+    rss_file = work / f"c{index}.rss"
+    proc = subprocess.Popen([sys.executable, "-c", _WRAP, str(rss_file), sys.executable, "-m", "spectex", *argv],
+                            cwd=folder, env=env,
+                            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            errors="replace")
+    try:
+        out, err = proc.communicate(timeout=120)
+        timeout = False
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+        timeout = True
+    elapsed = time.perf_counter() - start
+    # the child's peak memory: getrusage of children is cumulative, so wait4 is used through the pid's status
+    try:
+        rss = int(rss_file.read_text()) * 1024  # ru_maxrss is in KiB on Linux
+    except (OSError, ValueError):
+        rss = None
+    after = snapshot(folder)
+    lost = [p for p in before if after.get(p) != before[p]]
+    shutil.rmtree(folder, ignore_errors=True)
+    lines = [ln for ln in err.splitlines() if ln.strip() and "rendering on the CPU instead" not in ln]
+    problems = []
+    if timeout:
+        problems.append("timeout")
+    if "Traceback" in err:
+        problems.append("traceback")
+    if proc.returncode not in (0, 2):
+        problems.append(f"rc {proc.returncode}")
+    if proc.returncode == 2 and len(lines) != 1:
+        problems.append(f"{len(lines)} lines")
+    if proc.returncode == 2 and elapsed > 5.0:
+        problems.append(f"refused after {elapsed:.1f} s")
+    if rss is not None and rss > 1 << 30:
+        problems.append(f"peak {rss >> 20} MiB")
+    if lost:
+        problems.append(f"changed {lost[:3]}")
+    return {"argv": argv, "rc": proc.returncode, "err": err.strip().splitlines()[-1:] if err.strip() else [],
+            "elapsed": elapsed, "rss": rss, "problems": problems}
+
+
+#: Runs the command as a child and writes the child's peak resident memory (KiB) to argv[1].
+_WRAP = ("import resource, subprocess, sys; r = subprocess.run(sys.argv[2:]); "
+         "open(sys.argv[1], 'w').write(str(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)); "
+         "sys.exit(r.returncode)")
+
+
+def snapshot(folder: Path) -> dict:
+    out = {}
+    for root, dirs, files in os.walk(folder):
+        for name in dirs + files:
+            p = Path(root) / name
+            rel = str(p.relative_to(folder))
+            if p.is_symlink():
+                out[rel] = ("link", os.readlink(p))
+            elif p.is_file():
+                out[rel] = ("file", hashlib.sha1(p.read_bytes()).hexdigest())
+            else:
+                out[rel] = ("dir",)
+    return out
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--limit", type=int, default=None)
+    parser.add_argument("--log", default=None)
+    parser.add_argument("--every", type=int, default=1, help="run every N-th case only (a sample of each kind)")
+    args = parser.parse_args()
+    all_cases = cases()[:: args.every][: args.limit]
+    with tempfile.TemporaryDirectory(prefix="spectex-fuzz-") as tmp:
+        base = Path(tmp) / "base"
+        base.mkdir()
+        make_inputs(base)
+        work = Path(tmp) / "work"
+        work.mkdir()
+        with ThreadPoolExecutor(args.workers) as pool:
+            results = []
+            for r in pool.map(lambda ic: run(ic[1], base, work, ic[0]), enumerate(all_cases)):
+                results.append(r)
+                if r["problems"]:  # as they come: a long trial shows what it finds early
+                    print(f"  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  {r['err']}",
+                          flush=True)
+    bad = [r for r in results if r["problems"]]
+    tracebacks = sum("traceback" in r["problems"] for r in results)
+    slow = max((r["elapsed"] for r in results if r["rc"] == 2), default=0.0)
+    share = 100 * (1 - len(bad) / len(results))
+    print(f"{len(results)} cases: {len(results) - len(bad)} answered well ({share:.1f} %), "
+          f"{tracebacks} tracebacks, slowest refusal {slow:.1f} s")
+    if args.log:
+        with open(args.log, "w") as fh:
+            for r in results:
+                fh.write(f"{r['rc']}\t{r['elapsed']:.2f}\t{' '.join(r['argv'])}\t{' '.join(r['err'])}\n")
+    return 0 if not bad else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

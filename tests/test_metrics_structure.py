@@ -1,0 +1,294 @@
+"""The structural measures of issue 22 (spectex.metrics): Portilla-Simoncelli statistics and their
+distance with the photo's own floor, clipping, and magnified copies in a zoomed-out view.
+
+Every measure is checked against controls made from scikit-image's photos: another part of the same
+photo (at the floor), a cross-fade of two shifted copies and a random-phase version (clearly worse),
+the photo magnified into a view (flagged) and a view without a magnified copy (not flagged).
+"""
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from spectex import metrics
+
+skimage_data = pytest.importorskip("skimage.data")
+
+
+def _photo(name):
+    return getattr(skimage_data, name)().astype(np.float32) / 255.0
+
+
+def _random_phase(image, rng):
+    """The same power spectrum with uniformly random phases (Galerne et al. 2011), mean kept."""
+    f = np.fft.fft2(image)
+    phase = np.angle(np.fft.fft2(rng.random(image.shape)))  # Hermitian: the result stays real
+    phase[0, 0] = 0.0
+    out = np.real(np.fft.ifft2(np.abs(f) * np.exp(1j * phase)))
+    return np.clip(out, 0.0, 1.0).astype(np.float32)
+
+
+def _down(image, f):
+    h, w = image.shape[:2]
+    return image[:h // f * f, :w // f * f].reshape(h // f, f, w // f, f).mean(axis=(1, 3))
+
+
+def _mosaic(photo, rng, side=4096, piece=128):
+    """Random pieces of the photo (flipped at random) laid on a grid: the photo's own scale
+    everywhere, no magnified copy."""
+    out = np.empty((side, side), dtype=np.float32)
+    h, w = photo.shape
+    for i in range(side // piece):
+        for j in range(side // piece):
+            y, x = rng.integers(0, h - piece), rng.integers(0, w - piece)
+            p = photo[y:y + piece, x:x + piece]
+            if rng.random() < 0.5:
+                p = p[::-1]
+            if rng.random() < 0.5:
+                p = p[:, ::-1]
+            out[i * piece:(i + 1) * piece, j * piece:(j + 1) * piece] = p
+    return out
+
+
+# --------------------------------------------------------------------------
+# Statistics
+# --------------------------------------------------------------------------
+
+def test_texture_statistics_groups_and_colour():
+    grey = _photo("gravel")[:128, :128]
+    stats = metrics.texture_statistics(grey)
+    assert list(stats.groups) == ["marginal", "energy", "lowpass_autocorrelation", "magnitude_autocorrelation",
+                                  "cross_orientation", "cross_scale_magnitude", "cross_scale_phase", "colour"]
+    for name in ("marginal", "energy", "lowpass_autocorrelation", "magnitude_autocorrelation",
+                 "cross_orientation", "cross_scale_magnitude", "cross_scale_phase"):
+        assert stats.groups[name].size > 0 and np.all(np.isfinite(stats.groups[name])), name
+    assert stats.groups["colour"].size == 0  # grey: no colour statistics
+    rgb = np.stack([grey, 0.8 * grey + 0.1, 1.0 - grey], axis=-1)
+    assert metrics.texture_statistics(rgb).groups["colour"].size > 0
+    # standardised by the image itself: mean 0, log sd 0
+    assert abs(stats.groups["marginal"][0]) < 1e-6 and abs(stats.groups["marginal"][1]) < 1e-6
+    # the statistics are those of the texture, not a constant: another photo differs in every group
+    other = metrics.texture_statistics(_photo("brick")[:128, :128])
+    for name in ("lowpass_autocorrelation", "magnitude_autocorrelation", "cross_scale_phase"):
+        assert np.max(np.abs(other.groups[name] - stats.groups[name])) > 0.05, name
+
+
+def test_texture_statistics_see_phase_structure():
+    """Random phases keep the spectrum (energy) but lose the cross-scale phase structure of edges."""
+    photo = _photo("brick")[:256, :256]
+    rp = _random_phase(photo, np.random.default_rng(1))
+    a = metrics.texture_statistics(photo)
+    b = metrics.texture_statistics(rp, reference=photo)
+    phase = np.sqrt(np.mean((a.groups["cross_scale_phase"] - b.groups["cross_scale_phase"]) ** 2))
+    assert np.sqrt(np.mean(b.groups["cross_scale_phase"] ** 2)) < 0.1  # random phases: no coupling
+    assert phase > 0.1
+
+
+# --------------------------------------------------------------------------
+# Structural distance with the photo's own floor
+# --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["gravel", "brick", "grass"])
+def test_structural_distance_controls(name):
+    photo = _photo(name)
+    reference, other = photo[:, :256], photo[:, 256:]
+    own = metrics.structural_distance(other, reference)
+    assert 0.6 < own.ratio < 1.6, own.ratio  # another part of the photo: at its floor
+    crossfade = 0.5 * (other + np.roll(other, (37, 61), axis=(0, 1)))
+    ghost = metrics.structural_distance(crossfade, reference)
+    rp = metrics.structural_distance(_random_phase(other, np.random.default_rng(2)), reference)
+    assert ghost.ratio > 1.4 * own.ratio and ghost.ratio > 1.8, (own.ratio, ghost.ratio)
+    assert rp.ratio > 1.4 * own.ratio and rp.ratio > 1.8, (own.ratio, rp.ratio)
+    # the breakdown names what is off: a cross-fade flattens the bands' marginals
+    assert ghost.group_ratios["marginal"] > own.group_ratios["marginal"]
+    assert own.windows == (4, 4) and own.window == (256, 128)
+    assert own.distance == pytest.approx(own.ratio * own.floor)
+
+
+def test_structural_distance_is_deterministic_and_reuses_the_reference():
+    photo = _photo("gravel")
+    image, reference = photo[:256, 256:], photo[:, :256]
+    a = metrics.structural_distance(image, reference, max_windows=4)
+    b = metrics.structural_distance(image, reference, max_windows=4)
+    assert a.as_dict() == b.as_dict()
+    prepared = metrics.reference_statistics(reference, max_windows=4)
+    c = metrics.structural_distance(image, reference, max_windows=4, prepared=prepared)
+    assert c.ratio == a.ratio
+
+
+def test_structural_distance_grey_against_colour_compares_luma():
+    photo = _photo("gravel")
+    rgb = np.repeat(photo[:, 256:, None], 3, axis=2)
+    a = metrics.structural_distance(rgb, photo[:, :256])
+    b = metrics.structural_distance(photo[:, 256:], photo[:, :256])
+    assert a.ratio == pytest.approx(b.ratio, rel=1e-5)
+
+
+def test_structural_distance_colour_group_sees_a_colour_change():
+    photo = _photo("gravel")
+    tint = np.stack([photo, 0.6 * photo + 0.2, 0.3 + 0.4 * photo[::-1]], axis=-1)
+    reference, other = tint[:, :256], tint[:, 256:]
+    own = metrics.structural_distance(other, reference)
+    swapped = metrics.structural_distance(other[:, :, ::-1], reference)  # blue and red swapped
+    assert swapped.group_ratios["colour"] > 3.0 * own.group_ratios["colour"]
+    assert swapped.ratio > own.ratio
+
+
+@pytest.mark.parametrize("kwargs, error", [
+    ({"image": np.zeros((16, 16)), "reference": np.random.rand(128, 128)}, ValueError),  # image under a window
+    ({"image": np.random.rand(64, 64), "reference": np.random.rand(40, 40)}, ValueError),  # no two windows
+    ({"image": np.random.rand(64, 64), "reference": np.full((128, 128), 0.5)}, ValueError),  # flat
+    ({"image": np.full((64, 64), np.nan), "reference": np.random.rand(128, 128)}, ValueError),
+    ({"image": np.random.rand(64, 64), "reference": np.random.rand(128, 128), "window": 16}, ValueError),
+    ({"image": np.random.rand(64, 64), "reference": np.random.rand(128, 128), "window": 32.0}, TypeError),
+    ({"image": np.random.rand(64, 64), "reference": np.random.rand(128, 128), "max_windows": 1}, ValueError),
+    ({"image": np.random.rand(64, 64, 5), "reference": np.random.rand(128, 128)}, ValueError),
+    ({"image": "photo.png", "reference": np.random.rand(128, 128)}, ValueError),
+])
+def test_structural_distance_refuses_bad_input(kwargs, error):
+    with pytest.raises(error):
+        metrics.structural_distance(**kwargs)
+
+
+# --------------------------------------------------------------------------
+# Clipping
+# --------------------------------------------------------------------------
+
+def test_clipped_fraction_and_clipping():
+    rng = np.random.default_rng(0)
+    photo = rng.uniform(0.1, 0.9, (100, 100, 3)).astype(np.float32)
+    assert metrics.clipped_fraction(photo) == 0.0
+    clipped = photo.copy()
+    clipped[:10, :, 0] = 1.0   # 1000 of 30000 values
+    clipped[:5, :, 2] = 0.0    # 500 more
+    assert metrics.clipped_fraction(clipped) == pytest.approx(1500 / 30000)
+    # alpha is not counted; grey counts each pixel once
+    rgba = np.concatenate([photo, np.ones((100, 100, 1), np.float32)], axis=2)
+    assert metrics.clipped_fraction(rgba) == 0.0
+    assert metrics.clipped_fraction(np.uint8([[0, 255], [128, 254]])) == pytest.approx(0.5)
+    # a contrast stretch clips; the photo's own clipping plus one point is allowed
+    stretched = np.clip((photo - 0.5) * 1.6 + 0.5, 0.0, 1.0)
+    bad = metrics.clipping(stretched, photo)
+    assert not bad.within and bad.excess > 0.1 and bad.reference == 0.0
+    good = metrics.clipping(photo, clipped)
+    assert good.within and good.excess < 0
+    assert metrics.clipping(clipped, photo, margin=0.06).within
+
+
+@pytest.mark.parametrize("call", [
+    lambda: metrics.clipped_fraction(np.zeros((4, 4)), tolerance=0.6),
+    lambda: metrics.clipped_fraction(np.zeros((4, 4)), tolerance=-0.1),
+    lambda: metrics.clipping(np.zeros((4, 4)), np.zeros((4, 4)), margin=2.0),
+    lambda: metrics.clipped_fraction(np.zeros((4, 4, 7))),
+])
+def test_clipping_refuses_bad_input(call):
+    with pytest.raises(ValueError):
+        call()
+
+
+# --------------------------------------------------------------------------
+# Magnified copies in a zoomed-out view
+# --------------------------------------------------------------------------
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["gravel", "brick"])
+def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name):
+    photo = _photo(name)
+    # the photo at its own scale everywhere, seen from 8 times further: no magnified copy
+    continuation = _down(_mosaic(photo, np.random.default_rng(3)), 8)
+    # the same with the photo magnified 16 times (2 in the view), rotated, at 30 % weight
+    big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
+    copied = 0.7 * continuation + 0.3 * big
+    fine = metrics.coarse_copies(continuation, photo, zoom=8)
+    flagged = metrics.coarse_copies(copied, photo, zoom=8)
+    assert fine.within, (fine.value, fine.reference)
+    assert not flagged.within and flagged.value > fine.value + 0.2, (flagged.value, fine.value)
+    assert abs(fine.value) < 0.05  # no copy: chance level, whatever the view's smoothness
+    # the magnification found is the copy's
+    assert int(np.nanargmax(flagged.per_magnification)) == flagged.magnifications.index(16.0)
+    assert fine.zoom == 8.0 and len(fine.per_magnification) == len(fine.magnifications)
+
+
+def test_coarse_copies_refuses_bad_input():
+    photo = _photo("gravel")[:256, :256]
+    view = np.random.default_rng(0).random((128, 128)).astype(np.float32)
+    with pytest.raises(ValueError):
+        metrics.coarse_copies(view, photo, zoom=0.5)
+    with pytest.raises(ValueError):
+        metrics.coarse_copies(view[:50], photo, zoom=8)
+    with pytest.raises(ValueError, match="at least 192x192"):
+        metrics.coarse_copies(view, photo[:128], zoom=8)
+    with pytest.raises(ValueError):
+        metrics.coarse_copies(view, photo, zoom=8, magnifications=())
+    with pytest.raises(ValueError):
+        metrics.coarse_copies(view, photo, zoom=8, magnifications=(1.0,))
+    with pytest.raises(TypeError):
+        metrics.coarse_copies(view, photo, zoom=8, magnifications=("big",))
+    with pytest.raises(ValueError):  # no magnification fits this view
+        metrics.coarse_copies(view, photo, zoom=1, magnifications=(256,))
+
+
+# --------------------------------------------------------------------------
+# In compare (library and command line) and the fit report
+# --------------------------------------------------------------------------
+
+def test_compare_carries_the_structural_measures():
+    photo = _photo("gravel")
+    r = metrics.compare(photo[:, 256:], reference=photo[:, :256])
+    assert r.structure.ratio == pytest.approx(metrics.structural_distance(photo[:, 256:], photo[:, :256]).ratio)
+    assert r.clipping.within and r.coarse is None
+    d = r.as_dict()
+    assert d["structure"]["ratio"] == r.structure.ratio and d["clipping"]["within"] is True
+    # too small or flat a reference: no floor, no structure (and no error)
+    assert metrics.compare(photo[:64, :64], reference=photo[:40, :40]).structure is None
+    assert metrics.compare(photo[:64, :64], reference=np.full((64, 64), 0.5)).structure is None
+    with pytest.raises(ValueError, match="zoom"):
+        metrics.compare(photo, reference=photo, zoom=0.5)
+
+
+def test_cli_compare_prints_structure_clipping_and_copies(tmp_path, capsys):
+    import json
+
+    from PIL import Image
+
+    from spectex.cli import main
+
+    photo = skimage_data.brick()
+    Image.fromarray(photo).save(tmp_path / "photo.png")
+    Image.fromarray(photo[:, 256:]).save(tmp_path / "half.png")
+    # a zoomed-out view holding the photo magnified 16 times (2 in the view)
+    view = 0.6 * _down(_mosaic(_photo("brick"), np.random.default_rng(4), side=1024), 8).repeat(2, 0).repeat(2, 1) \
+        + 0.4 * ndimage.zoom(_photo("brick"), 2.0, order=1)[256:512, 256:512]
+    np.save(tmp_path / "view.npy", view.astype(np.float32))
+    assert main(["compare", str(tmp_path / "half.png"), "--reference", str(tmp_path / "photo.png")]) == 0
+    text = capsys.readouterr().out
+    assert "structural distance" in text and "x the reference's own floor" in text and "clipped values" in text
+    assert "magnified copies" not in text  # only with --zoom
+    assert main(["compare", str(tmp_path / "view.npy"), "--reference", str(tmp_path / "photo.png"),
+                 "--zoom", "8", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["coarse"]["within"] is False and data["coarse"]["zoom"] == 8.0
+    assert main(["compare", str(tmp_path / "view.npy"), "--reference", str(tmp_path / "photo.png"),
+                 "--zoom", "0.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--zoom" in err[0]
+
+
+@pytest.mark.slow
+def test_fit_report_sees_a_magnified_coarse_layer():
+    """The fit report's structural measures on two hand-made textures of one photo tile: the tile
+    alone (the photo repeated: at the floor, no copies, no clipping) and the tile with a coarse
+    layer 16 times larger at half opacity (the photo magnified: flagged by ``coarse``)."""
+    from spectex.fitting import fit_report
+    from spectex.texture import Layer, SpectralTexture
+
+    photo = _photo("gravel")
+    tile = np.dstack([np.repeat(photo[:, :, None], 3, axis=2), np.ones((512, 512), np.float32)])
+    alone = SpectralTexture(tile, [Layer(size=512.0)])
+    report = fit_report(alone, photo, pixel_size=1.0)
+    assert report.structure.ratio < 1.2 and report.structure_far.ratio < 1.2
+    assert report.clipping.within and report.coarse.within, report.coarse
+    magnified = SpectralTexture(tile, [Layer(size=512.0), Layer(size=8192.0, rotation=40.0, opacity=0.5)])
+    bad = fit_report(magnified, photo, pixel_size=1.0)
+    assert not bad.coarse.within and bad.coarse.value > report.coarse.value + 0.1, (bad.coarse, report.coarse)
+    assert fit_report(alone, photo, pixel_size=1.0, coarse_zoom=None).coarse is None
