@@ -4,7 +4,9 @@ On the demo's own tile (``make_tile(512, rng=0)``) and its own three views
 (``spectex.cli._demo.views``, 960 x 540), for the paper's composite
 (``paper_preset(tile, blend="alpha", detail=False)``, haze 4 km, the
 former defaults) and for the demo's defaults (variance-preserving blend, the
-fine detail layer, haze 12 km):
+fine detail layer, haze 12 km, each coarser layer covering the finer ones
+where their periods shrink to a few pixels: blend ``"cover"``), and
+for issue 23's first default (the plain variance blend) between them:
 
 * local contrast (:func:`spectex.metrics.local_contrast`, 32 px windows) of
   the ground view's lower half and of the close-up, against the tile's;
@@ -12,13 +14,17 @@ fine detail layer, haze 12 km):
 * the aerial view's chroma (:func:`spectex.metrics.mean_chroma`) against the
   tile's; target >= 0.60;
 * the close-up's mean luminance step per pixel; target >= 0.02;
+* the aerial view's weave: :func:`spectex.metrics.repeat_peak` of its lower
+  half, where the finest periodic layer's 15.625 m repeats are cells of
+  about 8 pixels (the plain variance blend: a visible lattice; no target in
+  the issue, the test asks <= 0.06 of the defaults);
 * alias-freedom: the close-up and ground views at the defaults against an
   8 x 8 supersampled CPU render without mip-maps (``filter="linear"``), at
   480 x 270 to keep the reference affordable; target >= 38 dB; and GL
   against the CPU renderer, target >= 40 dB;
 * the GL frame cost of the new composite and detail layer: the demo's
-  ground view at 1920 x 1080, the two textures' frames interleaved in one
-  process (best of ``--repeats``, ``--frames`` frames each), as a ratio;
+  ground view at 1920 x 1080, the textures' frames interleaved in one
+  process (best of ``--repeats``, ``--frames`` frames each), as ratios to the paper's;
   target <= 1.3 on llvmpipe.
 
 Run: ``python benchmarks/bench_first_picture.py [--frames N] [--repeats N] [--skip-alias]``.
@@ -37,9 +43,9 @@ def psnr(image, reference) -> float:
 
 
 def measure_views(texture, atmosphere, renderer):
-    """The first-look measures of the demo's three views, as ratios to the tile's."""
+    """The first-look measures of the demo's three views, as ratios to the tile's, and the aerial's weave."""
     from spectex.cli._demo import DEMO_SIZE, views
-    from spectex.metrics import local_contrast, mean_chroma, mean_gradient
+    from spectex.metrics import local_contrast, mean_chroma, mean_gradient, repeat_peak
 
     tile = texture.tiles[0]
     images = {name: renderer.render(cam, DEMO_SIZE, anisotropy=an, atmosphere=atmosphere)
@@ -50,6 +56,7 @@ def measure_views(texture, atmosphere, renderer):
         "close-up contrast": local_contrast(images["closeup"]) / local_contrast(tile),
         "aerial chroma": mean_chroma(images["aerial"]) / mean_chroma(tile),
         "close-up gradient": mean_gradient(images["closeup"]),
+        "aerial repeat_peak": repeat_peak(images["aerial"][DEMO_SIZE[0] // 2:]),
     }
 
 
@@ -72,10 +79,11 @@ def main(argv=None):
     styles = {
         "paper (alpha, 5 layers, haze 4 km)": (SpectralTexture.paper_preset(tile, blend="alpha", detail=False),
                                                Atmosphere(haze_distance=4000.0)),
-        "demo (variance + fine layer, haze 12 km)": (SpectralTexture.paper_preset(tile), Atmosphere()),
+        "variance + fine layer, haze 12 km": (SpectralTexture.paper_preset(tile, blend="variance"), Atmosphere()),
+        "demo (cover + fine layer, haze 12 km)": (SpectralTexture.paper_preset(tile), Atmosphere()),
     }
     targets = {"ground contrast": 0.60, "close-up contrast": 0.50, "aerial chroma": 0.60,
-               "close-up gradient": 0.02}
+               "close-up gradient": 0.02, "aerial repeat_peak": None}
     print(f"machine: {platform.processor() or platform.machine()}, {platform.python_implementation()} "
           f"{platform.python_version()}")
     renderers = {}
@@ -96,7 +104,8 @@ def main(argv=None):
                 for name, img in images.items():
                     write_image(Path(args.save) / f"{label.split()[0]}_{name}.png", img)
             print(f"{label:44s}" + "".join(f"{values[k]:20.3f}" for k in targets))
-        print(f"{'target (>=)':44s}" + "".join(f"{v:20.3f}" for v in targets.values()))
+        print(f"{'target (>=; <= for repeat_peak)':44s}"
+              + "".join(f"{v:20.3f}" if v is not None else f"{'-':>20s}" for v in targets.values()))
 
         if not args.skip_alias:
             small = (270, 480)
@@ -118,9 +127,10 @@ def main(argv=None):
             for label, (_tex, atm) in styles.items():
                 t = renderers[label].time_frames(cam, shape, args.frames, anisotropy=an, atmosphere=atm)
                 best[label] = min(best[label], t)
-        a, b = best.values()
+        first = next(iter(best.values()))
         print(f"GL frame, ground view 1920x1080, anisotropy {an:g}: " + ", ".join(
-            f"{label} {1000 * v:.1f} ms" for label, v in best.items()) + f"; ratio {b / a:.2f} (target <= 1.3)")
+            f"{label} {1000 * v:.1f} ms ({v / first:.2f}x)" for label, v in best.items())
+            + " (target <= 1.3x the paper's)")
     finally:
         for r in renderers.values():
             r.release()

@@ -46,9 +46,11 @@ def tool(name: str) -> str:
 
 
 def without_fine(texture):
-    """``texture`` without its fine (detail) layers: their fade needs the pixel's footprint, which
-    MaterialX's and Blender's nodes cannot see (they draw them unfaded, and say so)."""
-    return SpectralTexture(texture.tiles, [layer for layer in texture.layers if layer.blend != "fine"],
+    """``texture`` without its fine (detail) layers and with its cover layers as plain variance
+    blends: their fade needs the pixel's footprint, which MaterialX's and Blender's nodes cannot
+    see (they draw them unfaded, and say so)."""
+    return SpectralTexture(texture.tiles, [replace(layer, blend="variance") if layer.blend == "cover" else layer
+                                           for layer in texture.layers if layer.blend != "fine"],
                            bits=texture.bits)
 
 

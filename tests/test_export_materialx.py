@@ -217,11 +217,12 @@ def test_graph_computes_what_spectex_bakes(exported):
     texture, path = exported
     h, w, p = 24, 32, 3.7
     origin = (-300.0, 200.0)
-    # standard nodes cannot see a footprint: a fine layer is the variance blend at full alpha there
-    assert any(layer.blend == "fine" for layer in textures()["paper"].layers)
-    reference = SpectralTexture(texture.tiles, [replace(layer, blend="variance") if layer.blend == "fine" else layer
-                                                for layer in texture.layers], bits=texture.bits)
-    assert "is a fine (detail) layer" in path.read_text() or reference == texture
+    # standard nodes cannot see a footprint: a fine or cover layer is the variance blend at its own alpha there
+    assert {"fine", "cover"} <= {layer.blend for layer in textures()["paper"].layers}
+    reference = SpectralTexture(texture.tiles, [replace(layer, blend="variance") if layer.blend in ("fine", "cover")
+                                                else layer for layer in texture.layers], bits=texture.bits)
+    text = path.read_text()
+    assert ("is a fine (detail) layer" in text and "is a cover layer" in text) or reference == texture
     baked = reference.bake((h, w), origin=origin, pixel_size=p, filter="linear", mipmaps=False)
     r, c = np.mgrid[0:h, 0:w]
     x = (origin[0] + (c + 0.5) * p).reshape(-1)

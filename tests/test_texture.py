@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from spectex.shading.constants import FADE_END, FADE_START
 from spectex.texture import Layer, SpectralTexture
 from spectex.texture_file import FORMAT
 from spectex.tiles import make_tile
@@ -118,16 +119,45 @@ def test_texture_blends_detail_and_variance(paper_tile):
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_texture_is_not_repetitive(seed):
+    """The default preset's finest layer does not show its lattice: <= 0.25 at
+    32 px per finest period (measured 0.15-0.17, seeds 0-2), and <= 0.05 at 16
+    px, where the cover blend has taken it (0.00-0.02). The controls: plain
+    tiling (1.0); the plain variance blend, which draws the finest layer at
+    every distance (0.33-0.36, 0.26-0.29); the paper's alpha blend passes the
+    first bound (0.15-0.18) and fails the second (0.10-0.12)."""
     tile = make_tile(512, rng=seed)
-    p = 15.625 / 32  # the finest period is 32 pixels; 16 periods across
-    kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=p)
-    # the paper's alpha coupling hides the finest layer's repeats; the variance blend (the preset's
-    # default) gives the finest layer more weight and measures 0.33-0.36 here (docs/rendering.md)
-    coupled = repetition_peak(SpectralTexture.paper_preset(tile, blend="alpha", detail=False).bake(**kw), 32)
-    plain = repetition_peak(SpectralTexture.plain(tile, 15.625).bake(**kw), 32)
-    assert plain > 0.8  # the control: plain tiling repeats
-    assert coupled <= 0.25
-    assert coupled < plain - 0.5
+    peaks = {}
+    for per in (32, 16):  # pixels per finest period (15.625 m)
+        kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=15.625 / per)
+        peaks[per] = {name: repetition_peak(tex.bake(**kw), per) for name, tex in (
+            ("default", SpectralTexture.paper_preset(tile)),
+            ("variance", SpectralTexture.paper_preset(tile, blend="variance")),
+            ("paper", SpectralTexture.paper_preset(tile, blend="alpha", detail=False)),
+            ("plain", SpectralTexture.plain(tile, 15.625)))}
+    assert peaks[32]["plain"] > 0.8, peaks  # the control: plain tiling repeats
+    assert peaks[32]["default"] <= 0.25 and peaks[32]["paper"] <= 0.25, peaks
+    assert peaks[32]["default"] < peaks[32]["plain"] - 0.5, peaks
+    assert peaks[32]["variance"] > 0.25, peaks  # the weave the cover blend removes
+    assert peaks[16]["default"] <= 0.05 < peaks[16]["paper"] < peaks[16]["variance"], peaks
+
+
+def test_cover_blend_hides_the_layers_before_it_from_afar_only(paper_tile):
+    """Where a pixel covers >= 2**FADE_END texels of the cover layer, the
+    picture does not depend on the layers drawn before it (moving layer 0
+    changes nothing); where it covers <= 2**FADE_START, it is the variance
+    blend exactly. The control: the variance blend depends on layer 0 at
+    both scales."""
+    def bake(blend, offset0, pixel_size):
+        layers = [Layer(size=16.0, offset=offset0), Layer(size=128.0, rotation=40.0, offset=(5.0, 9.0),
+                                                          blend=blend, opacity=0.65)]
+        return SpectralTexture(paper_tile, layers).bake((64, 64), pixel_size=pixel_size, origin=(3.0, 7.0))
+
+    far = 128.0 / 256 * 2 ** (FADE_END + 0.5)  # metres per pixel: lambda of layer 1 = FADE_END + 0.5
+    near = 128.0 / 256 * 2 ** (FADE_START - 0.5)
+    np.testing.assert_array_equal(bake("cover", (0.0, 0.0), far), bake("cover", (3.3, 1.7), far))
+    assert np.abs(bake("variance", (0.0, 0.0), far) - bake("variance", (3.3, 1.7), far)).mean() > 0.01
+    np.testing.assert_allclose(bake("cover", (0.0, 0.0), near), bake("variance", (0.0, 0.0), near), atol=1e-6)
+    assert np.abs(bake("cover", (0.0, 0.0), near) - bake("cover", (3.3, 1.7), near)).mean() > 0.01
 
 
 def _coupling(tex, p=0.0625, n=384):

@@ -19,7 +19,11 @@ Also here, for comparison and as options:
   and Neyret [2]_: ``c = mu + (a (c_layer - mu) + (1 - a)(c - mu)) /
   sqrt(a^2 + (1 - a)^2)``, with ``mu`` the layer tile's mean colour (its 1 x 1
   mip level), so that blending two independent layers keeps their variance
-  instead of washing it out.
+  instead of washing it out;
+* ``"cover"``: the variance blend with the alpha raised to 1 as the pixel's
+  footprint on the layer grows, so that the finer layers drawn before it
+  fade out where their periods would be a few pixels on screen and their
+  repeats a visible weave (``docs/rendering.md``).
 
 This module is the data model: layers, tiles, presets and derived data
 (mip levels, texel store). How a texture is sampled, composited and seen
@@ -118,12 +122,16 @@ class Layer:
         World position (x, y) of the tile's origin (texel corner (0, 0)), metres.
     rotation : float
         Rotation of the tile grid, degrees, counter-clockwise.
-    blend : {"alpha", "detail", "variance", "fine"}
+    blend : {"alpha", "detail", "variance", "fine", "cover"}
         How this layer goes over the finer layers drawn before it (ignored
         for the first layer, which is drawn opaque). ``"fine"``: the
         variance blend with the alpha faded out by the pixel's footprint on
         this layer (``shading.constants.FADE_START``, ``FADE_END``), for a
-        detail layer finer than the others, drawn last.
+        detail layer finer than the others, drawn last. ``"cover"``: the
+        variance blend with the alpha ``a`` raised to ``1 - (1 - a) f`` by
+        the same fade ``f``: the layers drawn before it are gone where a
+        pixel covers ``2**FADE_END`` of this layer's texels, before the
+        finer periods shrink to a few pixels and their repeats show.
     opacity : float
         In [0, 1]: the layer's alpha is ``opacity * tile_alpha`` (a global
         translucency, like a constant blend factor); it sets how much of
@@ -288,7 +296,7 @@ class SpectralTexture:
 
     # ------------------------------------------------------------------ presets
     @classmethod
-    def paper_preset(cls, tile=None, *, rng=0, blend="variance", opacity=0.65, tile_size=512, bits=8,
+    def paper_preset(cls, tile=None, *, rng=0, blend="cover", opacity=0.65, tile_size=512, bits=8,
                      tiling="periodic", patch=DEFAULT_PATCH, detail=True):
         """The five-layer texture of the paper's Figure 1, with contrast that survives the layers.
 
@@ -297,7 +305,10 @@ class SpectralTexture:
         them with the variance-preserving blend and add a fine detail layer
         (``docs/rendering.md``, "A first picture": the paper's alpha blend
         keeps 20 % of the tile's local contrast in the demo's ground view,
-        11 % in the close-up; these defaults 63 % and 56 %).
+        11 % in the close-up; these defaults 62 % and 64 %), each coarser
+        layer covering the finer ones where their periods shrink to a few
+        pixels (blend ``"cover"``: the plain variance blend showed the
+        15.625 m layer's repeats as a weave over the demo's aerial view).
 
         Five layers of one 512 x 512 tile: the finest repeats every 1/64 km
         (15.625 m), the coarsest every 10 km, geometric steps between
@@ -314,10 +325,15 @@ class SpectralTexture:
             Randomness of the default tile (as :func:`spectex.tiles.make_tile`
             takes it; unused when ``tile`` is given): the same int gives the
             same texture.
-        blend : {"alpha", "detail", "variance"}
-            The blend of layers 2..5: ``"variance"`` (the default) keeps the
-            tile's contrast through the layers (Heitz and Neyret's
-            variance-preserving blend around the tile's mean colour);
+        blend : {"alpha", "detail", "variance", "cover"}
+            The blend of layers 2..5: ``"cover"`` (the default) is
+            ``"variance"`` with each layer's alpha raised to 1 by the pixel's
+            footprint (:class:`Layer`), so that a finer layer is gone where
+            its period would span fewer than about 13 pixels (``512 /
+            5.03 / 2**FADE_END``) and its repeats would show; ``"variance"``
+            keeps the tile's contrast through the layers (Heitz and Neyret's
+            variance-preserving blend around the tile's mean colour) and
+            draws every layer at every distance;
             ``"alpha"`` is the paper's (a weighted average of nearly
             independent layers, which keeps about ``sqrt(sum w_k^2)`` of the
             contrast); ``"detail"`` gives detail texturing for comparison.

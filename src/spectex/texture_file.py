@@ -13,7 +13,7 @@ lists its layers, finest first::
     size = 15.625            # metres per repeat of the tile
     offset = [0.0, 0.0]      # metres
     rotation = 0.0           # degrees, counter-clockwise
-    blend = "alpha"          # alpha | detail | variance | fine
+    blend = "alpha"          # alpha | detail | variance | fine | cover
     opacity = 1.0
     tiling = "stochastic"    # periodic | stochastic (version 2)
     patch = 0.5              # stochastic: triangle side in tiles
@@ -63,7 +63,7 @@ MAX_NESTING = 16
 
 _HEADER = """# spectex spectral texture: layers of one tile at different scales.
 # Layers are drawn in order (finest first); each later one is blended over the
-# ones before by its 'blend': alpha | detail | variance | fine, with alpha = opacity * tile alpha.
+# ones before by its 'blend': alpha | detail | variance | fine | cover, with alpha = opacity * tile alpha.
 # size and offset are metres, rotation degrees counter-clockwise. tiling: periodic (the
 # tile repeats) | stochastic (never repeats; patch: triangle side in tiles, seed: the random
 # offsets). Tiles are relative to this file.

@@ -20,7 +20,8 @@ def register(subparsers) -> None:
         description=(
             "Berger's spectral texturing, end to end: one seamless 512x512 RGBA noise tile "
             "(emboss alpha) drawn as five layers from 15.625 m to 10 km, finest first, each "
-            "coarser one blended over it (variance-preserving: the tile's contrast survives; --paper for "
+            "coarser one blended over it (variance-preserving: the tile's contrast survives; covering the finer "
+            "ones where their repeats would be a few pixels; --paper for "
             "the paper's alpha blend), and a sixth, fine detail layer (1.25 m) faded out with distance. Renders a ground-plane view to the horizon "
             "(Figure 1 of Berger's sketch, top), a close-up and an aerial view with OpenGL (headless "
             "EGL; the CPU reference renderer where there is no OpenGL), writes the tile's colour "
@@ -123,7 +124,8 @@ def run(args) -> int:
     report(f"spectex demo: a {len(texture.layers)}-layer spectral texture (Berger, SIGGRAPH 2003 sketch)")
     report(f"  tile: 512x512 RGBA, emboss alpha, seed {args.seed} ({t_build:.2f} s to make)")
     report(f"  layers: {sizes} (steps of x{ratio:.3f}" + (")" if args.paper else
-           "; the last a fine detail layer), variance-preserving blend (--paper: the paper's alpha blend)"))
+           "; the last a fine detail layer), variance-preserving blend, each layer covering the finer "
+           "ones in the distance (--paper: the paper's alpha blend)"))
     # the virtual texture of the paper's five layers; the fine layer adds texels under the feet only
     spectral = [layer.size for layer in texture.layers if layer.blend != "fine"]
     texel = min(spectral) / texture.tile_shape[1]

@@ -23,7 +23,7 @@ import json
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["FINE_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
+__all__ = ["COVER_NOTE", "FINE_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
 #: What the export says about a stochastic layer (the script prints its own line per layer).
 STOCHASTIC_NOTE = ("uses spectex's stochastic tiling, which Blender's nodes cannot draw: it is drawn as its "
@@ -32,6 +32,11 @@ STOCHASTIC_NOTE = ("uses spectex's stochastic tiling, which Blender's nodes cann
 #: What the export says about a fine (detail) layer, whose fade needs the pixel's footprint.
 FINE_NOTE = ("is a fine (detail) layer: spectex fades it out with the pixel's footprint, which Blender's nodes "
              "cannot see; it is drawn with the variance blend at full alpha, at every distance")
+
+#: What the export says about a cover layer, whose alpha rises with the pixel's footprint.
+COVER_NOTE = ("is a cover layer: spectex raises its alpha to 1 with the pixel's footprint, so that the finer "
+              "layers' repeats fade out in the distance, which Blender's nodes cannot see; it is drawn with the "
+              "variance blend at its own alpha, and the finer layers repeat in the distance")
 
 
 def blender_script(texture, tile_files) -> str:
@@ -54,6 +59,7 @@ def _readme(texture, tile_files) -> str:
     notes = [f"* layer {k} {STOCHASTIC_NOTE}." for k, layer in enumerate(texture.layers)
              if getattr(layer, "tiling", "periodic") != "periodic"]
     notes += [f"* layer {k} {FINE_NOTE}." for k, layer in enumerate(texture.layers) if layer.blend == "fine"]
+    notes += [f"* layer {k} {COVER_NOTE}." for k, layer in enumerate(texture.layers) if layer.blend == "cover"]
     stochastic = ("\n## What Blender's nodes cannot draw\n\n" + "\n".join(notes) + "\n") if notes else ""
     return f"""# spectex texture: Blender
 

@@ -155,7 +155,7 @@ vec2 jx = dFdx(p), jy = dFdy(p);              // the pixel's footprint on the gr
 vec2 st = spectex_layer_coords(anchor[k], mat[k], p);
 vec2 dx = spectex_layer_deriv(mat[k], jx), dy = spectex_layer_deriv(mat[k], jy);
 vec4 x = spectex_sample_grad(tile0, st, dx, dy, tex_size, max_aniso);
-float lam = spectex_fade_lod(dx, dy, tex_size);   // used by SPX_BLEND_FINE only
+float lam = spectex_fade_lod(dx, dy, tex_size);   // used by SPX_BLEND_FINE and SPX_BLEND_COVER only
 c = spectex_blend(SPX_BLEND_VARIANCE, c, x, opacity[k], mean[k], lam);   // the layer's blend; SPX_BLEND_FIRST for the first
 ```
 

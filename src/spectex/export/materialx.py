@@ -174,6 +174,11 @@ def materialx_document(texture, tile_files) -> str:
                 g.comment(f"layer {k} is a fine (detail) layer: spectex fades its alpha out with the pixel's "
                           "footprint, which standard nodes cannot see; here it is the variance blend at full "
                           "alpha, so it stays at every distance (the renderer's mip-maps still filter it).")
+            elif layer.blend == "cover":
+                g.comment(f"layer {k} is a cover layer: spectex raises its alpha to 1 as the pixel's footprint "
+                          "grows, so that the finer layers' repeats fade out where they would be small on "
+                          "screen; standard nodes cannot see the footprint: here it is the variance blend at "
+                          "its own alpha, and the finer layers repeat in the distance.")
             mu = _vec(means[layer.tile])
             dx = g.node("subtract", "color3", f"layer{k}_x_dev", in1=x, in2=("color3", mu))
             dc = g.node("subtract", "color3", f"layer{k}_c_dev", in1=colour, in2=("color3", mu))

@@ -14,7 +14,7 @@ branch in ``shading/layers.py`` and one in ``shading/shaders/spectex_layers.glsl
 from __future__ import annotations
 
 __all__ = [
-    "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE",
+    "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE", "BLEND_COVER",
     "FADE_START", "FADE_END",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD",
@@ -27,13 +27,19 @@ __all__ = [
 
 # ------------------------------------------------------------------ layers
 #: How a layer goes over the layers drawn before it; the code is the index.
-BLENDS = ("alpha", "detail", "variance", "fine")
-BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE, BLEND_FINE = 0, 1, 2, 3
+BLENDS = ("alpha", "detail", "variance", "fine", "cover")
+BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE, BLEND_FINE, BLEND_COVER = 0, 1, 2, 3, 4
 #: ``"fine"``: the variance blend with the layer's alpha faded out by its
 #: footprint, for a detail layer finer than the others: full alpha while a
 #: pixel covers at most ``2**FADE_START`` of its texels (isotropic lambda, the
 #: longer footprint edge), none from ``2**FADE_END`` on, linear in lambda
 #: between; gone before its repetition could be seen or its texels alias.
+#: ``"cover"``: the variance blend with the alpha ``a`` raised to
+#: ``1 - (1 - a) f`` by the same fade ``f`` of the layer's own footprint: the
+#: finer layers drawn before it are gone where a pixel covers ``2**FADE_END``
+#: of its texels (for the paper preset's ratio 5.03 and 512-texel tiles, where
+#: the next finer layer's period spans 13 pixels), so that their repeats never
+#: show as a weave in the distance.
 FADE_START = 1.0
 FADE_END = 3.0
 #: The code of the first drawn layer, whatever its blend: it sets the colour.

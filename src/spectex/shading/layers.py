@@ -25,7 +25,7 @@ import math
 import numba
 import numpy as np
 
-from .constants import (BLEND_ALPHA, BLEND_DETAIL, BLEND_FINE, BLEND_FIRST, FADE_END, FADE_START, GAUSS_MEAN,
+from .constants import (BLEND_ALPHA, BLEND_COVER, BLEND_DETAIL, BLEND_FINE, BLEND_FIRST, FADE_END, FADE_START, GAUSS_MEAN,
                         LOD_FLOOR, TILING_STOCHASTIC)
 from .sampler import sample_grad
 from .stochastic import lut_lookup, sample_stochastic_grad, sharpen_weights, triangle_vertices, vertex_offset
@@ -112,6 +112,12 @@ def fade(lam):
 
 
 @_jit_inline
+def cover(a, f):
+    """The cover blend's alpha: ``a`` (opacity included) raised towards 1 as the fade ``f`` falls to 0."""
+    return 1.0 - (1.0 - a) * f
+
+
+@_jit_inline
 def fade_lod(w0, h0, dsdx, dtdx, dsdy, dtdy):
     """The isotropic lambda (log2 of the longer footprint edge, level-0 texels) of derivatives of (s, t)."""
     px = math.sqrt((dsdx * w0) ** 2 + (dtdx * h0) ** 2)
@@ -123,7 +129,8 @@ def fade_lod(w0, h0, dsdx, dtdx, dsdy, dtdy):
 def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
     """The colour after a layer with blend ``code`` (``constants.BLEND_*``) goes over ``c``.
 
-    ``BLEND_FINE`` is the variance blend; the caller has faded ``a`` (:func:`fade`)."""
+    ``BLEND_FINE`` and ``BLEND_COVER`` are the variance blend; the caller has
+    faded ``a`` (:func:`fade`) or raised it (:func:`cover`)."""
     if code == BLEND_FIRST:
         return r, g, b
     if code == BLEND_ALPHA:
@@ -157,10 +164,12 @@ def shade_ground(T, anchor, dx, dy, jxx, jyx, jxy, jyy, fade_bias):
         dsdy = mats[k, 0, 0] * jxy + mats[k, 0, 1] * jyy
         dtdy = mats[k, 1, 0] * jxy + mats[k, 1, 1] * jyy
         r, g, b, a = sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy)
+        a = a * T.opacity[k]
         if T.blend[k] == BLEND_FINE:
             a = a * fade(fade_lod(T.widths[0], T.heights[0], dsdx, dtdx, dsdy, dtdy) + fade_bias)
-        cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a * T.opacity[k], T.mean[k, 0], T.mean[k, 1],
-                           T.mean[k, 2])
+        elif T.blend[k] == BLEND_COVER:
+            a = cover(a, fade(fade_lod(T.widths[0], T.heights[0], dsdx, dtdx, dsdy, dtdy) + fade_bias))
+        cr, cg, cb = blend(T.blend[k], cr, cg, cb, r, g, b, a, T.mean[k, 0], T.mean[k, 1], T.mean[k, 2])
     return min(max(cr, 0.0), 1.0), min(max(cg, 0.0), 1.0), min(max(cb, 0.0), 1.0)
 
 
@@ -363,13 +372,14 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
                 cr[x] = blend_detail(cr[x], lr[x])
                 cg[x] = blend_detail(cg[x], lg[x])
                 cb[x] = blend_detail(cb[x], lb[x])
-        elif code == BLEND_FINE:
+        elif code == BLEND_FINE or code == BLEND_COVER:  # the alpha faded to 0 (fine) or to 1 (cover)
             mr = mean[k, 0]
             mg = mean[k, 1]
             mb = mean[k, 2]
             off_k = lod_off[k] + fade_bias
+            to = 1.0 if code == BLEND_COVER else 0.0
             for x in range(m):
-                a = la[x] * op * fade(lamw[x] + off_k)
+                a = to + (la[x] * op - to) * fade(lamw[x] + off_k)
                 nn = variance_norm(a)
                 cr[x] = blend_variance(cr[x], lr[x], a, mr, nn)
                 cg[x] = blend_variance(cg[x], lg[x], a, mg, nn)

@@ -65,7 +65,7 @@ void shade_layer(int k, int blend, SPX_TEX_ARG(tile), inout vec3 c, vec2 p, vec2
     vec2 dy = spectex_layer_deriv(m, jy);
     // the fine layer isotropic (spectex_blend: it fades out before anisotropy would matter)
     vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso);
-    float lam = (blend == SPX_BLEND_FINE) ? spectex_fade_lod(dx, dy, u_tex_size) : 0.0;
+    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER) ? spectex_fade_lod(dx, dy, u_tex_size) : 0.0;
 #endif
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 }
@@ -90,7 +90,7 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
                                             u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
                                             u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
                                             u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
-    float lam = (blend == SPX_BLEND_FINE)
+    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)
         ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), u_tex_size) : 0.0;
 #endif
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);

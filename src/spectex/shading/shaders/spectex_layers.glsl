@@ -218,9 +218,12 @@ float spectex_fade_lod(vec2 dx, vec2 dy, vec2 tex_size) {
 // Section 6: the colour after a layer's sample x (RGBA) goes over c.
 // blend: SPX_BLEND_FIRST (the first drawn layer: sets the colour),
 // SPX_BLEND_ALPHA, SPX_BLEND_DETAIL, SPX_BLEND_VARIANCE (mean: the
-// layer's tile mean colour) or SPX_BLEND_FINE (the variance blend with the
+// layer's tile mean colour), SPX_BLEND_FINE (the variance blend with the
 // alpha times spectex_fade(lam), lam the layer's isotropic lambda; unused
-// by the other blends). Pass a constant and the branches fold away.
+// by the other blends) or SPX_BLEND_COVER (the variance blend with the alpha
+// raised to 1 - (1 - a) spectex_fade(lam): the layers before it fade out
+// where their periods shrink to a few pixels). Pass a constant and the
+// branches fold away.
 vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float lam) {
     float a = x.a * opacity;
     if (blend == SPX_BLEND_FIRST) {
@@ -231,6 +234,8 @@ vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float la
         return 2.0 * x.rgb * c;
     } else if (blend == SPX_BLEND_FINE) {
         a *= spectex_fade(lam);
+    } else if (blend == SPX_BLEND_COVER) {
+        a = 1.0 - (1.0 - a) * spectex_fade(lam);
     }
     return mean + (a * (x.rgb - mean) + (1.0 - a) * (c - mean)) / sqrt(a * a + (1.0 - a) * (1.0 - a));
 }
