@@ -44,7 +44,9 @@ def main(argv):
     scene.cycles.samples = int(samples)
     scene.cycles.use_denoising = False
     scene.cycles.use_adaptive_sampling = False
-    scene.cycles.filter_width = 1.0  # Blackman-Harris 1 px: nearest to spectex's anti-aliased picture (measured)
+    # a box of 1 px: each pixel the mean of the linear light over its square (the test's reference is that)
+    scene.cycles.pixel_filter_type = "BOX"
+    scene.cycles.filter_width = 1.0
     scene.render.threads_mode = "FIXED"
     scene.render.threads = 2
     scene.render.resolution_x, scene.render.resolution_y = int(width), int(height)
