@@ -105,9 +105,9 @@ def export(texture, output, *, formats=None) -> ExportResult:
         For a bad texture, format list or folder; nothing is written then,
         and a failure while writing leaves ``output`` as it was.
     """
-    from .._version import __version__
     from spectex.texture import SpectralTexture
 
+    from .._version import __version__
     from ._output import MANIFEST, file_hashes, output_folder
 
     if not isinstance(texture, SpectralTexture):

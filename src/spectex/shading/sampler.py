@@ -48,10 +48,20 @@ import numba
 import numpy as np
 
 from .._validate import check_choice, check_float, check_image
-from .constants import (DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_ALIASES, FILTER_LINEAR,
-                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_LINEAR_MIPMAP_NEAREST,
-                        FILTER_NEAREST_MIPMAP_NEAREST, FILTERS, LOD_FLOOR, WRAP_CLAMP_TO_EDGE,
-                        WRAP_MODES, WRAP_REPEAT)
+from .constants import (
+    DEFAULT_MAX_LOD,
+    DEFAULT_MIN_LOD,
+    FILTER_ALIASES,
+    FILTER_LINEAR,
+    FILTER_LINEAR_MIPMAP_LINEAR,
+    FILTER_LINEAR_MIPMAP_NEAREST,
+    FILTER_NEAREST_MIPMAP_NEAREST,
+    FILTERS,
+    LOD_FLOOR,
+    WRAP_CLAMP_TO_EDGE,
+    WRAP_MODES,
+    WRAP_REPEAT,
+)
 
 __all__ = [
     "WRAP_MODES",
