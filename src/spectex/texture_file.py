@@ -150,10 +150,13 @@ def save(texture, path) -> Path:
     return path
 
 
-def load(path):
-    """Read a texture file written by :func:`save` (or by hand) as a ``SpectralTexture``.
+def load(path, *, texture_type):
+    """Read a texture file written by :func:`save` (or by hand) as a ``texture_type``.
 
     Every field is checked; an error names the field and the file.
+    ``texture_type`` is :class:`spectex.texture.SpectralTexture` (whose
+    ``load`` calls this); this module knows the format, not the class, so
+    that the import runs one way only (``texture`` -> ``texture_file``).
     """
     from ._output import check_input_file, note_input
 
@@ -173,9 +176,30 @@ def load(path):
     except RecursionError:  # a nesting that _check_nesting could not see (inside an odd string): same answer
         raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}") from None
     try:
-        return from_dict(doc, base=path.parent)
+        return from_dict(doc, base=path.parent, texture_type=texture_type)
     except (ValueError, TypeError) as exc:
         raise ValueError(f"texture file '{path}': {exc}") from None
+
+
+def named_files(path) -> list[Path]:
+    """The texture file and the tile files it names, resolved, as far as the file can be read.
+
+    For keeping outputs apart from inputs before anything is read in earnest:
+    a file that cannot be read, or names no tiles, gives what it can (the
+    loader says what is wrong with it).
+    """
+    inputs = [Path(path).resolve()]
+    try:
+        if Path(path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
+            text = Path(path).read_text(encoding="utf-8")
+            _check_nesting(text, path)
+            doc = tomllib.loads(text)
+            names = doc.get("tiles", []) if isinstance(doc, dict) else []
+            names = names if isinstance(names, list) else []
+            inputs += [(Path(path).parent / n).resolve() for n in names[:64] if isinstance(n, str)]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ValueError, RecursionError):
+        pass  # the texture's own loader says what is wrong with it
+    return inputs
 
 
 def _check_nesting(text: str, path) -> None:
@@ -211,10 +235,12 @@ def _check_nesting(text: str, path) -> None:
             depth = max(depth - 1, 0)
 
 
-def from_dict(doc: dict, *, base="."):
-    """A ``SpectralTexture`` from the parsed file contents; tile paths are relative to ``base``."""
-    from .texture import SpectralTexture
+def from_dict(doc: dict, *, base=".", texture_type):
+    """A ``texture_type`` from the parsed file contents; tile paths are relative to ``base``.
 
+    ``texture_type`` is :class:`spectex.texture.SpectralTexture`; its
+    ``layer_type`` (:class:`spectex.texture.Layer`) checks and holds each layer.
+    """
     version = _check_header(doc)
     _check_stochastic_table(doc, version)
     bits = doc.get("bits", 8)
@@ -225,9 +251,9 @@ def from_dict(doc: dict, *, base="."):
     if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
         raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
     tiles = _read_tiles(names, base)
-    layers = _layers_from_doc(doc, version)
+    layers = _layers_from_doc(doc, version, texture_type.layer_type)
     try:
-        return SpectralTexture(tiles, layers, bits=8 if bits == 8 else None)
+        return texture_type(tiles, layers, bits=8 if bits == 8 else None)
     except (ValueError, TypeError) as exc:
         msg = str(exc)
         raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
@@ -300,18 +326,17 @@ def _read_tiles(names, base) -> list[np.ndarray]:
     return tiles
 
 
-def _layers_from_doc(doc, version) -> list:
+def _layers_from_doc(doc, version, layer_type) -> list:
     """The ``[[layers]]`` as ``Layer`` objects; an error names the layer and its field."""
     raw_layers = doc["layers"]
     if not isinstance(raw_layers, list) or not raw_layers:
         raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
     allowed = set(_LAYER_FIELDS if version == 1 else _LAYER_FIELDS_V2)
-    return [_layer_from_entry(i, entry, allowed, "stochastic" in doc) for i, entry in enumerate(raw_layers)]
+    return [_layer_from_entry(i, entry, allowed, "stochastic" in doc, layer_type)
+            for i, entry in enumerate(raw_layers)]
 
 
-def _layer_from_entry(i, entry, allowed, has_stochastic_table):
-    from .texture import Layer
-
+def _layer_from_entry(i, entry, allowed, has_stochastic_table, layer_type):
     if not isinstance(entry, dict):
         raise ValueError(f"field 'layers[{i}]' must be a table, got {_show(entry)}")
     extra = sorted(set(entry) - allowed)
@@ -325,7 +350,7 @@ def _layer_from_entry(i, entry, allowed, has_stochastic_table):
     if entry.get("tiling") == "stochastic" and not has_stochastic_table:
         raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
     try:
-        return Layer(**entry)
+        return layer_type(**entry)
     except (ValueError, TypeError) as exc:
         field, _, rest = str(exc).partition(" ")
         raise ValueError(f"field 'layers[{i}].{field}' {rest}") from None
