@@ -8,7 +8,7 @@ a different number.
 
 Adding a layer blend or a tiling mode starts here: append its name to
 :data:`BLENDS` or :data:`TILINGS` (the code is the index), then give it one
-branch in ``shading/layers.py`` and one in ``shading/shaders/spectex_layers.glsl``.
+branch in ``shading/_layers.py`` and one in ``shading/shaders/spectex_layers.glsl``.
 """
 
 from __future__ import annotations

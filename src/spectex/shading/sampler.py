@@ -5,7 +5,7 @@ specification written down in ``docs/sampling.md`` (one texture: texels,
 wrapping, filters, level of detail, anisotropy); the GLSL layer library
 (``shading/shaders/spectex_layers.glsl``) leaves the same steps to the GPU's
 texture unit, and the tests compare the two. It is the bottom of the
-shading core: ``shading.layers`` samples each layer through it.
+shading core: ``shading._layers`` samples each layer through it.
 
 What it implements, from the OpenGL 4.6 core specification, section 8.14
 ("Texture Minification") and 8.15 ("Texture Magnification"):
