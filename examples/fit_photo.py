@@ -1,14 +1,14 @@
 """Fit a spectral texture to a photo (the paper's future work), and bake it beyond the photo.
 
-scikit-image's gravel (left) is fitted by ``spectex.fit``: a tile made from
-the photo, layer scales, opacities and an alpha that match the photo's band
-power, colour histograms and cross-scale dependence, with stochastic layers
-(the default), so that it never repeats. Second: the fitted texture baked
-at the photo's scale; third: baked over 8 times the area (about 2.8 times
-the side, shown at the same size), where the coarser layers continue the
-photo's spectrum. Right, the control: the same fit with periodic layers
-(``tiling="periodic"``), the same 8 times the area, where the tile's repeat
-shows as a lattice. Each bake of 8 times the area is labelled with its
+scikit-image's gravel (left) is fitted by ``spectex.fit``: the finest layer
+is a tile made from the photo, drawn stochastically with sharp blend weights
+(no cross-faded double stones), the coarser layers a noise tile of their own
+that continues the photo's spectrum to larger scales (never the photo
+magnified), colours matched to the photo's histograms. Second: the fitted
+texture baked at the photo's scale; third: baked over 8 times the area
+(about 2.8 times the side, shown at the same size). Right, the control: the
+old fit (``method="legacy"``) over the same 8 times the area, whose coarse
+layers are the photo magnified (blotches, ghost stones). Each bake of 8 times the area is labelled with its
 ``spectex.metrics.repeat_peak`` (<= 0.1: it does not repeat).
 
 Run: ``python examples/fit_photo.py [OUT] [--size N]``.
@@ -43,15 +43,15 @@ def picture(size: int = 256, seed: int = 0) -> np.ndarray:
     side = int(round(size * np.sqrt(8.0)))
     idx = np.minimum((np.arange(size) * side) // size, side - 1)
     images, labels = [photo], ["photo (gravel)"]
-    for tiling in ("auto", "periodic"):
-        texture = spectex.fit(photo, pixel_size=0.01, rng=seed, tiling=tiling)
-        if tiling == "auto":
+    for method in ("auto", "legacy"):
+        texture = spectex.fit(photo, pixel_size=0.01, rng=seed, method=method)
+        if method == "auto":
             images.append(texture.bake((size, size), pixel_size=0.01))
             labels.append("fit, at the photo scale")
         far = texture.bake((side, side), pixel_size=0.01)
         peak = repeat_peak(far, min_lag=min(24, side // 2))
         images.append(far[idx][:, idx])  # nearest, so that no detail is smoothed away
-        name = "fit" if tiling == "auto" else "periodic fit"
+        name = "fit" if method == "auto" else "old fit (legacy)"
         labels.append(f"{name}, 8x area: repeat_peak {peak:.2f}")
     return montage(images, labels)
 

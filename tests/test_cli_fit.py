@@ -12,7 +12,8 @@ from spectex.texture import SpectralTexture
 
 skdata = pytest.importorskip("skimage.data")
 
-FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+         "histograms.png")
 
 
 @pytest.fixture
@@ -56,6 +57,25 @@ def test_cli_fit_writes_the_folder(photos, capsys):
     assert _leftovers(photos) == []
 
 
+def test_cli_fit_says_the_scale_it_assumed(photos, capsys):
+    # no scale given: a photo 1.5 m across, said on stdout and in texture.toml; --photo-size sets it;
+    # --pixel-size and --photo-size together are refused
+    out = photos / "scaled"
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "assumed the photo is 1.5 m across" in text
+    assert "1.5 m across" in (out / "texture.toml").read_text()
+    tex = SpectralTexture.load(out / "texture.toml")
+    assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 1.5 / 96)
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(out), "--photo-size", "0.96"]) == 0
+    assert "assumed" not in capsys.readouterr().out
+    tex = SpectralTexture.load(out / "texture.toml")
+    assert tex.layers[0].size == pytest.approx(tex.tile_shape[1] * 0.01)
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(photos / "gravel.png"), "-o", str(out), "--photo-size", "1", "--pixel-size", "0.01"])
+    assert exc.value.code == 2
+
+
 def test_cli_fit_conversions_said(photos, capsys):
     out = photos / "strip_fit"
     assert main(["fit", str(photos / "strip.png"), "-o", str(out)]) == 0
@@ -84,7 +104,7 @@ def test_cli_fit_bad_input_leaves_nothing(photos, capsys, photo, match):
 
 def test_cli_fit_bad_options(photos, capsys):
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "o"), "--opacity", "1.5"]) == 2
-    assert "opacity must be <= 1" in error_line(capsys)
+    assert "--opacity must be between 0.001 and 1, got 1.5" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "gravel.png")]) == 2
     assert "must be a folder" in error_line(capsys)
     assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "no" / "such")]) == 2

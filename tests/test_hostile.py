@@ -57,7 +57,8 @@ EXPORT_FILES = ("index.html", "spectex-export.json", "glsl/README.md", "glsl/spe
                 "glsl/spectex_uniforms.js", "glsl/tile.png", "glsl/spectex_layers.es300.glsl",
                 "glsl/spectex_layers.330.glsl", "glsl/ground.es300.vert", "glsl/ground.es300.frag",
                 "glsl/ground.330.vert", "glsl/ground.330.frag", *(f"glsl/mips/tile.level{d}.png" for d in range(5)))
-FIT_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+FIT_FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+             "histograms.png")
 TEMP = re.compile(r"\.part|^\.spectex|^\.tmp")
 
 
@@ -217,7 +218,7 @@ def _sparse_huge_text(folder):
 
 def _mkdir_with_photo(folder):
     (folder / "out").mkdir()
-    shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile.png")
+    shutil.copyfile(folder / "img.png", folder / "out" / "texture.tile0.png")
 
 
 def _link_in_demo(folder):
@@ -345,7 +346,7 @@ CASES = [
     Case("text-C-o-C", ("text", "c.txt", "-o", "c.txt"), 2, SAME),
     Case("text-C-o-link-to-C", ("text", "c.txt", "-o", "clink.txt"), 2, SAME),
     Case("render-o-own-tile", ("render", "tex.toml", *CAMERA, "-o", "tex.tile.png"), 2, SAME),
-    Case("fit-folder-holds-photo", ("fit", "out/texture.tile.png", "-o", "out"), 2, SAME,
+    Case("fit-folder-holds-photo", ("fit", "out/texture.tile0.png", "-o", "out"), 2, SAME,
          setup=_mkdir_with_photo),
     # --- links, folders and special files as outputs
     Case("noise-o-link-writes-target", ("noise", "perlin", "--size", "16", "-o", "plink.png"), 0,
@@ -805,10 +806,10 @@ def test_texture_file_limits_are_fast(tmp_path):
     from spectex.texture import SpectralTexture
 
     load = SpectralTexture.load
-    texture = SpectralTexture.paper_preset(tile_size=16)
-    texture.save(tmp_path / "t.toml")
+    preset = SpectralTexture.paper_preset(tile_size=16)
+    preset.save(tmp_path / "t.toml")
     toml = (tmp_path / "t.toml").read_text()
-    assert load(tmp_path / "t.toml") == texture  # the control
+    assert load(tmp_path / "t.toml") == preset  # the control
     (tmp_path / "deep.toml").write_text("a = " + "[" * 1000 + "]" * 1000)
     (tmp_path / "deep_ok.toml").write_text('s = "' + "[" * 1000 + '"\n' + toml)  # brackets in a string: fine
     (tmp_path / "many.toml").write_text(toml + "\n[[layers]]\ntile = 0\nsize = 1.0\n" * 100000)

@@ -8,6 +8,7 @@ from scipy.special import ndtr
 
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
+from spectex.shading.constants import SHARP_LOD, WEIGHT_SQUARINGS
 from spectex.shading.stochastic import (
     GAUSS_SCALE,
     LUT_SIZE,
@@ -65,6 +66,12 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
              (np.where(lower, ci, ci + 1), np.where(lower, cj + 1, cj), np.where(lower, fy, 1 - fy))]
     key = np.uint32(lowbias32(np.uint32(seed)))
     lam = np.clip(lod, 0.0, q)
+    # the sharpened weights: w^(2^WEIGHT_SQUARINGS), renormalised to sum 1, up to SHARP_LOD, then
+    # mixed linearly into the barycentric ones by SHARP_LOD + 1
+    power = 2 ** WEIGHT_SQUARINGS
+    total = sum(w ** power for _, _, w in verts)
+    mix = np.clip(lam - SHARP_LOD, 0.0, 1.0)
+    verts = [(vi, vj, w ** power / total + mix * (w - w ** power / total)) for vi, vj, w in verts]
     d1 = np.minimum(np.floor(lam).astype(np.int64), q)
     beta = (lam - d1)[..., None]
     acc = 0.0

@@ -21,12 +21,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._results import AsDict
-from ._validate import check_float, check_image, check_int, check_rng
+from ._validate import check_choice, check_float, check_image, check_int, check_rng
 from .analysis import cross_scale
 from .color import luma
 
 __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak", "MIN_SIZE", "MAX_ANALYSIS_SIZE",
-           "STRUCTURED_PEAK", "FIT_TILINGS"]
+           "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
 MIN_SIZE = 32
@@ -50,6 +50,9 @@ STOCHASTIC_ROUNDS = 2
 STOCHASTIC_REGIONS = 6
 #: The fit's tiling choices (see :func:`fit`).
 FIT_TILINGS = ("auto", "stochastic", "periodic")
+#: The fit's methods: ``"auto"`` (the default, issue 22's design) and ``"legacy"`` (the fit before it,
+#: kept only so that ``benchmarks/bench_fit_quality.py`` can compare; not for new work).
+FIT_METHODS = ("auto", "legacy")
 
 
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
@@ -357,12 +360,35 @@ def _pick_gain(gains, values, target) -> float:
     return float(gains[best])
 
 
-def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-        iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-        tiling: str = "auto", patch: float | None = None, progress=None):
+def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+        ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+        tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+        patch: float | None = None, method: str = "auto", progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
-    The texture is ``layers`` layers of one seamless RGBA tile made from the
+    **The default, ``method="auto"``** (issue 22; ``spectex._fit_auto`` and
+    ``docs/fitting.md``): each layer carries only what the photo says at its
+    scale. The finest layer is a tile of the photo: for a structured photo
+    (:func:`structure_peak` >= :data:`STRUCTURED_PEAK` and a period along x
+    or y in its autocorrelation) a periodic tile of whole periods cut where
+    its wrap edges show least, kept unless a trial bake of the stochastic
+    alternative is clearly closer by the structural distance
+    (:func:`spectex.metrics.structural_distance`); otherwise the photo's
+    seamless crop or a tileable quilt with a reuse penalty, drawn
+    stochastically with sharpened blend weights (no cross-faded double
+    images). The coarser layers draw a second tile, random-phase noise that
+    continues the photo's spectrum below its lowest frequency, on the main
+    axis of its low-passed colours (never the photo magnified), alpha-blended
+    at a low opacity (0.1). The tile's colours end with the exact
+    histogram step, inside the photo's range. Scale: ``pixel_size``, or
+    ``photo_size`` (metres across the photo's longer side), or, with
+    neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
+    result's notes).
+
+    **``method="legacy"``**, the fit before issue 22, kept only so that
+    ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
+    this text describes (pixel size 1 m by default, opacity 0.2, 3
+    iterations). The texture is ``layers`` layers of one seamless RGBA tile made from the
     exemplar. Its finest layer shows the tile texel for exemplar pixel
     (size ``tile_px * pixel_size``, no offset or rotation), each next layer
     is ``ratio`` times larger (rotated by the golden angle and offset, so
@@ -431,17 +457,23 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
         The exemplar, values in [0, 1] (integers scaled by their dtype's
         maximum); see :func:`prepare_exemplar` for the conversions (grey,
         alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
-    pixel_size : float
+    pixel_size : float, optional
         World size of one exemplar pixel (metres); ``texture.bake(shape,
         pixel_size=pixel_size)`` then renders at the exemplar's scale.
+        Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
+    photo_size : float, optional
+        Metres across the photo's longer side (not with ``pixel_size``);
+        default 1.5 (a photo of ground taken standing). Method "auto" only.
+    method : {"auto", "legacy"}
+        The fit (see above); "legacy" only for comparisons.
     layers : int
         Number of layers, 2 to 8.
     ratio : float
         Size ratio between neighbouring layers, > 1 (4: two octaves).
-    opacity : float
-        Opacity of the first coarse layer, in (0, 1].
-    iterations : int
-        Rounds of the band-power step, >= 1.
+    opacity : float, optional
+        Opacity of the first coarse layer, in (0, 1]; default 0.1 (legacy 0.2).
+    iterations : int, optional
+        Rounds of the band-power step, >= 1; default 2 (legacy 3).
     tile_size : int, optional
         Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
         exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
@@ -490,15 +522,16 @@ def fit(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, 
     .. [6] E. Heitz and F. Neyret, "High-performance by-example noise using
        a histogram-preserving blending operator", Proc. ACM CGIT 1(2), 2018.
     """
-    kwargs = dict(pixel_size=pixel_size, layers=layers, ratio=ratio, opacity=opacity, iterations=iterations,
-                  tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch, progress=progress,
-                  rng=rng)
+    kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
+                  iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
+                  method=method, progress=progress, rng=rng)
     return fit_result(image, **kwargs).texture
 
 
-def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
-               iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
-               tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
+def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
+               ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
+               tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
+               patch: float | None = None, method: str = "auto", progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -513,6 +546,25 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
         parameters: tile size and method, layer opacities, alpha gain, band
         gains, the band error of each step, tilings, ...) and ``seconds``.
     """
+    method = check_choice("method", method, FIT_METHODS)
+    if method == "legacy":
+        if photo_size is not None:
+            raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
+        return _fit_legacy(image, pixel_size=1.0 if pixel_size is None else pixel_size, layers=layers,
+                           ratio=ratio, opacity=0.2 if opacity is None else opacity,
+                           iterations=3 if iterations is None else iterations, tile_size=tile_size,
+                           max_size=max_size, rng=rng, tiling=tiling, patch=patch, progress=progress)
+    from ._fit_auto import fit_auto
+
+    return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
+                    opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
+                    tiling=tiling, patch=patch, progress=progress)
+
+
+def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float = 4.0, opacity: float = 0.2,
+                iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
+                tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
+    """The fit before issue 22 (``method="legacy"``), kept only so that benchmarks can compare."""
     import time
 
     from .tiles import make_seamless
@@ -524,7 +576,6 @@ def fit_result(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float 
     opacity = check_float("opacity", opacity, minimum=0.0, maximum=1.0, exclusive_minimum=True)
     iterations = check_int("iterations", iterations, minimum=1, maximum=50)
     rng = check_rng(rng)
-    from ._validate import check_choice
     from .shading.constants import DEFAULT_PATCH
 
     tiling = check_choice("tiling", tiling, FIT_TILINGS)
@@ -734,7 +785,10 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
         view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
-        coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
+        try:
+            coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
+        except ValueError:  # a view too small to show any magnification: nothing measured
+            coarse = None
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
         band_power_distance_db=band_power_distance(exemplar, bake),

@@ -188,6 +188,27 @@ class Layer:
         return m[0, 0] * dx + m[0, 1] * dy, m[1, 0] * dx + m[1, 1] * dy
 
 
+#: The stochastic tables of the last few tiles, by content: a fit builds many textures that share a
+#: tile (its coarse layers' one), and the tables are a deterministic function of the texels.
+_TABLES = {}
+_TABLES_KEPT = 4
+
+
+def _cached_tables(tile):
+    import hashlib
+
+    from .shading.stochastic import stochastic_tables
+
+    key = (tile.shape, tile.dtype.str, hashlib.blake2b(np.ascontiguousarray(tile).data, digest_size=16).digest())
+    tables = _TABLES.pop(key, None)
+    if tables is None:
+        tables = stochastic_tables(tile)
+    _TABLES[key] = tables  # most recent last
+    while len(_TABLES) > _TABLES_KEPT:
+        del _TABLES[next(iter(_TABLES))]
+    return tables
+
+
 def _as_layer(i, value) -> Layer:
     if isinstance(value, Layer):
         return value
@@ -449,9 +470,7 @@ class SpectralTexture:
         tile's texels (what a file stores rebuilds them exactly).
         """
         if self._stochastic is None:
-            from .shading.stochastic import stochastic_tables
-
-            self._stochastic = [stochastic_tables(tile) for tile in self.tiles]
+            self._stochastic = [_cached_tables(tile) for tile in self.tiles]
         return self._stochastic
 
     def stochastic_store(self, *, mipmaps=True):

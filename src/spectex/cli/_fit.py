@@ -12,11 +12,12 @@ def register(subparsers) -> None:
         description=(
             "Analyse a photograph of a texture (power per octave, colour histograms, cross-scale "
             "dependence) and fit a layered spectral texture to it: a seamless tile made from the "
-            "photograph, layer scales that continue its spectrum to coarser scales, an alpha "
-            "channel that reproduces how its fine detail depends on the coarse bands, and tile "
-            "colours that give its histograms. Writes into DIR: texture.toml and "
-            "texture.tile.png (load with spectex render/view), comparison.png (exemplar | render "
-            "at the same scale | render of 8x the area), band_power.png and histograms.png. "
+            "photograph for the finest layer (cut at the structure's period for bricks or paving), "
+            "coarser layers of their own noise tile that continue its spectrum to larger scales, "
+            "and tile colours that give its histograms. The photo is assumed 1.5 m across unless "
+            "--photo-size or --pixel-size says otherwise. Writes into DIR: texture.toml, "
+            "texture.tile0.png and texture.tile1.png (load with spectex render/view), comparison.png "
+            "(exemplar | render at the same scale | render of 8x the area), band_power.png and histograms.png. "
             "Conversions: grey is repeated into RGB, an alpha channel is dropped, 16-bit keeps "
             "its precision, images over 512 pixels on a side are analysed on their central "
             "512 x 512 crop (said in the output). Nothing is written if anything fails."
@@ -25,15 +26,20 @@ def register(subparsers) -> None:
     p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",
                    help="the exemplar photograph (PNG, JPEG, ..., or .npy)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True, metavar="DIR",
-                   help="output folder (made if missing; in an existing folder the five files replace "
+                   help="output folder (made if missing; in an existing folder the six files replace "
                         "the earlier ones only when all are complete, and other files are left alone)")
-    p.add_argument("--pixel-size", type=_common.positive_float, default=1.0,
-                   help="world size of one photograph pixel, metres, 1e-6 to 1e5 (default: 1)")
+    scale = p.add_mutually_exclusive_group()
+    scale.add_argument("--pixel-size", type=_common.positive_float, default=None,
+                       help="world size of one photograph pixel, metres, 1e-6 to 1e5 (default: from "
+                            "--photo-size)")
+    scale.add_argument("--photo-size", type=_common.positive_float, default=None,
+                       help="world width of the photograph's longer side, metres (default: 1.5, a photo of "
+                            "ground taken standing; the report says what was assumed)")
     p.add_argument("--layers", type=_common.positive_int, default=5, help="number of layers, 2 to 8 (default: 5)")
     p.add_argument("--ratio", type=_common.positive_float, default=4.0,
                    help="size ratio between neighbouring layers (default: 4)")
-    p.add_argument("--opacity", type=_common.positive_float, default=0.2,
-                   help="opacity of the first coarse layer (default: 0.2)")
+    p.add_argument("--opacity", type=_common.positive_float, default=None,
+                   help="opacity of the first coarse layer (default: 0.1)")
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     _common.add_normalize(p)
     p.set_defaults(func=run)
@@ -47,7 +53,9 @@ MIN_OPACITY = 1e-3
 #: Beyond these the fit is reported as a poor match (``compare`` calls W1 <= 0.03 and <= 1.5 dB close).
 POOR_W1, POOR_BAND_DB = 0.1, 6.0
 
-_FILES = ("texture.toml", "texture.tile.png", "comparison.png", "band_power.png", "histograms.png")
+#: The fit's texture has two tiles: the photo's (the finest layer) and the coarse layers' own.
+_FILES = ("texture.toml", "texture.tile0.png", "texture.tile1.png", "comparison.png", "band_power.png",
+          "histograms.png")
 
 
 def _plots(folder, exemplar, same, large):
@@ -78,47 +86,56 @@ def _write_fast_png(path, image):
 def run(args) -> int | None:
     import math
     import time
+    from pathlib import Path
 
     from spectex._output import OutputSet
     from spectex.fitting import fit_result, prepare_exemplar
     start = time.perf_counter()
-    if not MIN_OPACITY <= args.opacity <= 1.0:  # a denormal opacity ran for minutes (fuzz_hostile)
+    # a denormal opacity ran for minutes (fuzz_hostile)
+    if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
         raise ValueError(f"--opacity must be between {MIN_OPACITY:g} and 1, got {args.opacity:g}")
-    if not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
+    if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
-    # Every file checked before the work (none may be the photo); all five replace the earlier
+    # Every file checked before the work (none may be the photo); all six replace the earlier
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     out = outputs.path
     photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
-    exemplar, notes = prepare_exemplar(photo)
+    exemplar, _ = prepare_exemplar(photo)
     with _common.Progress("fitting") as bar:
-        result = fit_result(photo, pixel_size=args.pixel_size, layers=args.layers, ratio=args.ratio,
-                     opacity=args.opacity,
-                     rng=args.seed, progress=bar)
+        result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
+                            ratio=args.ratio, opacity=args.opacity, rng=args.seed, progress=bar)
+    pixel_size = result.pixel_size
+    if not MIN_PIXEL_SIZE <= pixel_size <= MAX_PIXEL_SIZE:
+        raise ValueError(f"--photo-size gives a pixel size of {pixel_size:g} m, outside {MIN_PIXEL_SIZE:g} to "
+                         f"{MAX_PIXEL_SIZE:g} metres")
     fit_seconds = time.perf_counter() - start
     texture = result.texture
     h, w = exemplar.shape[:2]
-    same = texture.bake((h, w), pixel_size=args.pixel_size)
+    same = texture.bake((h, w), pixel_size=pixel_size)
     side = math.sqrt(8.0)
-    large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=args.pixel_size)
+    large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=pixel_size)
     # the numbers, on the render of 8x the area that comparison.png shows
     from spectex.fitting import fit_report
 
-    numbers = fit_report(texture, photo, pixel_size=args.pixel_size, bake=large)
+    numbers = fit_report(texture, photo, pixel_size=pixel_size, bake=large)
 
     with outputs as stage:
         texture.save(stage / "texture.toml")
+        # the scale the fit assumed or was given, as a comment in the texture file itself
+        with open(stage / "texture.toml", "a", encoding="utf-8") as fh:
+            fh.write(f"\n# spectex fit of {Path(args.exemplar).name}: {result.params['scale']}\n")
         _write_fast_png(stage / "comparison.png", _comparison(exemplar, same, large))
         _plots(stage, exemplar, same, large)
-    for note in notes:
+    for note in result.notes:  # the conversions and the scale assumed
         _common.report(f"note: {note}")
     pr = result.params
     _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
-                   f"{args.exemplar} in {fit_seconds:.1f} s (pixel size {args.pixel_size:g} m)")
+                   f"{args.exemplar} in {fit_seconds:.1f} s")
+    _common.report(f"  scale: {pr['scale']}")
     _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
-                   f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; alpha gain {pr['alpha_gain']:+.2f}")
+                   f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; finest tile: {pr['tile_method']}")
     w1 = max(numbers.histogram_w1)
     _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "

@@ -37,7 +37,7 @@ from .constants import (
     TILING_STOCHASTIC,
 )
 from .sampler import sample_grad
-from .stochastic import lut_lookup, sample_stochastic_grad, triangle_vertices, vertex_offset
+from .stochastic import lut_lookup, sample_stochastic_grad, sharpen_weights, triangle_vertices, vertex_offset
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
@@ -294,6 +294,7 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         beta = np.float32(lam - fd)
         d1 = np.int64(fd)
         i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+        w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
         ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0)
         r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
         ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0)

@@ -18,7 +18,7 @@ __all__ = [
     "FADE_START", "FADE_END",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
-    "HASH_MUL1", "HASH_MUL2",
+    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -54,6 +54,18 @@ GAUSS_SCALE = 0.1
 LUT_SIZE = 1024
 #: Rows of the sampled table per mip level step (``stochastic.expand_lut``).
 LUT_SUBROWS = 8
+#: The stochastic blend's weights are the barycentric weights raised to the power
+#: ``2 ** WEIGHT_SQUARINGS`` (squared this many times) and renormalised to sum 1: sharper
+#: transitions between the three patches, so that most of a triangle shows one patch at full
+#: contrast instead of a cross-fade of two or three (the double images of a linear blend;
+#: Mikkelsen, JCGT 11(1) 2022, and Burley, JCGT 8(4) 2019, raise the weights to a power too).
+#: 0 is Heitz and Neyret's linear weights. The variance-preserving normalisation keeps the
+#: histogram for any weights.
+WEIGHT_SQUARINGS = 3
+#: The sharpened weights hold up to this level of detail and give way to the barycentric ones by
+#: ``SHARP_LOD + 1`` (linearly in lambda): where a pixel covers 8 texels or more, a transition of
+#: a few texels would alias, and the footprint's average hides the double images anyway.
+SHARP_LOD = 2.0
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -126,6 +138,8 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_LUT_SUBROWS {LUT_SUBROWS}")
     lines.append(f"#define SPX_HASH_MUL1 {HASH_MUL1:#x}u")
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
+    lines.append(f"#define SPX_WEIGHT_SQUARINGS {WEIGHT_SQUARINGS}")
+    lines.append(f"#define SPX_SHARP_LOD {_glsl_number(SHARP_LOD)}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")
     lines.append(f"#define SPX_FADE_END {_glsl_number(FADE_END)}")

@@ -64,7 +64,7 @@ import numba
 import numpy as np
 
 from .._validate import check_float, check_image, check_seed
-from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS
+from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, SHARP_LOD, WEIGHT_SQUARINGS
 from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [
@@ -359,11 +359,37 @@ def vertex_offset(i, j, key, w0, h0):
 
 
 @_jit_inline
+def sharpen_weights(w1, w2, w3, lam):
+    """The blend's weights from the barycentric ones, at level of detail ``lam``.
+
+    Up to ``lam = SHARP_LOD``: raised to the power ``2 ** WEIGHT_SQUARINGS``
+    and renormalised to sum 1 (``constants.WEIGHT_SQUARINGS``): sharp
+    transitions between the patches, continuous, 1 at a vertex. From
+    ``SHARP_LOD + 1`` on: the barycentric weights themselves, whose wide
+    transitions a coarse pixel footprint cannot alias; in between, the
+    linear mix of the two (no popping). Sharper masks for the finer
+    levels, as in Wronski and Pesce's Laplacian-pyramid blending.
+    """
+    s1, s2, s3 = w1, w2, w3
+    for _ in range(WEIGHT_SQUARINGS):
+        s1 = s1 * s1
+        s2 = s2 * s2
+        s3 = s3 * s3
+    inv = 1.0 / (s1 + s2 + s3)
+    s1 *= inv
+    s2 *= inv
+    s3 *= inv
+    t = min(max(lam - SHARP_LOD, 0.0), 1.0)
+    return s1 + t * (w1 - s1), s2 + t * (w2 - s2), s3 + t * (w3 - s3)
+
+
+@_jit_inline
 def triangle_vertices(kx, ky):
     """The triangle of the skewed grid holding ``(kx, ky)``: its three vertices and barycentric weights.
 
     Returns ``i1, j1, w1, i2, j2, w2, i3, j3, w3`` (vertices relative to
-    the skewed grid's origin). The lower triangle of a cell (``fx + fy <
+    the skewed grid's origin; the weights barycentric, :func:`sharpen_weights`
+    makes the blend's). The lower triangle of a cell (``fx + fy <
     1``) has vertices (0, 0), (1, 0), (0, 1); the upper (1, 1), (0, 1),
     (1, 0).
     """
@@ -422,6 +448,7 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     decorrelation.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
     w0 = np.float64(widths[0])
     h0 = np.float64(heights[0])
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0)

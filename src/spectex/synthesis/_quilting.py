@@ -123,7 +123,7 @@ def _overlap_errors(f_ex, mask_terms, masked, fft_shape, valid, workers=1):
 
 
 def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, tolerance: float = 0.1,
-          rng=0, tileable: bool = False, progress=None) -> np.ndarray:
+          rng=0, tileable: bool = False, reuse: float = 0.0, progress=None) -> np.ndarray:
     """Synthesise a texture by image quilting (Efros and Freeman 2001).
 
     Square blocks of the exemplar are laid in raster order, each overlapping
@@ -143,6 +143,14 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     with the plain rule it would be the only candidate every time and the
     quilt would degenerate into copies of the exemplar; here it stays one
     candidate among the others within tolerance.
+
+    With ``reuse > 0`` no source block dominates: every placed block marks
+    the candidate positions within ``block // 2`` of its source (in both
+    directions) as used once more, and a candidate's error is raised by
+    ``reuse * s * uses`` before the choice, ``s`` the 1st percentile of the
+    block's candidate errors (the scale of a good match). ``reuse = 1``
+    doubles the error of a good candidate used once, so it drops out of the
+    tolerance while fresh ones are left.
 
     Speed: the exemplar's spectra are computed once, the mask terms once per
     mask shape, channels are summed in the Fourier domain and the template
@@ -177,6 +185,9 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
         first ones across the wrap edge (with their own boundary cuts), so
         the output tiles seamlessly. The block layout then spreads ``k``
         blocks evenly over the output (overlaps slightly larger than asked).
+    reuse : float
+        Penalty on reusing a source block (see above), >= 0; 0 (default)
+        is the plain choice. :func:`spectex.fit` uses 1.
     progress : callable, optional
         Called as ``progress(done, total)`` with counts of blocks.
 
@@ -213,6 +224,7 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     tolerance = check_float("tolerance", tolerance, minimum=0.0)
     rng = check_rng(rng)
     tileable = bool(tileable)
+    reuse = check_float("reuse", reuse, minimum=0.0, maximum=1e6)
     if tileable and 2 * overlap >= block:
         raise ValueError(f"overlap must be smaller than block/2={block / 2:g} for a tileable quilt, got {overlap}")
     eh, ew = ex.shape[:2]
@@ -257,10 +269,15 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     # 2 i + j are independent when overlap < block / 2: their errors are
     # computed in one batch of transforms. Tileable quilts (whose last blocks
     # depend on the first ones) and wide overlaps go block by block.
-    if _BATCH and not tileable and 2 * overlap < block:
+    # Without batching, the same order one block at a time (the reuse penalty depends on the order).
+    if not tileable and 2 * overlap < block:
         waves = [[(i, t - 2 * i) for i in range(ny) if 0 <= t - 2 * i < nx] for t in range(2 * (ny - 1) + nx)]
+        if not _BATCH:
+            waves = [[item] for wave in waves for item in wave]
     else:
         waves = [[(i, j)] for i in range(ny) for j in range(nx)]
+    uses = np.zeros((ph, pw), dtype=np.float32) if reuse > 0 else None
+    half = block // 2
     done = 0
     for wave in waves:
         items = []
@@ -309,7 +326,12 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                         if box is not None:
                             boxes.append(box)
                 boxes = np.array(boxes, dtype=np.int64).reshape(-1, 4)
+                if uses is not None and uses.any():
+                    scale = float(np.percentile(err, 1.0))
+                    err = err + np.float32(reuse * max(scale, 1e-12)) * uses
                 sy, sx = place_block(err, boxes, tolerance, float(uniform[i, j]), view, known, e3)
+            if uses is not None:
+                uses[max(sy - half, 0):sy + half + 1, max(sx - half, 0):sx + half + 1] += 1.0
             sources[(i, j)] = (int(sy), int(sx))
             fview[...] = True
             if ix is not None:

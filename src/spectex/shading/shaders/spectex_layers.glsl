@@ -155,6 +155,14 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     SPX_UINT hj = spectex_hash((j0 + d) ^ key);
     SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
     vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
+    // sharpened (stochastic.sharpen_weights): raised to the power 2^SPX_WEIGHT_SQUARINGS and
+    // renormalised up to lambda = SPX_SHARP_LOD, the barycentric weights from SPX_SHARP_LOD + 1 on
+    vec3 ws = w;
+    for (int k = 0; k < SPX_WEIGHT_SQUARINGS; k++) {
+        ws = ws * ws;
+    }
+    ws = ws * (1.0 / (ws.x + ws.y + ws.z));
+    w = ws + clamp(lam - SPX_SHARP_LOD, 0.0, 1.0) * (w - ws);
     vec2 inv_size = 1.0 / tex_size;
     vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size), lam);
     vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size), lam);
