@@ -117,7 +117,7 @@ def _time(fn, clock=time.perf_counter):
     return clock() - t
 
 
-def main(argv=None):
+def _parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=4_000_000,
                         help="number of points (a multiple of 16 for FastNoiseSIMD)")
@@ -134,6 +134,83 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.points % 16:
         parser.error(f"--points must be a multiple of 16, got {args.points}")
+    return args
+
+
+def _fns_worker(args, coords):
+    """The FastNoiseSIMD worker process, or None (with a note on stderr) where there is none."""
+    if args.fns_python is None:
+        print("FastNoiseSIMD column skipped: pass --fns-python PATH (or set SPECTEX_FNS_PYTHON) "
+              f"to a python with pyfastnoisesimd. Build one: {_BUILD_HINT}", file=sys.stderr)
+        return None
+    if not os.path.exists(args.fns_python):
+        print(f"FastNoiseSIMD column skipped: --fns-python {args.fns_python} does not exist. "
+              f"Build one: {_BUILD_HINT}", file=sys.stderr)
+        return None
+    return FastNoiseSIMD(args.fns_python, coords, args.clock)
+
+
+def _fnl_timer(FastNoiseLite, FractalType, NoiseType, data, octaves):
+    gen = FastNoiseLite(0)
+    gen.noise_type = NoiseType.NoiseType_Perlin
+    gen.frequency = 1.0
+    if octaves > 1:
+        gen.fractal_type = FractalType.FractalType_FBm
+        gen.fractal_octaves = octaves
+        gen.fractal_gain = 0.5
+        gen.fractal_lacunarity = 2.0
+    return lambda: gen.gen_from_coords(data)
+
+
+def _best_times(fns, fns_gen, octaves, repeats, clock):
+    """Best of ``repeats`` seconds per method, the methods taking turns within each repeat."""
+    for f in fns.values():
+        if f is not None:
+            f()  # warm-up (compilation, caches)
+    best = {k: float("inf") for k in fns}
+    for _ in range(repeats):
+        for k, f in fns.items():
+            # numba's OpenMP threads spin for some milliseconds after a
+            # parallel loop; on a machine with few cores that would slow
+            # whatever runs next, so each timing starts after a pause.
+            time.sleep(_PAUSE)
+            if k[0] == "FastNoiseSIMD":
+                s = fns_gen.time(octaves, k[1])
+            else:
+                s = _time(f, clock)
+            best[k] = min(best[k], s)
+    return best
+
+
+def _print_table(results, thread_counts, n, args, fns_gen):
+    load = os.getloadavg()
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+    if fns_gen is not None:
+        print(f"pyfastnoisesimd {fns_gen.info['version']}, {fns_gen.info['simd']}")
+    print(f"{n:,} float32 points in [0, 512), frequency 1, best of {args.repeats} "
+          f"({args.clock} clock); "
+          "ns per sample (lower is better); 'vs FNS' = FastNoiseSIMD's time / spectex's "
+          "(above 1: spectex is faster)\n")
+    print("| case | threads | spectex | FastNoiseSIMD | vs FNS | FastNoiseLite (1 thread) "
+          "| vs FNL | noise (loop) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    nan = float("nan")
+    for name, dims, octaves, ns in results.values():
+        for t in thread_counts:
+            ours = ns[("spectex", t)]
+            # FastNoiseSIMD has no 2-D genFromCoords: compare with its 3-D time.
+            peer = results.get("p3" if octaves == 1 else "f3")
+            fns_ns = peer[3].get(("FastNoiseSIMD", t), nan) if peer else nan
+            fns_txt = f"{fns_ns:.2f}" + (" (3-D)" if dims == 2 else "")
+            fnl_ns = ns.get(("FastNoiseLite", 1), nan)
+            loop_ns = ns.get(("noise", 1), nan)
+            print(f"| {name} | {t} | {ours:.2f} | {fns_txt} | **{fns_ns / ours:.2f}x** | "
+                  f"{fnl_ns:.2f} | {fnl_ns / ours:.1f}x | {loop_ns:.0f} |")
+
+
+def main(argv=None):
+    args = _parse_args(argv)
     thread_counts = [int(t) for t in args.threads.split(",")]
 
     import numba
@@ -156,27 +233,7 @@ def main(argv=None):
     c2 = np.ascontiguousarray(coords[:2])
 
     clock = time.process_time if args.clock == "cpu" else time.perf_counter
-    fns_gen = None
-    if args.fns_python is None:
-        print("FastNoiseSIMD column skipped: pass --fns-python PATH (or set SPECTEX_FNS_PYTHON) "
-              f"to a python with pyfastnoisesimd. Build one: {_BUILD_HINT}", file=sys.stderr)
-    elif not os.path.exists(args.fns_python):
-        print(f"FastNoiseSIMD column skipped: --fns-python {args.fns_python} does not exist. "
-              f"Build one: {_BUILD_HINT}", file=sys.stderr)
-    else:
-        fns_gen = FastNoiseSIMD(args.fns_python, coords, args.clock)
-
-    def fnl(dims, octaves):
-        gen = FastNoiseLite(0)
-        gen.noise_type = NoiseType.NoiseType_Perlin
-        gen.frequency = 1.0
-        if octaves > 1:
-            gen.fractal_type = FractalType.FractalType_FBm
-            gen.fractal_octaves = octaves
-            gen.fractal_gain = 0.5
-            gen.fractal_lacunarity = 2.0
-        data = c2 if dims == 2 else coords
-        return lambda: gen.gen_from_coords(data)
+    fns_gen = _fns_worker(args, coords)
 
     def loop(dims, octaves):
         m = args.loop_points
@@ -204,22 +261,9 @@ def main(argv=None):
                 if fns_gen is not None:
                     fns[("FastNoiseSIMD", t)] = None  # timed in the worker
             if FastNoiseLite is not None:
-                fns[("FastNoiseLite", 1)] = fnl(dims, octaves)
-            for f in fns.values():
-                if f is not None:
-                    f()  # warm-up (compilation, caches)
-            best = {k: float("inf") for k in fns}
-            for _ in range(args.repeats):
-                for k, f in fns.items():
-                    # numba's OpenMP threads spin for some milliseconds after a
-                    # parallel loop; on a machine with few cores that would slow
-                    # whatever runs next, so each timing starts after a pause.
-                    time.sleep(_PAUSE)
-                    if k[0] == "FastNoiseSIMD":
-                        s = fns_gen.time(octaves, k[1])
-                    else:
-                        s = _time(f, clock)
-                    best[k] = min(best[k], s)
+                fns[("FastNoiseLite", 1)] = _fnl_timer(FastNoiseLite, FractalType, NoiseType,
+                                                       c2 if dims == 2 else coords, octaves)
+            best = _best_times(fns, fns_gen, octaves, args.repeats, clock)
             numba.set_num_threads(default_threads)
             ns = {k: v / n * 1e9 for k, v in best.items()}
             if noise_pkg is not None:
@@ -230,31 +274,7 @@ def main(argv=None):
         if fns_gen is not None:
             fns_gen.close()
 
-    load = os.getloadavg()
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
-    if fns_gen is not None:
-        print(f"pyfastnoisesimd {fns_gen.info['version']}, {fns_gen.info['simd']}")
-    print(f"{n:,} float32 points in [0, 512), frequency 1, best of {args.repeats} "
-          f"({args.clock} clock); "
-          "ns per sample (lower is better); 'vs FNS' = FastNoiseSIMD's time / spectex's "
-          "(above 1: spectex is faster)\n")
-    print("| case | threads | spectex | FastNoiseSIMD | vs FNS | FastNoiseLite (1 thread) "
-          "| vs FNL | noise (loop) |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
-    nan = float("nan")
-    for name, dims, octaves, ns in results.values():
-        for t in thread_counts:
-            ours = ns[("spectex", t)]
-            # FastNoiseSIMD has no 2-D genFromCoords: compare with its 3-D time.
-            peer = results.get("p3" if octaves == 1 else "f3")
-            fns_ns = peer[3].get(("FastNoiseSIMD", t), nan) if peer else nan
-            fns_txt = f"{fns_ns:.2f}" + (" (3-D)" if dims == 2 else "")
-            fnl_ns = ns.get(("FastNoiseLite", 1), nan)
-            loop_ns = ns.get(("noise", 1), nan)
-            print(f"| {name} | {t} | {ours:.2f} | {fns_txt} | **{fns_ns / ours:.2f}x** | "
-                  f"{fnl_ns:.2f} | {fnl_ns / ours:.1f}x | {loop_ns:.0f} |")
-
+    _print_table(results, thread_counts, n, args, fns_gen)
 
 if __name__ == "__main__":
     main()

@@ -14,7 +14,7 @@ import spectex.export as ex
 from helpers import make_test_tile
 from spectex.cli import main
 from spectex.export import FORMATS, ExportResult, export, parse_formats
-from spectex.export._output import MANIFEST
+from spectex.export._folder import MANIFEST
 from spectex.texture import SpectralTexture
 
 

@@ -135,11 +135,81 @@ def _value(text: str, type_: str):
     return values[0] if type_ == "float" else values
 
 
+class _Graph:
+    """What the node rules need: the ground points, the graph's interface and its folder."""
+
+    def __init__(self, path, x, y, interface, v_up):
+        self.path, self.x, self.y, self.interface, self.v_up = path, x, y, interface, v_up
+
+    def vec(self, a):
+        a = np.asarray(a, dtype=np.float64)
+        return a if a.ndim == 2 else (a[:, None] if a.ndim == 1 and a.shape[0] == self.x.size else a[None, :])
+
+
+def _position(g, node, ins):
+    assert ins["space"] == "world"
+    u, v = g.interface["ground_u"], g.interface["ground_v"]
+    # world point of ground (x, y): x u + y v (u, v orthonormal here)
+    return g.x[:, None] * u[None, :] + g.y[:, None] * v[None, :]
+
+
+def _arithmetic(g, node, ins):
+    n = g.x.size
+    a, b = ins["in1"], ins["in2"]
+    a = a if np.ndim(a) != 1 or np.shape(a)[0] == n else np.asarray(a)[None, :]
+    b = b if np.ndim(b) != 1 or np.shape(b)[0] == n else np.asarray(b)[None, :]
+    a = a[:, None] if np.ndim(a) == 1 and np.ndim(b) == 2 else a
+    b = b[:, None] if np.ndim(b) == 1 and np.ndim(a) == 2 else b
+    ops = {"subtract": np.subtract, "add": np.add, "multiply": np.multiply, "divide": np.divide}
+    return ops[node.tag](a, b)
+
+
+def _mix(g, node, ins):  # bg (1 - mix) + fg mix
+    m = ins["mix"][:, None]
+    return g.vec(ins["bg"]) * (1.0 - m) + g.vec(ins["fg"]) * m
+
+
+def _convert(g, node, ins):
+    assert node.get("type") == "color3"
+    return ins["in"][:, :3]
+
+
+def _image(g, node, ins):
+    assert ins["uaddressmode"] == ins["vaddressmode"] == "periodic" and ins["filtertype"] == "linear"
+    tile = read_image(g.path.parent / ins["file"])
+    tex = MipTexture([tile], min_filter="linear", bits=None)
+    uv = ins["texcoord"]
+    t = 1.0 - uv[:, 1] if g.v_up else uv[:, 1]
+    return sample(tex, uv[:, 0], t, lod=0.0).astype(np.float64)
+
+
+#: What each node category computes from its inputs (MaterialX's standard nodes, as far as the export uses them).
+_NODE_RULES = {
+    "position": _position,
+    "dotproduct": lambda g, node, ins: np.sum(g.vec(ins["in1"]) * g.vec(ins["in2"]), axis=1),
+    "combine2": lambda g, node, ins: np.stack([np.broadcast_to(ins["in1"], g.x.shape),
+                                               np.broadcast_to(ins["in2"], g.x.shape)], axis=1),
+    "subtract": _arithmetic, "add": _arithmetic, "multiply": _arithmetic, "divide": _arithmetic,
+    "mix": _mix,
+    "combine3": lambda g, node, ins: np.stack([np.broadcast_to(ins[k], g.x.shape) for k in ("in1", "in2", "in3")],
+                                              axis=1),
+    "power": lambda g, node, ins: np.power(ins["in1"], ins["in2"]),
+    # in1 where value1 > value2, else in2
+    "ifgreater": lambda g, node, ins: np.where(ins["value1"] > ins["value2"], ins["in1"], ins["in2"]),
+    "sqrt": lambda g, node, ins: np.sqrt(ins["in"]),
+    "clamp": lambda g, node, ins: np.clip(ins["in"], ins["low"], ins["high"]),
+    "convert": _convert,
+    "extract": lambda g, node, ins: ins["in"][:, ins["index"]],
+    "image": _image,
+}
+
+
 def evaluate_graph(path: Path, x, y, *, v_up=True, output="stored"):
     root = ET.parse(path).getroot()
     graph = root.find("nodegraph[@name='NG_spectex_ground']")
     interface = {i.get("name"): _value(i.get("value"), i.get("type")) for i in graph.findall("input")}
     nodes = {n.get("name"): n for n in graph if n.tag not in ("input", "output") and isinstance(n.tag, str)}
+    g = _Graph(path, x, y, interface, v_up)
     cache = {}
 
     def inputs(node):
@@ -153,64 +223,18 @@ def evaluate_graph(path: Path, x, y, *, v_up=True, output="stored"):
                 out[i.get("name")] = _value(i.get("value"), i.get("type"))
         return out
 
-    def vec(a):
-        a = np.asarray(a, dtype=np.float64)
-        return a if a.ndim == 2 else (a[:, None] if a.ndim == 1 and a.shape[0] == x.size else a[None, :])
-
     def value_of(name):
         if name in cache:
             return cache[name]
         node = nodes[name]
-        cat, ins = node.tag, inputs(node)
-        if cat == "position":
-            assert ins["space"] == "world"
-            u, v = interface["ground_u"], interface["ground_v"]
-            # world point of ground (x, y): x u + y v (u, v orthonormal here)
-            r = x[:, None] * u[None, :] + y[:, None] * v[None, :]
-        elif cat == "dotproduct":
-            r = np.sum(vec(ins["in1"]) * vec(ins["in2"]), axis=1)
-        elif cat == "combine2":
-            r = np.stack([np.broadcast_to(ins["in1"], x.shape), np.broadcast_to(ins["in2"], x.shape)], axis=1)
-        elif cat in ("subtract", "add", "multiply", "divide"):
-            a, b = ins["in1"], ins["in2"]
-            a = a if np.ndim(a) != 1 or np.shape(a)[0] == x.size else np.asarray(a)[None, :]
-            b = b if np.ndim(b) != 1 or np.shape(b)[0] == x.size else np.asarray(b)[None, :]
-            a = a[:, None] if np.ndim(a) == 1 and np.ndim(b) == 2 else a
-            b = b[:, None] if np.ndim(b) == 1 and np.ndim(a) == 2 else b
-            r = {"subtract": np.subtract, "add": np.add, "multiply": np.multiply, "divide": np.divide}[cat](a, b)
-        elif cat == "mix":  # bg (1 - mix) + fg mix
-            m = ins["mix"][:, None]
-            r = vec(ins["bg"]) * (1.0 - m) + vec(ins["fg"]) * m
-        elif cat == "combine3":
-            r = np.stack([np.broadcast_to(ins[k], x.shape) for k in ("in1", "in2", "in3")], axis=1)
-        elif cat == "power":
-            r = np.power(ins["in1"], ins["in2"])
-        elif cat == "ifgreater":  # in1 where value1 > value2, else in2
-            r = np.where(ins["value1"] > ins["value2"], ins["in1"], ins["in2"])
-        elif cat == "sqrt":
-            r = np.sqrt(ins["in"])
-        elif cat == "clamp":
-            r = np.clip(ins["in"], ins["low"], ins["high"])
-        elif cat == "convert":
-            assert node.get("type") == "color3"
-            r = ins["in"][:, :3]
-        elif cat == "extract":
-            r = ins["in"][:, ins["index"]]
-        elif cat == "image":
-            assert ins["uaddressmode"] == ins["vaddressmode"] == "periodic" and ins["filtertype"] == "linear"
-            tile = read_image(path.parent / ins["file"])
-            tex = MipTexture([tile], min_filter="linear", bits=None)
-            uv = ins["texcoord"]
-            t = 1.0 - uv[:, 1] if v_up else uv[:, 1]
-            r = sample(tex, uv[:, 0], t, lod=0.0).astype(np.float64)
-        else:
-            raise AssertionError(f"node {cat} has no meaning here")
-        cache[name] = r
-        return r
+        rule = _NODE_RULES.get(node.tag)
+        if rule is None:
+            raise AssertionError(f"node {node.tag} has no meaning here")
+        cache[name] = rule(g, node, inputs(node))
+        return cache[name]
 
     out = graph.find(f"output[@name='{output}']")
     return value_of(out.get("nodename"))
-
 
 def test_graph_computes_what_spectex_bakes(exported):
     """Evaluated node by node, the graph gives SpectralTexture.bake's colours (level 0, bilinear)."""

@@ -309,8 +309,6 @@ def test_render_no_gl_falls_back_to_cpu(monkeypatch):
     tex = SpectralTexture.plain(make_tile(32, rng=1), 5.0)
     result = render(tex, VIEWS["ground"], (18, 32))
     assert result.backend == "cpu" and result.image.shape == (18, 32, 3)
-    img, used = result  # the old tuple, unpacked, for one release
-    assert used == "cpu" and img is result.image
     with pytest.raises(OSError, match="no OpenGL"):
         render(tex, VIEWS["ground"], (18, 32), backend="gl")
 

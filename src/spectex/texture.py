@@ -46,6 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import texture_file
 from ._validate import (
     check_choice,
     check_float,
@@ -253,6 +254,9 @@ class SpectralTexture:
     coordinates ``(s, t)`` (:meth:`Layer.coords`), ``s`` along the tile's
     columns and ``t`` along its rows (row 0 at ``t = 0``).
     """
+
+    #: The class of the items of :attr:`layers` (``spectex.texture_file`` builds a file's layers with it).
+    layer_type = Layer
 
     def __init__(self, tiles, layers, *, bits=8):
         if isinstance(tiles, np.ndarray):
@@ -610,16 +614,12 @@ class SpectralTexture:
     # ------------------------------------------------------------------- files
     def save(self, path):
         """Write the texture file (TOML) and its tile PNG(s) beside it (``spectex.texture_file.save``)."""
-        from .texture_file import save
-
-        return save(self, path)
+        return texture_file.save(self, path)
 
     @classmethod
     def load(cls, path) -> "SpectralTexture":
         """Read a texture file (``spectex.texture_file.load``); every field is checked."""
-        from .texture_file import load
-
-        return load(path)
+        return texture_file.load(path, texture_type=cls)
 
 
 def _pair(name, value) -> tuple[float, float]:

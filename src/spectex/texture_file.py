@@ -49,7 +49,7 @@ from ._validate import _show, check_relative_name
 from .shading.constants import MAX_LAYERS, MAX_TILES
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps",
-           "check_nesting"]
+           "named_files"]
 
 #: File format name and version written to and required in texture files.
 FORMAT = "spectex.spectral-texture"
@@ -151,10 +151,13 @@ def save(texture, path) -> Path:
     return path
 
 
-def load(path):
-    """Read a texture file written by :func:`save` (or by hand) as a ``SpectralTexture``.
+def load(path, *, texture_type):
+    """Read a texture file written by :func:`save` (or by hand) as a ``texture_type``.
 
     Every field is checked; an error names the field and the file.
+    ``texture_type`` is :class:`spectex.texture.SpectralTexture` (whose
+    ``load`` calls this); this module knows the format, not the class, so
+    that the import runs one way only (``texture`` -> ``texture_file``).
     """
     from ._output import check_input_file, note_input
 
@@ -167,19 +170,40 @@ def load(path):
                          f"(a texture of {MAX_LAYERS} layers takes about 2 kB)")
     try:
         text = data.decode("utf-8")
-        check_nesting(text, path)
+        _check_nesting(text, path)
         doc = tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
-    except RecursionError:  # a nesting that check_nesting could not see (inside an odd string): same answer
+    except RecursionError:  # a nesting that _check_nesting could not see (inside an odd string): same answer
         raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}") from None
     try:
-        return from_dict(doc, base=path.parent)
+        return from_dict(doc, base=path.parent, texture_type=texture_type)
     except (ValueError, TypeError) as exc:
         raise ValueError(f"texture file '{path}': {exc}") from None
 
 
-def check_nesting(text: str, path) -> None:
+def named_files(path) -> list[Path]:
+    """The texture file and the tile files it names, resolved, as far as the file can be read.
+
+    For keeping outputs apart from inputs before anything is read in earnest:
+    a file that cannot be read, or names no tiles, gives what it can (the
+    loader says what is wrong with it).
+    """
+    inputs = [Path(path).resolve()]
+    try:
+        if Path(path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
+            text = Path(path).read_text(encoding="utf-8")
+            _check_nesting(text, path)
+            doc = tomllib.loads(text)
+            names = doc.get("tiles", []) if isinstance(doc, dict) else []
+            names = names if isinstance(names, list) else []
+            inputs += [(Path(path).parent / n).resolve() for n in names[:64] if isinstance(n, str)]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ValueError, RecursionError):
+        pass  # the texture's own loader says what is wrong with it
+    return inputs
+
+
+def _check_nesting(text: str, path) -> None:
     """Refuse a document whose brackets nest deeper than :data:`MAX_NESTING` (before the recursive parser).
 
     Counts ``[``/``{`` against ``]``/``}`` outside quoted strings and comments;
@@ -212,10 +236,32 @@ def check_nesting(text: str, path) -> None:
             depth = max(depth - 1, 0)
 
 
-def from_dict(doc: dict, *, base="."):
-    """A ``SpectralTexture`` from the parsed file contents; tile paths are relative to ``base``."""
-    from .texture import Layer, SpectralTexture
+def from_dict(doc: dict, *, base=".", texture_type):
+    """A ``texture_type`` from the parsed file contents; tile paths are relative to ``base``.
 
+    ``texture_type`` is :class:`spectex.texture.SpectralTexture`; its
+    ``layer_type`` (:class:`spectex.texture.Layer`) checks and holds each layer.
+    """
+    version = _check_header(doc)
+    _check_stochastic_table(doc, version)
+    bits = doc.get("bits", 8)
+    if bits not in (8, 32) or isinstance(bits, bool):
+        raise ValueError(f"field 'bits' must be 8 or 32, got {_show(bits)}")
+    names = _check_tile_names(doc["tiles"])
+    raw_layers = doc["layers"]
+    if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
+        raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
+    tiles = _read_tiles(names, base)
+    layers = _layers_from_doc(doc, version, texture_type.layer_type)
+    try:
+        return texture_type(tiles, layers, bits=8 if bits == 8 else None)
+    except (ValueError, TypeError) as exc:
+        msg = str(exc)
+        raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
+
+
+def _check_header(doc) -> int:
+    """Check the document's fields, format and version; return the version."""
     if not isinstance(doc, dict):
         raise TypeError(f"texture must be a table, got {type(doc).__name__}")
     known = {"format", "version", "bits", "tiles", "layers", "stochastic"}
@@ -233,30 +279,37 @@ def from_dict(doc: dict, *, base="."):
     if version not in READ_VERSIONS:
         raise ValueError(f"field 'version' is {version}; this spectex reads versions "
                          f"{', '.join(str(v) for v in READ_VERSIONS)}")
-    if "stochastic" in doc:
-        if version < 2:
-            raise ValueError("unknown field 'stochastic' in a version-1 file")
-        want = _stochastic_doc()
-        got = doc["stochastic"]
-        if not isinstance(got, dict):
-            raise ValueError(f"field 'stochastic' must be a table, got {_show(got)}")
-        for key in sorted(set(got) | set(want)):
-            if key not in want:
-                raise ValueError(f"unknown field 'stochastic.{key}' (known: {', '.join(sorted(want))})")
-            if got.get(key) != want[key]:
-                raise ValueError(f"field 'stochastic.{key}' is {_show(got.get(key))}; this spectex builds the "
-                                 f"stochastic tables with {want[key]!r}")
-    bits = doc.get("bits", 8)
-    if bits not in (8, 32) or isinstance(bits, bool):
-        raise ValueError(f"field 'bits' must be 8 or 32, got {_show(bits)}")
-    names = doc["tiles"]
+    return version
+
+
+def _check_stochastic_table(doc, version) -> None:
+    """The ``[stochastic]`` table, if there is one, must hold exactly the constants this spectex builds with."""
+    if "stochastic" not in doc:
+        return
+    if version < 2:
+        raise ValueError("unknown field 'stochastic' in a version-1 file")
+    want = _stochastic_doc()
+    got = doc["stochastic"]
+    if not isinstance(got, dict):
+        raise ValueError(f"field 'stochastic' must be a table, got {_show(got)}")
+    for key in sorted(set(got) | set(want)):
+        if key not in want:
+            raise ValueError(f"unknown field 'stochastic.{key}' (known: {', '.join(sorted(want))})")
+        if got.get(key) != want[key]:
+            raise ValueError(f"field 'stochastic.{key}' is {_show(got.get(key))}; this spectex builds the "
+                             f"stochastic tables with {want[key]!r}")
+
+
+def _check_tile_names(names) -> list:
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise ValueError(f"field 'tiles' must be a non-empty list of file names, got {_show(names)}")
     if len(names) > MAX_TILES:
         raise ValueError(f"field 'tiles' names {len(names)} files; a texture has at most {MAX_TILES} tiles")
-    raw_layers = doc["layers"]
-    if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
-        raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
+    return names
+
+
+def _read_tiles(names, base) -> list[np.ndarray]:
+    """The tile images named in the file, as RGB(A) (grey and grey-alpha widened)."""
     from .io import read_image
 
     tiles = []
@@ -271,31 +324,34 @@ def from_dict(doc: dict, *, base="."):
         elif tile.shape[2] == 2:
             tile = np.concatenate([np.repeat(tile[:, :, :1], 3, axis=2), tile[:, :, 1:]], axis=2)
         tiles.append(tile)
+    return tiles
+
+
+def _layers_from_doc(doc, version, layer_type) -> list:
+    """The ``[[layers]]`` as ``Layer`` objects; an error names the layer and its field."""
     raw_layers = doc["layers"]
     if not isinstance(raw_layers, list) or not raw_layers:
         raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
-    layers = []
     allowed = set(_LAYER_FIELDS if version == 1 else _LAYER_FIELDS_V2)
-    for i, entry in enumerate(raw_layers):
-        if not isinstance(entry, dict):
-            raise ValueError(f"field 'layers[{i}]' must be a table, got {_show(entry)}")
-        extra = sorted(set(entry) - allowed)
-        if extra:
-            raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
-        if "size" not in entry:
-            raise ValueError(f"missing field 'layers[{i}].size'")
-        for key in ("size", "rotation", "opacity", "patch"):
-            if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
-                raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {_show(entry[key])}")
-        if entry.get("tiling") == "stochastic" and "stochastic" not in doc:
-            raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
-        try:
-            layers.append(Layer(**entry))
-        except (ValueError, TypeError) as exc:
-            field, _, rest = str(exc).partition(" ")
-            raise ValueError(f"field 'layers[{i}].{field}' {rest}") from None
+    return [_layer_from_entry(i, entry, allowed, "stochastic" in doc, layer_type)
+            for i, entry in enumerate(raw_layers)]
+
+
+def _layer_from_entry(i, entry, allowed, has_stochastic_table, layer_type):
+    if not isinstance(entry, dict):
+        raise ValueError(f"field 'layers[{i}]' must be a table, got {_show(entry)}")
+    extra = sorted(set(entry) - allowed)
+    if extra:
+        raise ValueError(f"unknown field 'layers[{i}].{extra[0]}' (known: {', '.join(sorted(allowed))})")
+    if "size" not in entry:
+        raise ValueError(f"missing field 'layers[{i}].size'")
+    for key in ("size", "rotation", "opacity", "patch"):
+        if key in entry and (isinstance(entry[key], bool) or not isinstance(entry[key], numbers.Real)):
+            raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {_show(entry[key])}")
+    if entry.get("tiling") == "stochastic" and not has_stochastic_table:
+        raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
     try:
-        return SpectralTexture(tiles, layers, bits=8 if bits == 8 else None)
+        return layer_type(**entry)
     except (ValueError, TypeError) as exc:
-        msg = str(exc)
-        raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
+        field, _, rest = str(exc).partition(" ")
+        raise ValueError(f"field 'layers[{i}].{field}' {rest}") from None

@@ -14,5 +14,5 @@ from ._block import DTYPES, bake_window, to_dtype
 from ._image import IMAGE_BITS, bake_image
 from ._zarr import MAX_SHARD_BYTES, BakeResult, bake_zarr, level_shapes, ome_metadata
 
-__all__ = ["BakeResult", "DTYPES", "IMAGE_BITS", "MAX_SHARD_BYTES", "bake_image", "bake_window", "bake_zarr", "level_shapes", "ome_metadata",
-           "to_dtype"]
+__all__ = ["BakeResult", "DTYPES", "IMAGE_BITS", "MAX_SHARD_BYTES", "bake_image", "bake_window", "bake_zarr",
+           "level_shapes", "ome_metadata", "to_dtype"]

@@ -192,64 +192,19 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     lock of a process that no longer runs on this host is taken over.
     """
     from .. import texture_file
-    from ..texture import SpectralTexture
 
     # --- everything is checked before anything is written
-    text = None
-    if isinstance(texture, (str, os.PathLike)):
-        texture_path = Path(texture)
-        texture = SpectralTexture.load(texture_path)
-        text = texture_path.read_text(encoding="utf-8")
-    elif not isinstance(texture, SpectralTexture):
-        raise TypeError(f"texture must be a SpectralTexture or a texture file, got {type(texture).__name__}")
-    if text is None:
-        text = texture_file.dumps(texture_file.to_dict(texture, texture_file.tile_names(Path("texture"),
-                                                                                         len(texture.tiles))))
-    path = Path(path)
-    if not path.name.lower().endswith(".zarr"):
-        raise ValueError(f"path must end in .zarr, got '{path}'")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise ValueError(f"path is in a folder that does not exist: '{path}'")
+    texture, text = _texture_and_text(texture)
+    path = _check_store_path(path)
     h, w = check_shape("shape", shape, maximum_pixels=1 << 62)
     p = check_length("pixel_size", pixel_size)
-    if not isinstance(origin, (tuple, list)) or len(origin) != 2:
-        raise ValueError(f"origin must be a pair (x, y) of numbers, got {origin!r}")
-    ox = check_float("origin[0]", origin[0], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
-    oy = check_float("origin[1]", origin[1], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
+    ox, oy = _check_origin(origin)
     dtype = check_choice("dtype", dtype, DTYPES)
-    chunk = check_int("chunk", chunk, minimum=16)
-    if chunk % 16:
-        raise ValueError(f"chunk must be a multiple of 16, got {chunk}")
-    shard = check_int("shard", shard, minimum=chunk)
-    if shard % chunk:
-        raise ValueError(f"shard must be a multiple of chunk ({chunk}), got {shard}")
-    itemsize = np.dtype(dtype).itemsize
-    if 3 * shard * shard * itemsize > MAX_SHARD_BYTES:
-        raise ValueError(f"shard of {shard} px holds {3 * shard * shard * itemsize / 2**20:.0f} MiB of {dtype}, "
-                         f"over the limit of {MAX_SHARD_BYTES / 2**20:.0f} MiB")
-    top = 1 + math.ceil(math.log2(max(h, w))) if max(h, w) > 1 else 1
-    levels = default_levels((h, w), chunk) if levels is None else check_int("levels", levels, minimum=1, maximum=top)
-    stored = sum(3 * lh * lw * itemsize for lh, lw in level_shapes((h, w), levels))
-    if stored > MAX_BAKE_BYTES:
-        raise ValueError(f"shape {w}x{h} (--size) at {dtype} makes {levels} levels of {stored:.3g} bytes, over the "
-                         f"limit of {MAX_BAKE_BYTES} bytes (SPECTEX_MAX_BAKE_BYTES; set it to raise the limit)")
-    n_shards = sum(-(-lh // shard) * -(-lw // shard) for lh, lw in level_shapes((h, w), levels))
-    if n_shards > MAX_BAKE_SHARDS:
-        raise ValueError(f"shape {w}x{h} (--size) with shard {shard} makes {n_shards} shards, over the limit of "
-                         f"{MAX_BAKE_SHARDS} (SPECTEX_MAX_BAKE_SHARDS; set it to raise the limit, or a larger shard)")
+    chunk, shard = _check_chunk_shard(chunk, shard, dtype)
+    levels = _check_levels((h, w), levels, chunk, shard, dtype)
     connect_timeout = check_float("connect_timeout", connect_timeout, minimum=0.0, exclusive_minimum=True,
                                   maximum=3600.0)
-    if scheduler is not None:
-        found = _ADDRESS.match(scheduler) if isinstance(scheduler, str) else None
-        if found is None or found.group(1) not in _SCHEMES or not 1 <= int(found.group(3)) <= 65535:
-            raise ValueError(f"scheduler must be the network address of a dask.distributed scheduler, "
-                             f"{'|'.join(_SCHEMES)}://HOST:PORT such as tcp://host:8786, got {scheduler!r}")
-        if workers is not None:
-            raise ValueError("workers applies to the local scheduler only; a cluster has its own workers "
-                             f"(got workers={workers!r} with scheduler={scheduler!r})")
-    elif workers is not None:
-        workers = check_int("workers", workers, minimum=1, maximum=1024)
+    workers = _check_scheduler(scheduler, workers)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     _require()
@@ -281,6 +236,85 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     finally:
         if client is not None:
             client.close()
+
+
+def _texture_and_text(texture):
+    """The texture (loaded, if it is a path) and the TOML text that goes into the attributes."""
+    from .. import texture_file
+    from ..texture import SpectralTexture
+
+    if isinstance(texture, (str, os.PathLike)):
+        texture_path = Path(texture)
+        return SpectralTexture.load(texture_path), texture_path.read_text(encoding="utf-8")
+    if not isinstance(texture, SpectralTexture):
+        raise TypeError(f"texture must be a SpectralTexture or a texture file, got {type(texture).__name__}")
+    names = texture_file.tile_names(Path("texture"), len(texture.tiles))
+    return texture, texture_file.dumps(texture_file.to_dict(texture, names))
+
+
+def _check_store_path(path) -> Path:
+    path = Path(path)
+    if not path.name.lower().endswith(".zarr"):
+        raise ValueError(f"path must end in .zarr, got '{path}'")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise ValueError(f"path is in a folder that does not exist: '{path}'")
+    return path
+
+
+def _check_origin(origin) -> tuple[float, float]:
+    if not isinstance(origin, (tuple, list)) or len(origin) != 2:
+        raise ValueError(f"origin must be a pair (x, y) of numbers, got {origin!r}")
+    ox = check_float("origin[0]", origin[0], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
+    oy = check_float("origin[1]", origin[1], minimum=-MAX_LENGTH, maximum=MAX_LENGTH)
+    return ox, oy
+
+
+def _check_chunk_shard(chunk, shard, dtype) -> tuple[int, int]:
+    chunk = check_int("chunk", chunk, minimum=16)
+    if chunk % 16:
+        raise ValueError(f"chunk must be a multiple of 16, got {chunk}")
+    shard = check_int("shard", shard, minimum=chunk)
+    if shard % chunk:
+        raise ValueError(f"shard must be a multiple of chunk ({chunk}), got {shard}")
+    itemsize = np.dtype(dtype).itemsize
+    if 3 * shard * shard * itemsize > MAX_SHARD_BYTES:
+        raise ValueError(f"shard of {shard} px holds {3 * shard * shard * itemsize / 2**20:.0f} MiB of {dtype}, "
+                         f"over the limit of {MAX_SHARD_BYTES / 2**20:.0f} MiB")
+    return chunk, shard
+
+
+def _check_levels(shape, levels, chunk, shard, dtype) -> int:
+    """The pyramid's levels, checked against the limits on bytes and shards."""
+    h, w = shape
+    itemsize = np.dtype(dtype).itemsize
+    top = 1 + math.ceil(math.log2(max(h, w))) if max(h, w) > 1 else 1
+    levels = default_levels((h, w), chunk) if levels is None else check_int("levels", levels, minimum=1, maximum=top)
+    stored = sum(3 * lh * lw * itemsize for lh, lw in level_shapes((h, w), levels))
+    if stored > MAX_BAKE_BYTES:
+        raise ValueError(f"shape {w}x{h} (--size) at {dtype} makes {levels} levels of {stored:.3g} bytes, over the "
+                         f"limit of {MAX_BAKE_BYTES} bytes (SPECTEX_MAX_BAKE_BYTES; set it to raise the limit)")
+    n_shards = sum(-(-lh // shard) * -(-lw // shard) for lh, lw in level_shapes((h, w), levels))
+    if n_shards > MAX_BAKE_SHARDS:
+        raise ValueError(f"shape {w}x{h} (--size) with shard {shard} makes {n_shards} shards, over the limit of "
+                         f"{MAX_BAKE_SHARDS} (SPECTEX_MAX_BAKE_SHARDS; set it to raise the limit, or a larger shard)")
+    return levels
+
+
+def _check_scheduler(scheduler, workers):
+    """Check the scheduler address; return ``workers`` checked (for the local scheduler only)."""
+    if scheduler is not None:
+        found = _ADDRESS.match(scheduler) if isinstance(scheduler, str) else None
+        if found is None or found.group(1) not in _SCHEMES or not 1 <= int(found.group(3)) <= 65535:
+            raise ValueError(f"scheduler must be the network address of a dask.distributed scheduler, "
+                             f"{'|'.join(_SCHEMES)}://HOST:PORT such as tcp://host:8786, got {scheduler!r}")
+        if workers is not None:
+            raise ValueError("workers applies to the local scheduler only; a cluster has its own workers "
+                             f"(got workers={workers!r} with scheduler={scheduler!r})")
+        return workers
+    if workers is not None:
+        workers = check_int("workers", workers, minimum=1, maximum=1024)
+    return workers
 
 
 def _bake_locked(texture, path, params, text, shapes, sizes, origin, p, chunk, shard, dtype, client, workers,
@@ -409,7 +443,8 @@ def _verified(path: Path, shapes, state) -> set[str]:
         recorded = _recorded_markers(path)
     good = set()
     for name, size in recorded.items():
-        if not isinstance(name, str) or not re.fullmatch(r"\d+\.\d+\.\d+", name) or int(name.split(".")[0]) >= len(shapes):
+        if (not isinstance(name, str) or not re.fullmatch(r"\d+\.\d+\.\d+", name)
+                or int(name.split(".")[0]) >= len(shapes)):
             continue
         if isinstance(size, int) and not isinstance(size, bool):
             try:
@@ -495,7 +530,8 @@ def _run_distributed(job, todo, client, progress, total) -> None:
 
 
 def _token(job) -> str:
-    return hashlib.sha256(f"{job.path}|{job.shapes}|{job.pixel_sizes}|{job.shard}|{job.dtype}".encode()).hexdigest()[:16]
+    text = f"{job.path}|{job.shapes}|{job.pixel_sizes}|{job.shard}|{job.dtype}"
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 # ---------------------------------------------------------------------- store

@@ -47,26 +47,14 @@ def register(subparsers) -> None:
 
 def check_inputs_apart(texture_path, output) -> None:
     """Refuse an output that is, or holds, the texture file or one of its tiles."""
-    import tomllib
     from pathlib import Path
+
+    from spectex.texture_file import named_files
 
     from ._common import UsageError
 
     out = Path(output).resolve()
-    inputs = [Path(texture_path).resolve()]
-    from spectex.texture_file import MAX_FILE_BYTES, check_nesting
-
-    try:
-        if Path(texture_path).stat().st_size <= MAX_FILE_BYTES:  # larger: refused by the loader
-            text = Path(texture_path).read_text(encoding="utf-8")
-            check_nesting(text, texture_path)
-            doc = tomllib.loads(text)
-            names = doc.get("tiles", []) if isinstance(doc, dict) else []
-            names = names if isinstance(names, list) else []
-            inputs += [(Path(texture_path).parent / n).resolve() for n in names[:64] if isinstance(n, str)]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ValueError, RecursionError):
-        pass  # the texture's own loader says what is wrong with it
-    for path in inputs:
+    for path in named_files(texture_path):
         if path == out or out in path.parents:
             raise UsageError(f"--output '{output}' is, or holds, the input '{path}'; choose another path")
 

@@ -182,9 +182,9 @@ class Progress:
         if self._bar is None:
             if not sys.stderr.isatty() or time.perf_counter() - self._start < self.delay:
                 return
-            from rich.progress import BarColumn, Progress as _RichProgress, TextColumn, TimeRemainingColumn
-
             from rich.console import Console
+            from rich.progress import BarColumn, TextColumn, TimeRemainingColumn
+            from rich.progress import Progress as _RichProgress
 
             self._bar = _RichProgress(TextColumn("{task.description}"), BarColumn(),
                                       TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn(),
@@ -233,7 +233,8 @@ class Steps:
 
     def _start(self) -> None:
         from rich.console import Console
-        from rich.progress import BarColumn, Progress as _RichProgress, SpinnerColumn, TextColumn, TimeElapsedColumn
+        from rich.progress import BarColumn, SpinnerColumn, TextColumn, TimeElapsedColumn
+        from rich.progress import Progress as _RichProgress
 
         with self._lock:
             if self._timer is None:  # finished meanwhile
@@ -273,10 +274,10 @@ def add_normalize(parser) -> None:
 
 def read_unit_image(args, path, name: str, *, max_pixels=None):
     """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
+    import numpy as np
+
     from spectex._validate import check_unit_range, normalize_image
     from spectex.io import read_image
-
-    import numpy as np
 
     image = read_image(path, name=name, max_pixels=max_pixels)
     if not np.all(np.isfinite(image)):

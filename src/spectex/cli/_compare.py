@@ -28,7 +28,8 @@ def register(subparsers) -> None:
                    help="the exemplar (or any reference image) IMAGE is judged against")
     p.add_argument("--block", type=_common.positive_int, default=None,
                    help="quilt block size, for the seam energy")
-    p.add_argument("--overlap", type=_common.nonneg_int, default=0, help="with --block: quilt overlap, for the seam energy (default: 0)")
+    p.add_argument("--overlap", type=_common.nonneg_int, default=0,
+                   help="with --block: quilt overlap, for the seam energy (default: 0)")
     p.add_argument("--zoom", type=_common.positive_float, default=None,
                    help="IMAGE is a view of a texture at ZOOM times the exemplar's pixel size (>= 1, e.g. 8): "
                         "also search it for the exemplar magnified 2 to 256 times (giant copies)")

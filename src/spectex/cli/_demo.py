@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 from . import _common
 
 DEFAULT_OUT = "spectex-demo"
@@ -22,7 +21,8 @@ def register(subparsers) -> None:
             "(emboss alpha) drawn as five layers from 15.625 m to 10 km, finest first, each "
             "coarser one blended over it (variance-preserving: the tile's contrast survives; covering the finer "
             "ones where their repeats would be a few pixels; --paper for "
-            "the paper's alpha blend), and a sixth, fine detail layer (1.25 m) faded out with distance. Renders a ground-plane view to the horizon "
+            "the paper's alpha blend), and a sixth, fine detail layer (1.25 m) faded out with distance. "
+            "Renders a ground-plane view to the horizon "
             "(Figure 1 of Berger's sketch, top), a close-up and an aerial view with OpenGL (headless "
             "EGL; the CPU reference renderer where there is no OpenGL), writes the tile's colour "
             "and alpha (its Figure 1, bottom) and the texture file, and reports the virtual texture "
@@ -46,9 +46,7 @@ def register(subparsers) -> None:
 
 def views():
     """The demo's cameras: ground plane to the horizon, close-up, aerial."""
-    from spectex.render import Camera
-
-    from spectex.render import DEFAULT_ANISOTROPY
+    from spectex.render import DEFAULT_ANISOTROPY, Camera
 
     # every view at the renderers' default anisotropy (see spectex.render.DEFAULT_ANISOTROPY)
     return {

@@ -21,7 +21,8 @@ def register(sub) -> None:
                    help="image size in pixels (default 512x512)")
     p.add_argument("--scale", type=_common.positive_float, default=4.0,
                    help="noise lattice cells across the image width (default 4)")
-    p.add_argument("--octaves", type=_common.positive_int, default=6, help="fractal octaves: all kinds but perlin and value (default 6)")
+    p.add_argument("--octaves", type=_common.positive_int, default=6,
+                   help="fractal octaves: all kinds but perlin and value (default 6)")
     p.add_argument("--lacunarity", type=_common.positive_float, default=2.0,
                    help="fbm and turbulence: frequency ratio between octaves (default 2)")
     p.add_argument("--gain", type=_common.positive_float, default=0.5,

@@ -26,8 +26,10 @@ def register(subparsers) -> None:
     p.add_argument("texture", help="texture file (.toml)")
     p.add_argument("--camera", type=_common.floats(5), required=True, metavar="X,Y,Z,YAW,PITCH",
                    help="camera position (m) and heading/pitch (degrees)")
-    p.add_argument("--fov", type=_common.positive_float, default=60.0, help="vertical field of view, degrees (default: 60)")
-    p.add_argument("--size", type=_common.size, default=(540, 960), metavar="WxH", help="picture size (default: 960x540)")
+    p.add_argument("--fov", type=_common.positive_float, default=60.0,
+                   help="vertical field of view, degrees (default: 60)")
+    p.add_argument("--size", type=_common.size, default=(540, 960), metavar="WxH",
+                   help="picture size (default: 960x540)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
                    help="output picture (.png, ...) or, with --frames, .gif/.mp4")
     p.add_argument("--backend", choices=("auto", "gl", "cpu"), default="auto",
@@ -45,7 +47,8 @@ def register(subparsers) -> None:
     p.add_argument("--frames", type=_common.positive_int, default=1, help="frames of a fly-over (default: 1)")
     p.add_argument("--to", type=_common.floats(5), default=None, metavar="X,Y,Z,YAW,PITCH",
                    help="with --frames: fly-over end camera (default: 40 altitudes ahead, same height and angles)")
-    p.add_argument("--fps", type=_common.positive_float, default=24.0, help="with --frames: frames per second (default: 24)")
+    p.add_argument("--fps", type=_common.positive_float, default=24.0,
+                   help="with --frames: frames per second (default: 24)")
     p.set_defaults(func=run)
 
 
@@ -68,13 +71,13 @@ def run(args) -> int:
     import sys
     import time
 
+    # Everything is checked before anything is drawn or written.
+    from pathlib import Path
+
     from spectex.io import check_mp4_size, check_output_path, write_animation, write_image
     from spectex.render import Atmosphere, Camera, check_size
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
-
-    # Everything is checked before anything is drawn or written.
-    from pathlib import Path
 
     # an animation when it has frames to move through, or when the output is one (a one-frame .gif, as noise)
     animated = args.frames > 1 or Path(args.output).suffix.lower() in _ANIM

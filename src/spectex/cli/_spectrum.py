@@ -44,8 +44,8 @@ def run(args) -> int | None:
     import numpy as np
 
     from spectex._output import savefig
-    from spectex.io import atomic_path, check_output_path, read_image
     from spectex.color import luma
+    from spectex.io import atomic_path, check_output_path, read_image
     from spectex.spectrum import radial_power_spectrum, spectral_slope
 
     if args.fmax > 0.5:

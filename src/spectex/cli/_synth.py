@@ -51,8 +51,8 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int | None:
-    from spectex.io import IMAGE_SUFFIXES, ARRAY_SUFFIXES, check_output_path, write_image
     from spectex import synthesis
+    from spectex.io import ARRAY_SUFFIXES, IMAGE_SUFFIXES, check_output_path, write_image
 
     output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES,
                                inputs=[args.exemplar, args.match])

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from . import _common
 
-
 #: Largest corpus file read (its n-gram tables are built in memory, in Python).
 MAX_CORPUS_BYTES = 64 << 20
 

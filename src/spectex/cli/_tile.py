@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 from . import _common
 
 _METHODS = ("spectral", "octaves", "noise")
@@ -53,7 +52,8 @@ def register(subparsers) -> None:
                    help="spectral and octaves: exponent of the noise, power ~ 1/f^beta (default: 2)")
     p.add_argument("--low", type=_common.positive_float, default=None,
                    help="spectral: low cut-off of the noise, cycles per pixel (default: none)")
-    p.add_argument("--octaves", type=_common.positive_int, default=None, help="octaves and noise: how many octaves (default: octaves, as many as the tile holds; noise, 6)")
+    p.add_argument("--octaves", type=_common.positive_int, default=None,
+                   help="octaves and noise: how many octaves (default: octaves, as many as the tile holds; noise, 6)")
     p.add_argument("--kernel", choices=_FILTERS, default="bspline",
                    help="octaves: magnification kernel that enlarges each octave (default: bspline)")
     p.add_argument("--azimuth", type=_common.finite_float, default=135.0,
@@ -73,9 +73,10 @@ def register(subparsers) -> None:
 
 def run(args) -> int | None:
     from spectex._output import OutputSet
-    from spectex.io import check_output_path, write_image
     from spectex._validate import check_shape
-    from spectex.tiles import MAX_SIZE, make_seamless, make_tile, preview as make_preview
+    from spectex.io import check_output_path, write_image
+    from spectex.tiles import MAX_SIZE, make_seamless, make_tile
+    from spectex.tiles import preview as make_preview
 
     _refuse_unused(args)
     if args.size is not None:  # checked here to name --size (the library says shape=)

@@ -21,7 +21,8 @@ def register(subparsers) -> None:
     p.add_argument("--camera", type=_common.floats(5), default=(0.0, 0.0, 2.0, 0.0, -10.0),
                    metavar="X,Y,Z,YAW,PITCH", help="start camera (default: 0,0,2,0,-10)")
     p.add_argument("--fov", type=_common.positive_float, default=60.0, help="vertical field of view (default: 60)")
-    p.add_argument("--size", type=_common.size, default=(720, 1280), metavar="WxH", help="window size (default: 1280x720)")
+    p.add_argument("--size", type=_common.size, default=(720, 1280), metavar="WxH",
+                   help="window size (default: 1280x720)")
     _common.add_haze(p)
     p.set_defaults(func=run)
 

@@ -20,7 +20,7 @@ README tells any OpenGL program to.
 The folder is written all or nothing: into a temporary folder beside it,
 moved into place when complete (:class:`spectex._output.OutputFolder`, with
 the export's rule for replacing an earlier export in
-:mod:`spectex.export._output`).
+:mod:`spectex.export._folder`).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._output import check_output_dir
+from ._folder import check_output_dir
 
 __all__ = ["FORMATS", "ExportResult", "check_output_dir", "export", "parse_formats"]
 
@@ -105,10 +105,10 @@ def export(texture, output, *, formats=None) -> ExportResult:
         For a bad texture, format list or folder; nothing is written then,
         and a failure while writing leaves ``output`` as it was.
     """
-    from .._version import __version__
     from spectex.texture import SpectralTexture
 
-    from ._output import MANIFEST, file_hashes, output_folder
+    from .._version import __version__
+    from ._folder import MANIFEST, file_hashes, output_folder
 
     if not isinstance(texture, SpectralTexture):
         raise TypeError(f"texture must be a SpectralTexture, got {type(texture).__name__}")

@@ -163,7 +163,7 @@ c = spectex_blend(SPX_BLEND_VARIANCE, c, x, opacity[k], mean[k], lam);   // the 
 `opacity`, `mean` and `blend` per layer. `dFdx`/`dFdy` are per 2 x 2 pixel
 quad, not spectex's exact per-pixel derivatives: the level of detail can
 differ slightly from spectex's at steep angles.
-""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")
+""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")  # noqa: E501 (table rows and code the reader copies: not wrapped)
 
 
 def _stochastic_readme(texture) -> str:
@@ -228,7 +228,7 @@ uniforms.u_lut = {{ value: lut }};
 In your own shader, a stochastic layer is `spectex_sample_stochastic_grad` (see
 the library's comments and `ground.*.frag`'s `shade_layer_stochastic`) instead
 of `spectex_sample_grad`, with the grid position `g = u_ganchor[k] + G_k M_k p`.
-"""
+"""  # noqa: E501 (table rows and code the reader copies: not wrapped)
 
 
 def write_glsl(texture, folder: Path) -> list[Path]:

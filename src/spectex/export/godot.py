@@ -119,8 +119,10 @@ def godot_shader(texture, tile_names) -> str:
         "    vec2 dx = spectex_layer_deriv(m, jx);",
         "    vec2 dy = spectex_layer_deriv(m, jy);",
         "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, SPECTEX_TEX_SIZE,",
-        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : spectex_max_anisotropy);  // fine: isotropic",
-        "    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER) ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
+        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : spectex_max_anisotropy);"
+        "  // fine: isotropic",
+        "    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)"
+        " ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
         "    c = spectex_blend(blend, c, x, opacity, mean, lam);",
         "}",
         "",
@@ -177,7 +179,8 @@ _STOCHASTIC_LAYER = [
     "    vec2 g = ganchor + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, gbase.x, gbase.y, key,",
     "                                            spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
-    "                                            SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : spectex_max_anisotropy, gm,",
+    "                                            SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : "
+    "spectex_max_anisotropy, gm,",
     "                                            SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q, lut_row,",
     "                                            SPECTEX_LUT_ROWS, b0, b1, b2, origin);",
     "    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)",

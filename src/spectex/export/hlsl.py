@@ -137,8 +137,10 @@ def hlsl_include(texture, tile_names) -> str:
         "    vec2 dx = spectex_layer_deriv(m, jx);",
         "    vec2 dy = spectex_layer_deriv(m, jy);",
         "    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, SPECTEX_TEX_SIZE,",
-        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY);  // fine: isotropic",
-        "    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER) ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
+        "                                 (blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY);"
+        "  // fine: isotropic",
+        "    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)"
+        " ? spectex_fade_lod(dx, dy, SPECTEX_TEX_SIZE) : 0.0;",
         "    c = spectex_blend(blend, c, x, SPECTEX_OPACITY[k], SPECTEX_MEAN[k], lam);",
         "}",
         "",
@@ -184,7 +186,8 @@ _STOCHASTIC_LAYER = [
     "    uint2 base = SPECTEX_G_BASE(k);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), SPECTEX_ST_ANCHOR(k) + rel, g, base.x,",
     "                                            base.y, SPECTEX_KEY[k], spectex_layer_deriv(m, jx),",
-    "                                            spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY,",
+    "                                            spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE, "
+    "(blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY,",
     "                                            gm, SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q,",
     "                                            SPECTEX_LUT_ROW[k], SPECTEX_LUT_ROWS, SPECTEX_B0[k], SPECTEX_B1[k],",
     "                                            SPECTEX_B2[k], SPECTEX_ORIGIN_RGB[k]);",
@@ -322,9 +325,8 @@ or convert them to EXR half-float images with any tool that keeps halves.
 
 def write_hlsl(texture, folder: Path) -> list[Path]:
     """Write ``folder/hlsl/``; return the files written."""
-    from ._tiles import write_tiles
-
     from ._stochastic import write_tables
+    from ._tiles import write_tiles
 
     out = Path(folder) / "hlsl"
     out.mkdir()

@@ -10,9 +10,9 @@ module                    what lives there
 ``shading.constants``     the one table of codes and constants (blends,
                           tilings, filters, wraps, sky and haze, limits)
 ``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
-``shading.tables``          a texture as one typed structure for the kernels
+``shading.tables``        a texture as one typed structure for the kernels
                           and the shader (:class:`ShadingTables`)
-``shading.layers``        a layer's sample and blend, per point and per row (6)
+``shading._layers``       a layer's sample and blend, per point and per row (6)
 ``shading.stochastic``    stochastic tiling: its tables and per-point sample (6b)
 ``shading.camera``        camera, atmosphere, :class:`ViewParams` (7)
 ``shading.view``          ground footprint, haze, sky; bake and render kernels (7-8)
@@ -21,7 +21,7 @@ module                    what lives there
 ========================  ================================================
 
 A new layer mode: its name in ``constants``, one branch in
-``layers.sample_layer``, one in ``shaders/spectex_layers.glsl``.
+``_layers.sample_layer``, one in ``shaders/spectex_layers.glsl``.
 
 Nothing heavy is imported here: the numba modules load on first use.
 """

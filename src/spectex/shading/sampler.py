@@ -5,7 +5,7 @@ specification written down in ``docs/sampling.md`` (one texture: texels,
 wrapping, filters, level of detail, anisotropy); the GLSL layer library
 (``shading/shaders/spectex_layers.glsl``) leaves the same steps to the GPU's
 texture unit, and the tests compare the two. It is the bottom of the
-shading core: ``shading.layers`` samples each layer through it.
+shading core: ``shading._layers`` samples each layer through it.
 
 What it implements, from the OpenGL 4.6 core specification, section 8.14
 ("Texture Minification") and 8.15 ("Texture Magnification"):
@@ -48,10 +48,20 @@ import numba
 import numpy as np
 
 from .._validate import check_choice, check_float, check_image
-from .constants import (DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_ALIASES, FILTER_LINEAR,
-                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_LINEAR_MIPMAP_NEAREST,
-                        FILTER_NEAREST_MIPMAP_NEAREST, FILTERS, LOD_FLOOR, WRAP_CLAMP_TO_EDGE,
-                        WRAP_MODES, WRAP_REPEAT)
+from .constants import (
+    DEFAULT_MAX_LOD,
+    DEFAULT_MIN_LOD,
+    FILTER_ALIASES,
+    FILTER_LINEAR,
+    FILTER_LINEAR_MIPMAP_LINEAR,
+    FILTER_LINEAR_MIPMAP_NEAREST,
+    FILTER_NEAREST_MIPMAP_NEAREST,
+    FILTERS,
+    LOD_FLOOR,
+    WRAP_CLAMP_TO_EDGE,
+    WRAP_MODES,
+    WRAP_REPEAT,
+)
 
 __all__ = [
     "WRAP_MODES",

@@ -64,8 +64,7 @@ import numba
 import numpy as np
 
 from .._validate import check_float, check_image, check_seed
-from .constants import (GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, SHARP_LOD,
-                        WEIGHT_SQUARINGS)
+from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, SHARP_LOD, WEIGHT_SQUARINGS
 from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [

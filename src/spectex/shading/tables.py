@@ -19,8 +19,19 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_float
-from .constants import (ANCHOR_PERIOD, BLEND_FIRST, BLENDS, DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_LINEAR,
-                        FILTER_LINEAR_MIPMAP_LINEAR, FILTER_NEAREST, TILING_STOCHASTIC, TILINGS, WRAP_REPEAT)
+from .constants import (
+    ANCHOR_PERIOD,
+    BLEND_FIRST,
+    BLENDS,
+    DEFAULT_MAX_LOD,
+    DEFAULT_MIN_LOD,
+    FILTER_LINEAR,
+    FILTER_LINEAR_MIPMAP_LINEAR,
+    FILTER_NEAREST,
+    TILING_STOCHASTIC,
+    TILINGS,
+    WRAP_REPEAT,
+)
 from .sampler import filter_code
 
 __all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
@@ -58,7 +69,8 @@ class ShadingTables(NamedTuple):
     fast: bool             #: the fast path's sampler state (docs/sampling.md, section 10)
     # stochastic tiling (section 6b; ``shading.stochastic``); 1-row placeholders when no layer is stochastic
     gauss: np.ndarray      #: (N, 4) float32: every tile's Gaussianised levels, laid out as ``data``
-    lut: np.ndarray        #: (tiles * lut_rows, LUT_SIZE, 4) float32: expanded inverse tables, tile ``i`` from row ``i * lut_rows``
+    #: (tiles * lut_rows, LUT_SIZE, 4) float32: expanded inverse tables, tile ``i`` from row ``i * lut_rows``
+    lut: np.ndarray
     lut_rows: int          #: table rows per tile (``stochastic.expand_lut``)
     grid: np.ndarray       #: (L, 2, 2) float64: tile coordinates -> skewed triangle-grid coordinates
     key: np.ndarray        #: (L,) int64: the layer's hash key (``stochastic.layer_key(seed)``)

@@ -1,9 +1,9 @@
 """Views of the ground plane: perspective renders and orthographic bakes, in numba.
 
 Sections 7 and 8 of ``docs/sampling.md``: the ray of a pixel, where it meets
-the ground and the footprint there (:func:`ground_footprint`), the haze and
-the sky (:func:`haze`, :func:`sky`), and the kernels that put a picture
-together from them and the layer compositing of ``shading.layers``:
+the ground and the footprint there (:func:`_ground_footprint`), the haze and
+the sky (:func:`_haze`, :func:`_sky`), and the kernels that put a picture
+together from them and the layer compositing of ``shading._layers``:
 
 * :func:`bake_kernel`: a top-down orthographic view (``SpectralTexture.bake``);
 * :func:`render_kernel`: a perspective view, any sampler state;
@@ -22,24 +22,25 @@ import math
 import numba
 import numpy as np
 
+from ._layers import shade_ground, shade_row
 from .constants import LOD_FLOOR, SKY_FALLOFF
-from .layers import shade_ground, shade_row
 
-__all__ = ["bake_kernel", "render_kernel", "render_kernel_fast", "row_order", "ground_footprint", "haze", "sky"]
+#: The renderers' entry points (``texture.bake``, ``bake``, ``render.cpu``); the per-pixel steps are private.
+__all__ = ["bake_kernel", "render_kernel", "render_kernel_fast", "row_order"]
 
 _jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 _LOD_FLOOR2 = LOD_FLOOR * LOD_FLOOR
 
 
 @_jit_inline
-def ray(V, nx, ny):
+def _ray(V, nx, ny):
     """The (unnormalised) ray ``fwd + nx right + ny up``; ``nx = ndc_x tan_x``, ``ny = ndc_y tan_y``."""
     return (V.fwd[0] + nx * V.right[0] + ny * V.up[0], V.fwd[1] + nx * V.right[1] + ny * V.up[1],
             V.fwd[2] + nx * V.right[2] + ny * V.up[2])
 
 
 @_jit_inline
-def ground_footprint(height, d0, d1, d2, ddx0, ddx1, ddx2, ddy0, ddy1, ddy2, inv_n):
+def _ground_footprint(height, d0, d1, d2, ddx0, ddx1, ddx2, ddy0, ddy1, ddy2, inv_n):
     """Where the ray ``d`` (``d2 < 0``) from altitude ``height`` meets the ground, and its footprint.
 
     Returns ``(tt, jxx, jyx, jxy, jyy)``: the ground point is ``C + tt d``;
@@ -54,13 +55,13 @@ def ground_footprint(height, d0, d1, d2, ddx0, ddx1, ddx2, ddy0, ddy1, ddy2, inv
 
 
 @_jit_inline
-def haze(c, horizon, f):
+def _haze(c, horizon, f):
     """Distance haze: ``horizon + f (c - horizon)`` with ``f = exp(-distance / haze_distance)``."""
     return horizon + f * (c - horizon)
 
 
 @_jit_inline
-def sky(horizon, zenith, e):
+def _sky(horizon, zenith, e):
     """The sky: ``horizon + e (zenith - horizon)``, ``e = 1 - exp(-SKY_FALLOFF d_z / |d|)``."""
     return horizon + e * (zenith - horizon)
 
@@ -125,24 +126,24 @@ def render_kernel(T, anchor, V, rows, out):
                 ny = (1.0 - 2.0 * (r + (j + 0.5) / n) / H) * V.tan_y
                 for i in range(n):
                     nx = (2.0 * (c + (i + 0.5) / n) / W - 1.0) * V.tan_x
-                    d0, d1, d2 = ray(V, nx, ny)
+                    d0, d1, d2 = _ray(V, nx, ny)
                     dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
                     sr = hor[0]
                     sg = hor[1]
                     sb = hor[2]
                     if d2 < 0.0 and height * dlen < -d2 * far:
-                        tt, jxx, jyx, jxy, jyy = ground_footprint(height, d0, d1, d2, ddx[0], ddx[1], ddx[2],
+                        tt, jxx, jyx, jxy, jyy = _ground_footprint(height, d0, d1, d2, ddx[0], ddx[1], ddx[2],
                                                                   ddy[0], ddy[1], ddy[2], inv_n)
                         gr, gg, gb = shade_ground(T, anchor, tt * d0, tt * d1, jxx, jyx, jxy, jyy, fbias)
                         f = math.exp(-tt * dlen / V.haze_distance)
-                        sr = haze(gr, hor[0], f)
-                        sg = haze(gg, hor[1], f)
-                        sb = haze(gb, hor[2], f)
+                        sr = _haze(gr, hor[0], f)
+                        sg = _haze(gg, hor[1], f)
+                        sb = _haze(gb, hor[2], f)
                     elif d2 > 0.0:
                         e = 1.0 - math.exp(-SKY_FALLOFF * d2 / dlen)
-                        sr = sky(hor[0], zen[0], e)
-                        sg = sky(hor[1], zen[1], e)
-                        sb = sky(hor[2], zen[2], e)
+                        sr = _sky(hor[0], zen[0], e)
+                        sg = _sky(hor[1], zen[1], e)
+                        sb = _sky(hor[2], zen[2], e)
                     ar += sr
                     ag += sg
                     ab += sb
@@ -229,7 +230,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
     Per row of samples: the camera geometry in one straight loop, then the
     world lambda and the haze and sky factors with the call-free
     :func:`_log2` and :func:`_exp`, each in its own loop, then one loop per
-    layer (:func:`~spectex.shading.layers.shade_row`), then haze and output.
+    layer (:func:`~spectex.shading._layers.shade_row`), then haze and output.
     The tables are unpacked into plain arrays before the parallel loop, so
     that numba marks them ``noalias`` and LLVM vectorises the loops.
     """
@@ -279,7 +280,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
         acc = np.zeros((W, 3))
         for j in range(n):
             ny = (1.0 - 2.0 * (r + (j + 0.5) * inv_n) / H) * tan_y
-            e0, e1, e2 = ray(V, 0.0, ny)
+            e0, e1, e2 = _ray(V, 0.0, ny)
             n_ground = 0
             for i in range(n):  # the inner loop runs along the row, so that it is the one vectorised
                 for c in range(W):
@@ -291,7 +292,7 @@ def render_kernel_fast(T, anchor, V, rows, out):
                     dlen = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
                     ground = (d2 < 0.0) & (height * dlen < -d2 * far)
                     dz = d2 if ground else -1.0
-                    tt, jxx, jyx, jxy, jyy = ground_footprint(height, d0, d1, dz, ddx0, ddx1, ddx2,
+                    tt, jxx, jyx, jxy, jyy = _ground_footprint(height, d0, d1, dz, ddx0, ddx1, ddx2,
                                                               ddy0, ddy1, ddy2, inv_n)
                     # the world lambda: log2 of the longer footprint edge (metres), below
                     rho2 = max(jxx * jxx + jyx * jyx, jxy * jxy + jyy * jyy)
@@ -332,12 +333,12 @@ def render_kernel_fast(T, anchor, V, rows, out):
                     # branch-free (vectorised): one of the two factors is 0, the sum is exact
                     f = fog[x]
                     e = skyf[x]
-                    acc[c, 0] += (haze(min(max(cr[x], 0.0), 1.0), horizon[0], f)
-                                    + (sky(horizon[0], zenith[0], e) - horizon[0]))
-                    acc[c, 1] += (haze(min(max(cg[x], 0.0), 1.0), horizon[1], f)
-                                    + (sky(horizon[1], zenith[1], e) - horizon[1]))
-                    acc[c, 2] += (haze(min(max(cb[x], 0.0), 1.0), horizon[2], f)
-                                    + (sky(horizon[2], zenith[2], e) - horizon[2]))
+                    acc[c, 0] += (_haze(min(max(cr[x], 0.0), 1.0), horizon[0], f)
+                                    + (_sky(horizon[0], zenith[0], e) - horizon[0]))
+                    acc[c, 1] += (_haze(min(max(cg[x], 0.0), 1.0), horizon[1], f)
+                                    + (_sky(horizon[1], zenith[1], e) - horizon[1]))
+                    acc[c, 2] += (_haze(min(max(cb[x], 0.0), 1.0), horizon[2], f)
+                                    + (_sky(horizon[2], zenith[2], e) - horizon[2]))
         for c in range(W):
             out[r, c, 0] = acc[c, 0] * inv
             out[r, c, 1] = acc[c, 1] * inv

@@ -25,8 +25,18 @@ import math
 import numba
 import numpy as np
 
-from .constants import (BLEND_ALPHA, BLEND_COVER, BLEND_DETAIL, BLEND_FINE, BLEND_FIRST, FADE_END, FADE_START, GAUSS_MEAN,
-                        LOD_FLOOR, TILING_STOCHASTIC)
+from .constants import (
+    BLEND_ALPHA,
+    BLEND_COVER,
+    BLEND_DETAIL,
+    BLEND_FINE,
+    BLEND_FIRST,
+    FADE_END,
+    FADE_START,
+    GAUSS_MEAN,
+    LOD_FLOOR,
+    TILING_STOCHASTIC,
+)
 from .sampler import sample_grad
 from .stochastic import lut_lookup, sample_stochastic_grad, sharpen_weights, triangle_vertices, vertex_offset
 
