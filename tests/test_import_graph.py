@@ -17,10 +17,8 @@ import spectex
 
 SRC = pathlib.Path(spectex.__file__).parent
 
-#: Circles still there, each with the reason. The test asks for this list exactly, so that it
-#: shrinks when one is cut. TODO issue 25: came with the fit redesign (issue 22): fitting.fit
-#: calls _fit_auto.fit_auto (inside the function), which imports fitting's helpers.
-KNOWN_CIRCLES = [["spectex._fit_auto", "spectex.fitting"]]
+#: Circles still there, each with the reason. The test asks for this list exactly: none is left.
+KNOWN_CIRCLES = []
 
 
 def _module_name(path: pathlib.Path, src: pathlib.Path) -> str:
