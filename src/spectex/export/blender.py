@@ -49,7 +49,8 @@ def blender_script(texture, tile_files) -> str:
                     "tile": int(layer.tile), "tiling": getattr(layer, "tiling", "periodic")}
                    for layer in texture.layers],
     }
-    template = resources.files("spectex.export").joinpath("templates", "blender_ground.py.in").read_text(encoding="utf-8")
+    template = (resources.files("spectex.export").joinpath("templates", "blender_ground.py.in")
+                .read_text(encoding="utf-8"))
     marker = 'SPECTEX = {"$TEXTURE$": None}'
     assert marker in template
     return template.replace(marker, "SPECTEX = " + json.dumps(table, indent=1))

@@ -118,7 +118,8 @@ def materialx_document(texture, tile_files) -> str:
         " spectex spectral texture: layers of one tile at different scales, blended by the tile's alpha "
         "(docs/export.md). Standard nodes only. The tiles are data: declared lin_rec709 so that no renderer "
         "converts them before the blend; the blended colour (output 'stored', sRGB-encoded as spectex shows it) "
-        "is decoded to linear light by math nodes (output 'out', the materials' colour). Filtering and mip-maps are the renderer's; spectex's sky "
+        "is decoded to linear light by math nodes (output 'out', the materials' colour). "
+        "Filtering and mip-maps are the renderer's; spectex's sky "
         "and distance haze are not part of the material. "))
     g = _Graph(root, "NG_spectex_ground")
     u_axis = g.input("ground_u", "vector3", _vec(GROUND_AXES[0]),

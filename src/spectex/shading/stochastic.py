@@ -610,6 +610,6 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mi
         s_, t_, lod_ = flat
         a_ = b_ = c_ = d_ = np.zeros(1)
     _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
-                       anisotropy, 0.0, -1000.0, 1000.0, tables.expanded(), tables.basis, tables.origin, grid, key, mode,
-                       s_, t_, a_, b_, c_, d_, lod_, out)
+                       anisotropy, 0.0, -1000.0, 1000.0, tables.expanded(), tables.basis, tables.origin, grid, key,
+                       mode, s_, t_, a_, b_, c_, d_, lod_, out)
     return out.reshape(shape + (4,))

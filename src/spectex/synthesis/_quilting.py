@@ -9,7 +9,6 @@ import numpy as np
 from .._limits import check_exemplar_pixels, check_work
 from .._validate import check_float, check_image, check_int, check_rng, check_shape
 
-
 # Batch independent blocks (see quilt); False forces block-by-block work, which
 # must give the same quilt (a test compares the two).
 _BATCH = True
