@@ -521,39 +521,13 @@ def chromium():
 
 def draw_threejs(browser, folder: Path, cam, size=SIZE, *, stochastic: bool, edit=None):
     """The glsl export drawn by three.js in chromium, from the README's code; RGB floats."""
-    import io
 
-    from PIL import Image
 
     if not (THREE / "build" / "three.module.js").is_file():
         _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
     glsl = folder / "glsl"
     html = threejs_page(glsl / "README.md", cam, size, stochastic=stochastic, edit=edit)
-    types = {"js": "text/javascript", "json": "application/json", "png": "image/png"}
-
-    def serve(route):
-        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
-        if path == "index.html":
-            return route.fulfill(body=html, content_type="text/html")
-        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (glsl, path)
-        file = (base / rel).resolve()
-        if not file.is_file() or base.resolve() not in file.parents:
-            return route.fulfill(status=404, body="")
-        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
-
-    h, w = size
-    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
-    errors = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    try:
-        page.route("http://localhost:8766/**", serve)
-        page.goto("http://localhost:8766/index.html")
-        page.wait_for_function("document.title !== 'loading'", timeout=120_000)
-        assert page.title() == "ready", (page.title(), errors)
-        image = Image.open(io.BytesIO(page.screenshot()))
-        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
-    finally:
-        page.close()
+    return _three_page_screenshot(browser, html, glsl, size, 8766)
 
 
 @pytest.fixture(scope="module")
@@ -739,38 +713,12 @@ document.title = "ready";
 def draw_threejs_materialx(browser, folder: Path, cam, size=SIZE, **page_options):
     """The materialx export loaded by three.js's MaterialXLoader in chromium, as docs/export.md
     says; the screenshot as RGB floats."""
-    import io
 
-    from PIL import Image
 
     if not (THREE / "examples" / "jsm" / "loaders" / "MaterialXLoader.js").is_file():
         _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
     html = threejs_materialx_page(cam, size, **page_options)
-    types = {"js": "text/javascript", "png": "image/png", "mtlx": "application/xml"}
-
-    def serve(route):
-        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
-        if path == "index.html":
-            return route.fulfill(body=html, content_type="text/html")
-        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (folder, path)
-        file = (base / rel).resolve()
-        if not file.is_file() or base.resolve() not in file.parents:
-            return route.fulfill(status=404, body="")
-        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
-
-    h, w = size
-    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
-    errors = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    try:
-        page.route("http://localhost:8767/**", serve)
-        page.goto("http://localhost:8767/index.html")
-        page.wait_for_function("document.title !== 'loading'", timeout=120_000)
-        assert page.title() == "ready", (page.title(), errors)
-        image = Image.open(io.BytesIO(page.screenshot()))
-        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
-    finally:
-        page.close()
+    return _three_page_screenshot(browser, html, folder, size, 8767)
 
 
 @pytest.mark.engines
@@ -823,3 +771,40 @@ def test_threejs_materialx_loader_stochastic_layers_match_in_distribution(chromi
         linear = draw_threejs_materialx(chromium, folder, cam, output="THREE.LinearSRGBColorSpace")
         dark = histogram_w1(linear.reshape(1, -1, 3), reference.reshape(1, -1, 3).astype(np.float32))
         assert dark.max() > 0.15, dark
+
+
+def _three_page_screenshot(browser, html, root, size, port):
+    """Serve ``html`` as index.html, three.js under ``three/`` and ``root``'s files; the page's screenshot.
+
+    The page sets ``document.title`` to ``"ready"`` when drawn (anything else but ``"loading"``
+    is its error). Returns float32 RGB in [0, 1].
+    """
+    import io
+
+    from PIL import Image
+
+    types = {"js": "text/javascript", "json": "application/json", "png": "image/png", "mtlx": "application/xml"}
+
+    def serve(route):
+        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
+        if path == "index.html":
+            return route.fulfill(body=html, content_type="text/html")
+        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (root, path)
+        file = (base / rel).resolve()
+        if not file.is_file() or base.resolve() not in file.parents:
+            return route.fulfill(status=404, body="")
+        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
+
+    h, w = size
+    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
+    errors = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    try:
+        page.route(f"http://localhost:{port}/**", serve)
+        page.goto(f"http://localhost:{port}/index.html")
+        page.wait_for_function("document.title !== 'loading'", timeout=120_000)
+        assert page.title() == "ready", (page.title(), errors)
+        image = Image.open(io.BytesIO(page.screenshot()))
+        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
+    finally:
+        page.close()
