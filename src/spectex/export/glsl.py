@@ -9,8 +9,8 @@
 * ``ground.es300.vert``/``.frag`` and ``ground.330.vert``/``.frag``: the
   renderer's own ground program (a full-screen triangle; every pixel casts
   its ray to the ground plane, samples the layers, adds sky and haze),
-  every layer drawn, the anisotropic path compiled in (``u_max_aniso = 1``
-  turns it off);
+  every layer drawn, the anisotropic path compiled in (an anisotropy limit
+  of 1 turns it off);
 * ``spectex_texture.json``: the layer table (matrices, offsets, opacities,
   level-of-detail offsets, mean colours) and the atmosphere;
 * ``spectex_uniforms.js``: the shader's uniforms from that table and a
@@ -34,8 +34,19 @@ from ._shader import GLSL_TARGETS, ground_fragment, has_stochastic, layer_librar
 __all__ = ["write_glsl"]
 
 
+def _names(rows) -> str:
+    """The uniforms' names as a Markdown list: `a`, `b`, ..."""
+    return ", ".join(f"`{row.name}`" for row in rows)
+
+
 def _readme(texture, tiles, levels) -> str:
+    from spectex.shading import interface
+
     n = len(texture.layers)
+    units = [row.name for row in interface.inputs("unit")]
+    texture_rows, aniso = _names(interface.inputs("texture", stochastic=False)), interface.MAX_ANISO.name
+    frame = _names(row for row in interface.inputs("frame", stochastic=False) if row.js is not None)
+    anchor = interface.ANCHOR.name
     h, w = texture.tile_shape
     return f"""# spectex texture: GLSL
 
@@ -59,21 +70,19 @@ The ground program draws one full-screen triangle (no vertex buffer: it uses
 layer with `textureLod` at the footprint's level of detail, blends the layers,
 and adds spectex's sky and haze. Uniforms:
 
-* from the texture, once: `u_tile` (sampler array, one unit per tile),
-  `u_tex_size`, `u_mat`, `u_opacity`, `u_lod_off`, `u_mean`;
-* per frame: `u_size` (framebuffer width, height), `u_height`, `u_fwd`,
-  `u_right`, `u_up`, `u_tan`, `u_ddx`, `u_ddy`, `u_horizon`, `u_zenith`, `u_haze`,
-  `u_far`, `u_anchor`;
-* filtering: `u_max_aniso` (1 = trilinear only, up to 16).
+* from the texture, once: `{units[0]}` (sampler array, one unit per tile),
+  {texture_rows};
+* per frame: {frame};
+* filtering: `{aniso}` (1 = trilinear only, up to 16).
 
 `spectex_uniforms.js` computes all of them as spectex does, in float64: the
-layer anchors `u_anchor[k] = M_k (camera - offset_k) mod 2` are what keep the
+layer anchors `{anchor}[k] = M_k (camera - offset_k) mod 2` are what keep the
 shader precise thousands of kilometres from the origin. From another language,
 follow `docs/sampling.md` (sections 6 and 7) or that file; it is 60 lines.
 
 ## Textures
 
-Tile `i` goes to texture unit `i`, `u_tile[i] = i`. To sample exactly the
+Tile `i` goes to texture unit `i`, `{units[0]}[i] = i`. To sample exactly the
 texels spectex samples: RGBA8 (16-bit PNGs: a float format), wrap `REPEAT` on
 both axes, minification `LINEAR_MIPMAP_LINEAR`, magnification `LINEAR`, the
 levels from `mips/` uploaded one by one (not `glGenerateMipmap`, whose box
@@ -115,7 +124,7 @@ async function tile(name, levels) {{
 }}
 const tiles = await Promise.all({json.dumps([t.rsplit('.', 1)[0] for t in tiles])}.map((n) => tile(n, {levels})));
 
-const uniforms = {{ u_tile: {{ value: tiles }}, u_max_aniso: {{ value: 8 }} }};
+const uniforms = {{ {units[0]}: {{ value: tiles }}, {aniso}: {{ value: 8 }} }};
 for (const [k, v] of Object.entries(spectexTextureUniforms(table))) uniforms[k] = {{ value: v }};
 const material = new THREE.RawShaderMaterial({{
   glslVersion: THREE.GLSL3, vertexShader: strip(vert), fragmentShader: strip(frag),
@@ -167,6 +176,7 @@ differ slightly from spectex's at steep angles.
 
 
 def _stochastic_readme(texture) -> str:
+    from spectex.shading import interface
     from spectex.shading.constants import LUT_SIZE
 
     from ._stochastic import LUT_FILE, gauss_name, table_info
@@ -175,6 +185,9 @@ def _stochastic_readme(texture) -> str:
     gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles)))
     shapes = ", ".join(f"{w} x {h}" for h, w in info["level_shapes"])
     n = len(texture.tiles)
+    gauss_in, lut, basis = interface.GAUSS.name, interface.LUT.name, interface.BASIS.name
+    ganchor, gbase = interface.GANCHOR.name, interface.GBASE.name
+    texture_rows = _names(interface.inputs("texture", stochastic=True))
     stochastic = [k for k, layer in enumerate(texture.layers) if layer.tiling == "stochastic"]
     return f"""
 ## Stochastic layers
@@ -190,14 +203,13 @@ little-endian IEEE half floats, rows top first (row 0 is `t = 0`, no flip):
 | `{LUT_FILE}` | the look-up tables: R16F, {LUT_SIZE} x {4 * info['lut_rows']}, one level; `NEAREST`/`NEAREST`, `CLAMP_TO_EDGE` |
 
 Units: tile `i` on unit `i`, its Gaussianised levels on unit `{n} + i`
-(`u_gauss[i]`), the table on unit `{2 * n}` (`u_lut`). More uniforms, all from
-`spectex_texture.json` (`spectexTextureUniforms` sets them): `u_lut_rows`,
-`u_lut_q`, and per layer `u_grid`, `u_key` (uint), `u_lut_row`, `u_basis`
-(mat3, column-major), `u_origin`; per frame (`spectexFrameUniforms`) the
+(`{gauss_in}[i]`), the table on unit `{2 * n}` (`{lut}`). More uniforms, all from
+`spectex_texture.json` (`spectexTextureUniforms` sets them): {texture_rows}
+(`{basis}`: mat3, column-major); per frame (`spectexFrameUniforms`) the
 anchor's position in each stochastic layer's triangle grid, computed in
 float64 on the host from the same `(s, t) = M_k (camera - offset_k)` *before*
 the reduction mod 2: `k = G_k (s, t)` (`G_k` is the layer's `grid`),
-`u_ganchor[k] = k - floor(k)` and `u_gbase[k] = floor(k) mod 2^32` (uvec2).
+`{ganchor}[k] = k - floor(k)` and `{gbase}[k] = floor(k) mod 2^32` (uvec2).
 The grid vertex is hashed by its index, so it is passed whole: this is what
 keeps a stochastic layer exact thousands of kilometres from the origin.
 
@@ -218,16 +230,16 @@ function gaussTexture(data) {{
   t.needsUpdate = true;
   return t;
 }}
-uniforms.u_gauss = {{ value: await Promise.all({json.dumps([gauss_name(texture, i) for i in range(n)])}.map(async (f) => gaussTexture(await halves(f)))) }};
+uniforms.{gauss_in} = {{ value: await Promise.all({json.dumps([gauss_name(texture, i) for i in range(n)])}.map(async (f) => gaussTexture(await halves(f)))) }};
 const lut = new THREE.DataTexture(await halves('{LUT_FILE}'), {LUT_SIZE}, {4 * info['lut_rows']}, THREE.RedFormat, THREE.HalfFloatType);
 lut.minFilter = lut.magFilter = THREE.NearestFilter;
 lut.needsUpdate = true;
-uniforms.u_lut = {{ value: lut }};
+uniforms.{lut} = {{ value: lut }};
 ```
 
 In your own shader, a stochastic layer is `spectex_sample_stochastic_grad` (see
 the library's comments and `ground.*.frag`'s `shade_layer_stochastic`) instead
-of `spectex_sample_grad`, with the grid position `g = u_ganchor[k] + G_k M_k p`.
+of `spectex_sample_grad`, with the grid position `g = {ganchor}[k] + G_k M_k p`.
 """  # noqa: E501 (table rows and code the reader copies: not wrapped)
 
 

@@ -118,15 +118,42 @@ def viewer_html(texture, *, atmosphere=None) -> str:
     data = json.dumps(viewer_data(texture, atmosphere=atmosphere), separators=(",", ":"), allow_nan=False)
     # Inside <script>, "</" could close the element; "<\/" is the same JSON string.
     data = data.replace("</", "<\\/")
-    for marker in ("/*@SPECTEX_DATA@*/", "/*@SPECTEX_UNIFORMS_JS@*/"):
-        if template.count(marker) != 1:
-            raise RuntimeError(f"viewer template: {marker} must appear once")
-    return template.replace("/*@SPECTEX_UNIFORMS_JS@*/", uniforms_js()).replace("/*@SPECTEX_DATA@*/", data)
+    from spectex.shading import interface
+    from spectex.shading.constants import FILTER_LINEAR, FILTER_LINEAR_MIPMAP_LINEAR
+
+    template = _fill(template, "/*@SPECTEX_UNIFORM_KINDS@*/", interface.js_kinds(), "viewer template")
+    template = _fill(template, "/*@FILTER_LINEAR@*/", str(FILTER_LINEAR), "viewer template")
+    template = _fill(template, "/*@FILTER_LINEAR_MIPMAP_LINEAR@*/", str(FILTER_LINEAR_MIPMAP_LINEAR), "viewer template")
+    template = _fill(template, "/*@SPECTEX_UNIFORMS_JS@*/", uniforms_js(), "viewer template")
+    return _fill(template, "/*@SPECTEX_DATA@*/", data, "viewer template")
 
 
 def uniforms_js() -> str:
-    """The shader's uniforms in JavaScript (``templates/uniforms.js``), shared by the viewer and the glsl export."""
-    return resources.files("spectex.export").joinpath("templates", "uniforms.js").read_text(encoding="utf-8")
+    """The shader's uniforms in JavaScript, shared by the viewer and the glsl export: ``templates/uniforms.js``
+    with its entries from the table of :mod:`spectex.shading.interface` and its constants from
+    :mod:`spectex.shading.constants`."""
+    from spectex.shading import interface
+    from spectex.shading.constants import ANCHOR_PERIOD, HAZE_OFF
+
+    text = resources.files("spectex.export").joinpath("templates", "uniforms.js").read_text(encoding="utf-8")
+    fills = {"TEXTURE": interface.js_texture_entries(stochastic=False),
+             "TEXTURE_STOCHASTIC": interface.js_texture_entries(stochastic=True),
+             "UNIT": interface.js_unit_entries(stochastic=False),
+             "UNIT_STOCHASTIC": interface.js_unit_entries(stochastic=True),
+             "SAMPLER": interface.js_sampler_entries(),
+             "FRAME": interface.js_frame_entries(stochastic=False),
+             "FRAME_STOCHASTIC": interface.js_frame_entries(stochastic=True)}
+    for name, entries in fills.items():
+        text = _fill(text, f"/*@{name}@*/", entries, "uniforms.js")
+    text = text.replace("/*@ANCHOR_PERIOD@*/", repr(float(ANCHOR_PERIOD)))
+    return _fill(text, "/*@HAZE_OFF@*/", repr(float(HAZE_OFF)), "uniforms.js")
+
+
+def _fill(text: str, marker: str, value: str, what: str) -> str:
+    """``text`` with its one ``marker`` replaced by ``value``."""
+    if text.count(marker) != 1:
+        raise RuntimeError(f"{what}: {marker} must appear once")
+    return text.replace(marker, value)
 
 
 def write_web(texture, folder: Path) -> list[Path]:

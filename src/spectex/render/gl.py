@@ -141,26 +141,14 @@ class GLRenderer:
         self.program, self.vao = self._programs[key]
 
     def _set_static_uniforms(self, tables):
-        """The per-texture uniforms, from the core's :class:`~spectex.shading.tables.ShadingTables`."""
-        self._set_uniform("u_tile", list(range(len(self.textures))))
-        if self.lut_texture is not None:
-            n = len(self.textures)
-            self._set_uniform("u_gauss", list(range(n, 2 * n)))
-            self._set_uniform("u_lut", 2 * n)
-            self._set_uniform("u_lut_rows", float(tables.lut.shape[0]))
-            self._set_uniform("u_lut_q", float(len(self.texture.mip_levels()[0]) - 1))
-            self._set_uniform("u_grid", [tuple(float(v) for v in g.reshape(-1)) for g in tables.grid])
-            self._set_uniform("u_key", [int(v) for v in tables.key])
-            self._set_uniform("u_lut_row", [float(t * tables.lut_rows) for t in tables.tile])
-            # GLSL's mat3 is column-major: the columns of basis, one after the other
-            self._set_uniform("u_basis", [tuple(float(v) for v in b.T.reshape(-1)) for b in tables.basis])
-            self._set_uniform("u_origin", [tuple(float(v) for v in o) for o in tables.origin])
-        h, w = self.texture.tile_shape
-        self._set_uniform("u_tex_size", (float(w), float(h)))
-        self._set_uniform("u_mat", [tuple(float(v) for v in m.reshape(-1)) for m in tables.mats])
-        self._set_uniform("u_opacity", [float(v) for v in tables.opacity])
-        self._set_uniform("u_lod_off", [float(v) for v in tables.lod_off])
-        self._set_uniform("u_mean", [tuple(float(v) for v in mu) for mu in tables.mean])
+        """The inputs that stay with the program: the texture units and the texture's own values
+        (``shading.interface``, rates ``unit`` and ``texture``; those written in as constants are not in it)."""
+        from ..shading import interface
+
+        frame = interface.GLFrame(tables, len(self.textures))
+        values = interface.gl_values(frame, "unit", "texture", stochastic=self.lut_texture is not None)
+        for name, value in values.items():
+            self._set_uniform(name, value)
 
     # -------------------------------------------------------------- resources
     def _upload(self, levels):
@@ -314,26 +302,13 @@ class GLRenderer:
                 tex.filter = (min_f, mag_f)
             self._filter = name
         self._use_program(tables, anisotropic=tables.max_aniso > 1.0 and "mipmap" in name, sky_only=sky_only)
-        h, w = shape
-        anchor = self.texture.anchor_coords(*camera.position[:2])
-        self._set_uniform("u_size", (float(w), float(h)))
-        self._set_uniform("u_height", view.height)
-        self._set_uniform("u_fwd", tuple(float(v) for v in view.fwd))
-        self._set_uniform("u_right", tuple(float(v) for v in view.right))
-        self._set_uniform("u_up", tuple(float(v) for v in view.up))
-        self._set_uniform("u_tan", (view.tan_x, view.tan_y))
-        self._set_uniform("u_ddx", tuple(float(v) for v in view.ddx))
-        self._set_uniform("u_ddy", tuple(float(v) for v in view.ddy))
-        self._set_uniform("u_horizon", tuple(float(v) for v in view.horizon))
-        self._set_uniform("u_zenith", tuple(float(v) for v in view.zenith))
-        self._set_uniform("u_haze", view.haze_distance)
-        self._set_uniform("u_far", view.far)
-        self._set_uniform("u_fade_bias", float(fade_bias))
-        self._set_uniform("u_max_aniso", tables.max_aniso)
-        self._set_uniform("u_anchor", [(float(a[0]), float(a[1])) for a in anchor])
-        if self.lut_texture is not None:
-            self._set_uniform("u_ganchor", [(float(a[2]), float(a[3])) for a in anchor])
-            self._set_uniform("u_gbase", [(int(a[4]), int(a[5])) for a in anchor])
+        from ..shading import interface
+
+        frame = interface.GLFrame(tables, len(self.textures), view=view, shape=shape, fade_bias=float(fade_bias),
+                                  anchor=self.texture.anchor_coords(*camera.position[:2]))
+        values = interface.gl_values(frame, "sampler", "frame", stochastic=self.lut_texture is not None)
+        for name, value in values.items():
+            self._set_uniform(name, value)
 
     def draw(self, camera, shape, **kwargs):
         """Draw one frame into the currently bound framebuffer (the viewer's window).
