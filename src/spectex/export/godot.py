@@ -72,61 +72,12 @@ def godot_script(texture) -> str:
 
 
 def _readme(texture, tile_names) -> str:
-    tiles = ", ".join(f"`{n}`" for n in tile_names)
-    return f"""# spectex texture: Godot 4
-
-Written by `spectex export`: `spectex_ground.gdshader` (a spatial shader),
-`spectex_ground.gd` (keeps the texture precise far from the origin), {tiles}.
-
-1. Copy this folder into your project (e.g. `res://spectex/`).
-2. Import the tile(s) losslessly, so that the alpha (each layer's blend weight)
-   survives: select {tiles}, Import dock: *Compress > Mode: Lossless*,
-   *Mipmaps > Generate: on*, *Process > Fix Alpha Border: off* (it changes the
-   colour of transparent texels), *Process > Premult Alpha: off*, *Detect 3D >
-   Compress To: Disabled* (otherwise Godot switches a texture used in 3D to VRAM
-   compression, which damages the alpha), then *Reimport*.
-3. Add a `MeshInstance3D` with a large `PlaneMesh` (e.g. 20 km, a few
-   subdivisions) at height 0; *Geometry > Material Override: New ShaderMaterial*,
-   shader `spectex_ground.gdshader`; set {', '.join(f'`spectex_tile{i}`' for i in range(len(tile_names)))}
-   to {tiles}.
-4. Attach `spectex_ground.gd` to the mesh. It moves the mesh with the camera
-   (an endless ground) and sets the layer anchors every frame.
-
-Shader parameters: `spectex_metres_per_unit` (1 if one Godot unit is a
-metre), `spectex_max_anisotropy` (spectex's own anisotropic filter, 1 = off),
-`spectex_haze_distance` (spectex's haze; 0 leaves it to Godot's fog).
-
-What matches spectex: the layer arithmetic (the same library text), the
-texel addressing, the level of detail per layer, the anisotropic recipe and
-the blend. With `render_mode unshaded`, *Tonemap: Linear*, no fog and no glow,
-the colours are spectex's (the blended value is decoded from sRGB once, and
-Godot encodes it back). What differs: Godot generates the mip levels on import
-(not spectex's levels; close, not identical); the footprint comes from
-`dFdx`/`dFdy` (per 2 x 2 pixel quad), not from spectex's exact per-pixel
-derivatives; world positions are 32-bit floats in a standard Godot build, so
-far from the origin the ground point itself loses precision (the anchors keep
-the texture coordinates small; use a double-precision build or move the world
-origin for very large worlds).
-""" + (_stochastic_readme(texture) if has_stochastic(texture) else "")
-
-
-def _stochastic_readme(texture) -> str:
-    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles)))
-    return f"""
-## Stochastic layers
-
-The stochastic layers (spectex's histogram-preserving tiling: they never
-repeat) sample no tile but two textures made from it: {gauss} (per tile its
-Gaussianised levels) and `{LUT_FILE}` (the look-up tables), raw little-endian
-half floats, lossless. `spectex_ground.gd` loads them itself
-(`Image.create_from_data` with `FORMAT_RGBAH` and every mip level spectex
-made, `FORMAT_RH` for the table) and sets `spectex_gauss*` and
-`spectex_lut_texture`: leave those parameters empty. Godot does not import
-these files: in *Project > Export > Resources*, add `*.rgba16f, *.r16f` to
-*Filters to export non-resource files*. The script also sets each stochastic
-layer's grid position (`spectex_ganchor`, `spectex_gbase`) in float64; without
-it the shader uses the origin's.
-"""
+    """``templates/godot/README.md`` for ``texture`` (``tile_names``: its tiles' files)."""
+    return _template.render("godot/README.md", {
+        "tile_files": ", ".join(f"`{n}`" for n in tile_names),
+        "tile_parameters": ", ".join(f"`spectex_tile{i}`" for i in range(len(tile_names))),
+        "gauss_files": ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(texture.tiles))),
+        "lut_file": LUT_FILE, "stochastic": has_stochastic(texture)})
 
 
 def write_godot(texture, folder: Path) -> list[Path]:

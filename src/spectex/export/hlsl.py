@@ -75,104 +75,17 @@ def _readme(texture, tile_names) -> str:
              "   below says and set them as Texture 2D properties too.")
     lut_sampler = ("" if not has_stochastic(texture) else
                    " for the tiles and the Gaussianised levels, and one with\n   Filter: Point, Wrap: Clamp for `Lut`")
-    return f"""# spectex texture: HLSL (Unity Shader Graph, Unreal)
+    context = {"tile_files": tiles, "entry_point": ENTRY_POINT, "ports": ports, "extra": extra,
+               "lut_sampler": lut_sampler, "call": call, "stochastic": has_stochastic(texture)}
+    if context["stochastic"]:
+        from ._stochastic import LUT_FILE, gauss_name
 
-Written by `spectex export`: `spectex_ground.hlsl` and {tiles}.
-
-The include defines `{ENTRY_POINT}(Ground, Tile0, Tile0Sampler, ..., out Color, out Linear)`.
-`Ground` is the spectex ground point in metres: x east, y north.
-
-## Unity (Shader Graph)
-
-1. Import {tiles} with *sRGB (Color Texture): off* (the tile is data),
-   *Alpha Is Transparency: off* (it changes the colour of transparent texels),
-   *Compression: None*, *Generate Mip Maps: on*, *Wrap Mode: Repeat*,
-   *Filter Mode: Trilinear*.
-2. Add a *Custom Function* node: *Type: File*, *Source: spectex_ground.hlsl*,
-   *Name: SpectexGround*, and in the Graph Inspector's node settings
-   *Precision: Single* (Shader Graph calls `SpectexGround_float`; the include
-   has no `_half` version). Inputs, in this order: `Ground` (Vector 2), {ports};
-   outputs: `Color` (Vector 3), `Linear` (Vector 3).{extra}
-3. `Ground`: *Position* node (World) into a *Swizzle* `xz` (Unity: x east,
-   z north; times metres per unit if a unit is not a metre). Texture inputs:
-   Texture 2D properties; sampler inputs: a *Sampler State* node (Filter:
-   Trilinear, Wrap: Repeat){lut_sampler}.
-4. `Linear` into *Base Color* (in a linear-colour-space project; `Color` in a
-   gamma one).
-
-## Unreal
-
-1. Import {tiles}: *sRGB: off*, *Compression Settings: UserInterface2D (RGBA)*
-   or *VectorDisplacementmap* (uncompressed 8-bit RGBA, so the alpha survives),
-   *Mip Gen Settings: SimpleAverage*, *X/Y-axis Tiling Method: Wrap*.
-2. Put `spectex_ground.hlsl` in a shader directory your project maps (a
-   plugin's or module's `Shaders/` folder, mapped with
-   `AddShaderSourceDirectoryMapping`), e.g. as `/Project/spectex_ground.ush`.
-3. A *Custom* node: *Include File Paths*: that path; *Output Type*: Float 3;
-   inputs `Ground` (e.g. `WorldPosition.yx / 100`: Unreal's y east, x north,
-   centimetres) and the tile(s) as *Texture Object* inputs named `Tile0`, ...
-   (Unreal passes `Tile0` and `Tile0Sampler`); code:
-   `float3 c, lin; {ENTRY_POINT}(Ground, {call}, c, lin); return lin;`
-
-Under Unity (`UNITY_VERSION` defined) the include flips the texture's v axis
-(Unity's v = 0 is the image's bottom row); elsewhere it does not. Define
-`SPECTEX_FLIP_V` 0 or 1 before the include to choose, and
-`SPECTEX_MAX_ANISOTROPY` (default 8, 1 = off) for spectex's own anisotropic
-filter.
-
-What matches spectex: the layer arithmetic (the same library text),
-addressing, level of detail and blend. What differs: the engine generates
-the mip levels; the footprint comes from `ddx`/`ddy` (per 2 x 2 pixel quad);
-the ground point is a 32-bit float, so by default the texture is exact near
-the origin and loses precision thousands of kilometres away; see *Far from the
-origin* below.
-
-## Far from the origin: `SPECTEX_ANCHORED`
-
-Define `SPECTEX_ANCHORED` before the include and pass `Ground` relative to an
-anchor point `a` near the camera (e.g. snapped to 256 m, so it moves rarely;
-the world position minus `a`, with `a` subtracted in double precision on the
-CPU or in camera-relative rendering). Set, per frame and per layer `k`, the
-global arrays (Unity: `Shader.SetGlobalVectorArray`), computed in float64:
-
-* `(s, t) = M_k (a - offset_k)` (`M_k`: the layer's 2 x 2 matrix, from
-  `spectex_ground.hlsl`'s `SPECTEX_MAT[k]` or `spectex export --format glsl`'s
-  table; `offset_k` its offset);
-* `SpectexAnchor[k] = (s mod 2, t mod 2, kx - floor(kx), ky - floor(ky))`, with
-  `(kx, ky) = G_k (s, t)` for a stochastic layer (`G_k`: `SPECTEX_GRID[k]`,
-  applied to the *unreduced* `s, t`), zeros in z, w otherwise;
-* `SpectexGridBase[k] = (bx >> 16, bx & 65535, by >> 16, by & 65535)` with
-  `bx = floor(kx) mod 2^32`, `by = floor(ky) mod 2^32`: the grid vertex, whose
-  hash picks the patches, as 16-bit halves (whole numbers: exact in a float).
-""" + (_stochastic_readme(texture, tile_names) if has_stochastic(texture) else "")
-
-
-def _stochastic_readme(texture, tile_names) -> str:
-    from ._stochastic import LUT_FILE, gauss_name
-
-    info = table_info(texture)
-    gauss = ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(tile_names)))
-    shapes = ", ".join(f"{w} x {h}" for h, w in info["level_shapes"])
-    return f"""
-## Stochastic layers
-
-The stochastic layers (spectex's histogram-preserving tiling: they never
-repeat) sample no tile but two textures made from it, shipped losslessly as
-raw little-endian IEEE half floats, rows top first:
-
-* {gauss}: per tile `i`, input `Gauss{{i}}`: RGBA half floats, mip levels
-  {shapes} one after the other; wrap *Repeat*, trilinear;
-* `{LUT_FILE}`: input `Lut`: one channel of half floats,
-  {info['lut_size']} x {4 * info['lut_rows']}, no mip-maps; *Point* filtering,
-  *Clamp*.
-
-Unity: `new Texture2D(w, h, TextureFormat.RGBAHalf, mipCount, true)` (linear),
-`LoadRawTextureData(bytes)`, `Apply(false)`; `TextureFormat.RHalf` without
-mip-maps for the table; Unity's v = 0 is the bottom row, so reverse each
-level's rows when loading (the include flips v under Unity). Unreal: create
-the textures from the raw data in an editor script (`PF_FloatRGBA`, `PF_R16F`),
-or convert them to EXR half-float images with any tool that keeps halves.
-"""
+        info = table_info(texture)
+        context.update({
+            "gauss_files": ", ".join(f"`{gauss_name(texture, i)}`" for i in range(len(tile_names))),
+            "level_shapes": ", ".join(f"{w} x {h}" for h, w in info["level_shapes"]),
+            "lut_file": LUT_FILE, "lut_width": info["lut_size"], "lut_height": 4 * info["lut_rows"]})
+    return _template.render("hlsl/README.md", context)
 
 
 def write_hlsl(texture, folder: Path) -> list[Path]:
