@@ -41,10 +41,11 @@ def vertex_source(target: str) -> str:
 
 
 def _fragment(texture, target: str, *, anisotropic: bool, enabled=None) -> str:
+    from spectex.render._defaults import DEFAULT_ANISOTROPY
     from spectex.shading import glsl
     from spectex.shading.tables import pack
 
-    tables = pack(texture, anisotropy=8.0 if anisotropic else 1.0, enabled=enabled)
+    tables = pack(texture, anisotropy=DEFAULT_ANISOTROPY if anisotropic else 1.0, enabled=enabled)
     return glsl.fragment_source(tables, len(texture.tiles), target=target, anisotropic=anisotropic,
                                 iso_lod=_iso_lod(texture))
 

@@ -86,13 +86,15 @@ def bindings(texture, syntax: Syntax) -> dict:
     the prefix, in capitals: an array initialiser per layer, else one literal;
     a ``mat3`` per layer as its columns ``{KEY}0`` .. ``{KEY}2``, ``vec3``
     arrays), and ``ORIGIN_{KEY}`` for the per-frame anchors at ground point
-    (0, 0), for engines that draw without the host's float64 anchors.
+    (0, 0), for engines that draw without the host's float64 anchors; and
+    ``max_anisotropy``, the renderers' default limit.
     """
+    from spectex.render._defaults import DEFAULT_ANISOTROPY
     from spectex.shading import interface
     from spectex.shading.tables import pack
 
     frame = interface.GLFrame(pack(texture), len(texture.tiles), anchor=texture.anchor_coords(0.0, 0.0))
-    out = {}
+    out = {"max_anisotropy": syntax.number(DEFAULT_ANISOTROPY)}
     for row in interface.inputs("texture"):
         value = row.gl(frame)
         if row.type == "mat3":

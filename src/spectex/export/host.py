@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render._defaults import DEFAULT_ANISOTROPY
+
 __all__ = ["read_table", "texture_uniforms", "frame_uniforms", "upload_textures", "draw_glsl_export"]
 
 
@@ -55,7 +57,7 @@ def _tile_names(folder: Path) -> list[str]:
     return sorted({p.name.split(".level")[0] for p in (folder / "mips").glob("*.level0.png")})
 
 
-def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = 8.0) -> dict:
+def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = DEFAULT_ANISOTROPY) -> dict:
     """The uniforms that depend only on the texture, and the texture units (README, "Uniforms").
 
     Parameters
@@ -170,7 +172,8 @@ def upload_textures(ctx, folder, table: dict) -> list:
     return out
 
 
-def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = 8.0, override=None) -> np.ndarray:
+def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = DEFAULT_ANISOTROPY,
+                     override=None) -> np.ndarray:
     """Draw an exported ``glsl/`` folder with OpenGL 3.3 from its files alone.
 
     Parameters

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render._defaults import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
 from ._shader import ground_template, vertex_source
 from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info
 
@@ -38,8 +39,8 @@ __all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_j
 
 #: The view the page opens at without a fragment: (x, y, z, yaw, pitch, fov), as ``spectex view``.
 DEFAULT_CAMERA = (0.0, 0.0, 2.0, 0.0, -10.0, 60.0)
-#: Maximum anisotropy while the viewer's anisotropy is on (``spectex view``'s N key).
-DEFAULT_ANISOTROPY = 8.0
+#: Maximum anisotropy while the viewer's anisotropy is on (``spectex view``'s N key): the renderers'.
+DEFAULT_ANISOTROPY = _DEFAULT_ANISOTROPY
 
 
 def _level_uri(level: np.ndarray, bits) -> str:

@@ -45,7 +45,7 @@ float4 SpectexGridBase[{{n_layers}}];
 #define SPECTEX_G_BASE(k) SPECTEX_ORIGIN_GBASE[k]
 #endif
 #ifndef SPECTEX_MAX_ANISOTROPY
-#define SPECTEX_MAX_ANISOTROPY 8.0  // spectex's own anisotropic filter; 1 = off
+#define SPECTEX_MAX_ANISOTROPY {{max_anisotropy}}  // spectex's own anisotropic filter; 1 = off
 #endif
 
 // Ground: the spectex ground point in metres (x east, y north). In a pixel shader only
