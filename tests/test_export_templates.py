@@ -108,3 +108,21 @@ def test_syntax_spells_types_and_literals():
     assert float(GODOT.number(0.1 + 0.2)) == 0.1 + 0.2  # float64 kept exactly
     with pytest.raises(ValueError, match="kind"):
         GODOT.literal("mat3", [0.0] * 9)
+
+
+def test_engine_layers_take_the_first_enabled_layer_as_pack_does():
+    """The Godot and HLSL calls' blend codes are ``pack``'s (the first enabled layer sets the colour), not
+    "layer 0"; a stub that marks layer 0 whatever the flags would fail the second half."""
+    from helpers import make_test_tile
+    from spectex.export._syntax import layer_calls
+    from spectex.shading.glsl import blend_name
+    from spectex.shading.tables import pack
+    from spectex.texture import SpectralTexture
+
+    texture = SpectralTexture.paper_preset(tile=make_test_tile(32, 0))
+    calls = layer_calls(texture)
+    assert [c["blend"] for c in calls] == [blend_name(int(b)) for b in pack(texture).blend]
+    assert calls[0]["blend"] == "SPX_BLEND_FIRST"
+    assert all(c["blend"] != "SPX_BLEND_FIRST" for c in calls[1:])
+    off = pack(texture, enabled=[False] + [True] * (len(texture.layers) - 1)).blend
+    assert blend_name(int(off[1])) == "SPX_BLEND_FIRST"  # the rule layer_calls takes from pack

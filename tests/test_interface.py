@@ -121,3 +121,19 @@ def test_javascript_entries_and_kinds_cover_the_table():
     for row in interface.INPUTS:
         assert (f"{row.name}:" in js or f"out.{row.name} =" in js) == (row.js is not None), row.name
         assert f"{row.name}: [" in interface.js_kinds()
+
+
+@pytest.mark.gl
+def test_a_folded_input_that_changes_gets_its_own_program(gl, texture):
+    """The renderer writes the anisotropy limit into its shader (``fold``): a second limit on the same
+    renderer must draw as a fresh renderer does, not with the first limit's program."""
+    from spectex.render.gl import GLRenderer
+
+    camera = Camera(position=(0.0, 0.0, 1.5), yaw=0.0, pitch=-8.0, fov=60.0)
+    with GLRenderer(texture, gl) as r:
+        eight = r.render(camera, (40, 60), anisotropy=8.0)
+        two_after = r.render(camera, (40, 60), anisotropy=2.0)
+    with GLRenderer(texture, gl) as r:
+        two = r.render(camera, (40, 60), anisotropy=2.0)
+    assert not np.array_equal(eight, two)  # the limit shows in this view
+    np.testing.assert_array_equal(two_after, two)

@@ -127,7 +127,10 @@ class GLRenderer:
         """
         from ..shading.glsl import fragment_source, vertex_source
 
-        key = (anisotropic, sky_only, int(tables.min_filter), () if sky_only else tuple(int(v) for v in tables.on))
+        # every input the program may hold as a constant (shading.interface, ``fold``) that can change
+        # between draws is in the key: the anisotropy limit
+        key = (anisotropic, sky_only, int(tables.min_filter), float(tables.max_aniso),
+               () if sky_only else tuple(int(v) for v in tables.on))
         if key not in self._programs:
             texture = self.texture
             program = self.ctx.program(
