@@ -18,7 +18,9 @@ route that computes it:
 Generated from it: the shader's declarations (:func:`glsl_declarations`,
 as uniforms or, for the renderer, as constants), the GL uploads
 (``render.gl``), the JavaScript uniform functions and setter kinds
-(:func:`js_texture_entries`, :func:`js_kinds`, ...), the Python host, and
+(:func:`js_texture_entries`, :func:`js_kinds`, ...), the Python host, the
+Godot and HLSL exports' constants (``export._syntax.bindings``, the ``gl``
+route's values in the target's literals), MaterialX's per-layer values, and
 the names the exports' READMEs cite. A program that needs one input by
 name uses its row (``interface.TILE.name``), never the string: renaming an
 input is a change to its row and to the shader text, nothing else (the
