@@ -150,6 +150,14 @@ def _field(name: str, convert=None, zero=None):
     return get
 
 
+def _snap(h: HostFrame) -> list:
+    """Per layer, its snap counts from the exported table; a periodic layer's (unused) are the tile's width,
+    height, as ``pack`` gives them."""
+    th, tw = h.table["tile_shape"]
+    return [tuple(layer["snap"]) if layer["tiling"] == "stochastic" else (float(tw), float(th))
+            for layer in h.table["layers"]]
+
+
 def _column_major(basis) -> tuple:
     """A row-major 3 x 3 (9 numbers) as GLSL's ``mat3`` takes it: column after column."""
     return tuple(np.reshape(basis, (3, 3)).T.reshape(-1))
@@ -242,6 +250,12 @@ GBASE = Input("u_gbase", "uvec2", "layer", "frame", "per layer: that grid vertex
 KEY = Input("u_key", "uint", "layer", "texture", "per layer: the hash key of its seed",
             gl=lambda g: [int(v) for v in g.tables.key], host=_field("key", zero=0),
             js=_JS_PICK.format("key", "0"), stochastic=True, fold=True)
+SNAP = Input("u_snap", "vec2", "layer", "texture",
+             "per layer: its snap counts along s, t, whole numbers (tables.snap_counts; the tile's width, height "
+             "for a periodic layer, unused)",
+             gl=lambda g: [_floats(s) for s in g.tables.snap], host=lambda h: _snap(h),
+             js="[].concat(...L.map((l) => pick(l, 'snap', [texture.tile_shape[1], texture.tile_shape[0]])))",
+             stochastic=True, fold=True)
 LUT_ROW = Input("u_lut_row", "float", "layer", "texture", "per layer: first table row of its tile",
                 gl=lambda g: [float(t * g.tables.lut_rows) for t in g.tables.tile],
                 host=_field("lut_row", float, 0),
@@ -261,7 +275,7 @@ ORIGIN = Input("u_origin", "vec3", "layer", "texture", "per layer: its tile's de
 #: Every input of the ground shader, in the order of its declarations.
 INPUTS = (SIZE, HEIGHT, FWD, RIGHT, UP, TAN, DDX, DDY, HORIZON, ZENITH, HAZE, FAR, FADE_BIAS, TILE, TEX_SIZE,
           MAX_ANISO, ANCHOR, MAT, MEAN, OPACITY, LOD_OFF, GAUSS, LUT, LUT_ROWS, LUT_Q, GRID, GANCHOR, GBASE, KEY,
-          LUT_ROW, BASIS, ORIGIN)
+          SNAP, LUT_ROW, BASIS, ORIGIN)
 
 
 def inputs(*rates: str, stochastic: bool | None = None) -> tuple[Input, ...]:

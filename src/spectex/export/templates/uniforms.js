@@ -2,7 +2,7 @@
 // as spectex.render does (docs/sampling.md, sections 6 and 7). Plain functions,
 // no libraries. `texture` is the exported layer table (spectex_texture.json or
 // the viewer's own copy): {tile_shape, layers: [{matrix, offset, opacity,
-// lod_offset, mean, tiling, and for stochastic layers grid, key, lut_row, basis,
+// lod_offset, mean, tiling, and for stochastic layers grid, key, snap, lut_row, basis,
 // origin}], stochastic: null or {lut_rows, lut_q}, atmosphere: {horizon, zenith,
 // haze_distance}}.
 
