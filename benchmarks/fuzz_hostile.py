@@ -8,13 +8,22 @@ hostile inputs and is judged *answered well* when
 * it exits 0, or 2 with exactly one line on standard error;
 * no traceback is printed;
 * a refusal (exit 2) comes within 5 s and 1 GB of peak memory;
-* every file that was there before is byte-identical afterwards.
+* every file that was there before is byte-identical afterwards;
+* a value no option may take (``٣``, ``1_000``, ``nan``, ``1e999``, ...) is refused, not run with.
 
 Run::
 
-    PYTHONPATH=src python benchmarks/fuzz_hostile.py [--workers 2] [--limit N] [--log fuzz.tsv]
+    PYTHONPATH=src python benchmarks/fuzz_hostile.py [--workers 2] [--start K] [--limit N] [--log fuzz.tsv]
 
-It prints the counts and every case that was not answered well.
+It prints every case that was not answered well as it comes, then a summary:
+the cases, the share answered well, tracebacks, unbounded runs (a timeout, a
+refusal after 5 s, a peak over 1 GB), inputs lost or changed, and the time to
+refusal (the maximum and the 95th percentile) and peak memory. The log gets
+one line per case as soon as it is done (appended), so that a long trial can
+run in chunks (``--start 0 --limit 300``, then ``--start 300 ...``) into one
+log, and ``--summary LOG`` prints the summary of a log (the last line of each
+case index counts, so that a case run again after a fix replaces its first
+result).
 """
 
 from __future__ import annotations
@@ -34,11 +43,20 @@ from pathlib import Path
 import numpy as np
 
 CAMERA = ("--camera", "0,0,2,0,-10")
-BAD_INTS = ("0", "-1", "-99999999999999999999", "99999999999999999999", "1e3", "nan", "abc", "", "0x10", "٣")
-BAD_FLOATS = ("nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "0", "-0", "abc", "", "1,2")
+BAD_INTS = ("0", "-1", "-99999999999999999999", "99999999999999999999", "1e3", "nan", "abc", "", "0x10", "٣",
+            # digits that Python's int() takes but a command line should not: full-width, Devanagari,
+            # underscores, spaces, a sign, a float spelling, a 5000-digit number, negative zero
+            "３", "१", "1_000", " 3 ", "+3", "3.0", "9" * 5000, "-0")
+BAD_FLOATS = ("nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "0", "-0", "abc", "", "1,2",
+              "1e999", "１.５", "1_0.5", " 0.5 ", "infinity", "0x1p3", "-0.0")
 BAD_SIZES = ("0x0", "-1x5", "100000x100000", "1x1", "x", "5x", "3x4x5", "1e3x1e3", "nan", "65536x1", "2x99999999")
 BAD_PATHS = ("", "/", "/dev/null/x.png", "/proc/self/x.png", "nofolder/x.png", "a" * 300 + ".png", "x.unknown",
              "dir.png", "link.png", "tex.toml", "img.png", ".", "..", "\x7f.png", "-o")
+
+#: Values no option may accept (a run that exits 0 with one of them is not answered well).
+MUST_REFUSE = frozenset(("٣", "３", "१", "1_000", " 3 ", "3.0", "9" * 5000, "nan", "inf", "-inf", "abc", "", "1e999",
+                         "１.５", "1_0.5", " 0.5 ", "infinity", "0x1p3", "1,2", "0x10", "1e3", "x", "5x", "3x4x5",
+                         "1e3x1e3", "0x0", "-1x5"))
 
 
 #: Texture-file fields and hostile values for them (each a file m<i>.toml).
@@ -207,8 +225,11 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
         problems.append(f"peak {rss >> 20} MiB")
     if lost:
         problems.append(f"changed {lost[:3]}")
-    return {"argv": argv, "rc": proc.returncode, "err": err.strip().splitlines()[-1:] if err.strip() else [],
-            "elapsed": elapsed, "rss": rss, "problems": problems}
+    if proc.returncode == 0 and MUST_REFUSE.intersection(argv):
+        problems.append("accepted " + repr(sorted(MUST_REFUSE.intersection(argv))[0][:20]))
+    return {"index": index, "argv": argv, "rc": proc.returncode,
+            "err": err.strip().splitlines()[-1:] if err.strip() else [], "elapsed": elapsed,
+            "rss": rss, "problems": problems}
 
 
 #: Runs the command as a child and writes the child's peak resident memory (KiB) to argv[1].
@@ -232,14 +253,84 @@ def snapshot(folder: Path) -> dict:
     return out
 
 
+def _log_line(r: dict) -> str:
+    clean = [a.replace("\t", " ").replace("\n", " ")[:200] for a in r["argv"]]
+    err = " ".join(r["err"]).replace("\t", " ")[:300]
+    rss = -1 if r["rss"] is None else r["rss"]
+    return (f"{r['index']}\t{r['rc']}\t{r['elapsed']:.3f}\t{rss}\t{';'.join(r['problems'])}\t"
+            f"{' '.join(clean)}\t{err}\n")
+
+
+def read_log(path) -> list[dict]:
+    """The results of a log written by ``--log`` (the last line of each case index)."""
+    out = {}
+    for line in Path(path).read_text(errors="replace").splitlines():
+        parts = line.split("\t")
+        if len(parts) < 6 or not parts[0].isascii() or not parts[0].isdigit():
+            continue
+        out[int(parts[0])] = {"index": int(parts[0]), "rc": int(parts[1]), "elapsed": float(parts[2]),
+                              "rss": None if parts[3] == "-1" else int(parts[3]),
+                              "problems": [p for p in parts[4].split(";") if p], "argv": parts[5].split(" "),
+                              "err": parts[6:7]}
+    return [out[k] for k in sorted(out)]
+
+
+def summary(results: list[dict], total: int | None = None) -> str:
+    """The counts of a trial, in the words of issue 26's targets."""
+    n = len(results)
+    if n == 0:
+        return "0 cases"
+    bad = [r for r in results if r["problems"]]
+    tracebacks = sum("traceback" in r["problems"] for r in results)
+    unbounded = sum(any(p == "timeout" or p.startswith(("refused after", "peak")) for p in r["problems"])
+                    for r in results)
+    lost = sum(any(p.startswith("changed") for p in r["problems"]) for r in results)
+    other_rc = sum(any(p.startswith("rc ") for p in r["problems"]) for r in results)
+    lines_bad = sum(any(p.endswith(" lines") for p in r["problems"]) for r in results)
+    refusals = sorted(r["elapsed"] for r in results if r["rc"] == 2)
+    p95 = refusals[min(len(refusals) - 1, int(0.95 * len(refusals)))] if refusals else 0.0
+    rss_refused = max((r["rss"] or 0 for r in results if r["rc"] == 2), default=0)
+    rss_all = max((r["rss"] or 0 for r in results), default=0)
+    of = f" of {total}" if total is not None and total != n else ""
+    return (f"{n} cases{of}: {n - len(bad)} answered well ({100 * (n - len(bad)) / n:.1f} %); "
+            f"{tracebacks} tracebacks, {other_rc} other exit statuses, {lines_bad} refusals not one line, "
+            f"{unbounded} unbounded (timeout, refusal > 5 s or peak > 1 GiB), {lost} with inputs lost or changed\n"
+            f"{len(refusals)} refusals (exit 2): time to refusal max {refusals[-1] if refusals else 0:.2f} s, "
+            f"p95 {p95:.2f} s, median {refusals[len(refusals) // 2] if refusals else 0:.2f} s; "
+            f"peak memory of a refusal {rss_refused / 2 ** 20:.0f} MiB, of any case {rss_all / 2 ** 20:.0f} MiB; "
+            f"{sum(r['rc'] == 0 for r in results)} ran to the end (exit 0)")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--limit", type=int, default=None)
-    parser.add_argument("--log", default=None)
+    parser.add_argument("--start", type=int, default=0, help="the first case index to run (default: 0)")
+    parser.add_argument("--limit", type=int, default=None, help="run at most N cases")
+    parser.add_argument("--log", default=None, help="append one tab-separated line per case to LOG")
     parser.add_argument("--every", type=int, default=1, help="run every N-th case only (a sample of each kind)")
+    parser.add_argument("--only", default=None, help="run only the case indices in this file (one a line), "
+                                                     "e.g. those a log found wanting")
+    parser.add_argument("--summary", default=None, metavar="LOG", help="print the summary of LOG and stop")
+    parser.add_argument("--count", action="store_true", help="print the number of cases and stop")
     args = parser.parse_args()
-    all_cases = cases()[:: args.every][: args.limit]
+    every = cases()
+    if args.count:
+        print(len(every))
+        return 0
+    if args.summary:
+        results = read_log(args.summary)
+        print(summary(results, len(every)))
+        for r in results:
+            if r["problems"]:
+                print(f"  {r['index']}  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  "
+                      f"{' '.join(r['err'])}")
+        return 0
+    indices = list(range(len(every)))[args.start::args.every][: args.limit]
+    if args.only:
+        wanted = {int(t) for t in Path(args.only).read_text().split()}
+        indices = [i for i in indices if i in wanted]
+    log = open(args.log, "a", encoding="utf-8") if args.log else None  # noqa: SIM115 - held for the run
+    started = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="spectex-fuzz-") as tmp:
         base = Path(tmp) / "base"
         base.mkdir()
@@ -248,22 +339,19 @@ def main() -> int:
         work.mkdir()
         with ThreadPoolExecutor(args.workers) as pool:
             results = []
-            for r in pool.map(lambda ic: run(ic[1], base, work, ic[0]), enumerate(all_cases)):
+            for r in pool.map(lambda i: run(every[i], base, work, i), indices):
                 results.append(r)
+                if log is not None:
+                    log.write(_log_line(r))
+                    log.flush()
                 if r["problems"]:  # as they come: a long trial shows what it finds early
-                    print(f"  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  {r['err']}",
-                          flush=True)
-    bad = [r for r in results if r["problems"]]
-    tracebacks = sum("traceback" in r["problems"] for r in results)
-    slow = max((r["elapsed"] for r in results if r["rc"] == 2), default=0.0)
-    share = 100 * (1 - len(bad) / len(results))
-    print(f"{len(results)} cases: {len(results) - len(bad)} answered well ({share:.1f} %), "
-          f"{tracebacks} tracebacks, slowest refusal {slow:.1f} s")
-    if args.log:
-        with open(args.log, "w") as fh:
-            for r in results:
-                fh.write(f"{r['rc']}\t{r['elapsed']:.2f}\t{' '.join(r['argv'])}\t{' '.join(r['err'])}\n")
-    return 0 if not bad else 1
+                    print(f"  {r['index']}  {r['problems']}  spectex {' '.join(a[:40] for a in r['argv'])}  ->  "
+                          f"{r['err']}", flush=True)
+    if log is not None:
+        log.close()
+    print(summary(results, len(every)))
+    print(f"{time.perf_counter() - started:.0f} s with {args.workers} workers")
+    return 0 if not any(r["problems"] for r in results) else 1
 
 
 if __name__ == "__main__":

@@ -24,6 +24,8 @@ def limit(name: str, default: int) -> int:
     (the default holds), so that a typo can never lift a limit.
     """
     text = os.environ.get(f"SPECTEX_MAX_{name}", "").strip().replace("_", "")
+    if not text.isascii():  # int() takes any script's digits ("٣"): a limit is written in ASCII
+        return default
     try:
         value = int(text, 0)
     except ValueError:

@@ -44,7 +44,7 @@ def register(subparsers) -> None:
                         "white noise, always does)")
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     _common.add_normalize(p)
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
+    p.add_argument("--bit-depth", type=_common.bit_depth, default=8, help="PNG bits per channel, 8 or 16 (default: 8)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
                    help="output image (.png, .jpg, .tif, ..., or .npy)")
     p.set_defaults(func=run)

@@ -62,8 +62,8 @@ def register(subparsers) -> None:
                    help="emboss: contrast; 1 reaches 0 or 1 at the steepest slope (default: 1)")
     p.add_argument("--alpha-value", type=_common.finite_float, default=None,
                    help="--alpha none: the constant alpha (default: 0.5; with --from: 1)")
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
-                   help="PNG bits per channel (default: 8)")
+    p.add_argument("--bit-depth", type=_common.bit_depth, default=8,
+                   help="PNG bits per channel, 8 or 16 (default: 8)")
     _common.add_normalize(p)
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
