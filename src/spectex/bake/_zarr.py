@@ -193,8 +193,8 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     """
     from .. import texture_file
 
-    # --- everything is checked before anything is written
-    texture, text = _texture_and_text(texture)
+    # --- everything is checked before anything is written, and every number before the texture is
+    # loaded (loading it imports and may compile the sampler: seconds), so that a refusal is at once
     path = _check_store_path(path)
     h, w = check_shape("shape", shape, maximum_pixels=1 << 62)
     p = check_length("pixel_size", pixel_size)
@@ -208,6 +208,7 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     _require()
+    texture, text = _texture_and_text(texture)
 
     shapes = level_shapes((h, w), levels)
     sizes = [p * 2.0 ** k for k in range(levels)]

@@ -281,14 +281,18 @@ def add_normalize(parser) -> None:
                              "(.npy, float TIFF) outside [0, 1] are refused)")
 
 
-def read_unit_image(args, path, name: str, *, max_pixels=None):
-    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
+def read_unit_image(args, path, name: str, *, max_pixels=None, check_header=None):
+    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it.
+
+    ``max_pixels`` and ``check_header`` are :func:`spectex.io.read_image`'s: checks from the header, before
+    the image is decoded.
+    """
     import numpy as np
 
     from spectex._validate import check_unit_range, normalize_image
     from spectex.io import read_image
 
-    image = read_image(path, name=name, max_pixels=max_pixels)
+    image = read_image(path, name=name, max_pixels=max_pixels, check_header=check_header)
     if not np.all(np.isfinite(image)):
         raise ValueError(f"{name} must hold finite values, got NaN or infinity")
     if getattr(args, "normalize", False):
