@@ -29,10 +29,12 @@ result).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import itertools
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -43,6 +45,8 @@ from pathlib import Path
 import numpy as np
 
 CAMERA = ("--camera", "0,0,2,0,-10")
+#: Seconds a case may run before it is killed and counted as unbounded.
+TIMEOUT = 120
 BAD_INTS = ("0", "-1", "-99999999999999999999", "99999999999999999999", "1e3", "nan", "abc", "", "0x10", "٣",
             # digits that Python's int() takes but a command line should not: full-width, Devanagari,
             # underscores, spaces, a sign, a float spelling, a 5000-digit number, negative zero
@@ -192,12 +196,14 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
     proc = subprocess.Popen([sys.executable, "-c", _WRAP, str(rss_file), sys.executable, "-m", "spectex", *argv],
                             cwd=folder, env=env,
                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            errors="replace")
+                            errors="replace", start_new_session=True)
     try:
-        out, err = proc.communicate(timeout=120)
+        out, err = proc.communicate(timeout=TIMEOUT)
         timeout = False
     except subprocess.TimeoutExpired:
-        proc.kill()
+        # the whole group: killing the wrapper alone would leave spectex running, holding the pipes open
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
         out, err = proc.communicate()
         timeout = True
     elapsed = time.perf_counter() - start
