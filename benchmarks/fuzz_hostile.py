@@ -209,9 +209,10 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
     elapsed = time.perf_counter() - start
     # the child's peak memory: getrusage of children is cumulative, so wait4 is used through the pid's status
     try:
-        rss = int(rss_file.read_text()) * 1024  # ru_maxrss is in KiB on Linux
+        kib, cpu = rss_file.read_text().split()
+        rss, cpu = int(kib) * 1024, float(cpu)  # ru_maxrss is in KiB on Linux
     except (OSError, ValueError):
-        rss = None
+        rss = cpu = None
     after = snapshot(folder)
     lost = [p for p in before if after.get(p) != before[p]]
     shutil.rmtree(folder, ignore_errors=True)
@@ -235,12 +236,14 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
         problems.append("accepted " + repr(sorted(MUST_REFUSE.intersection(argv))[0][:20]))
     return {"index": index, "argv": argv, "rc": proc.returncode,
             "err": err.strip().splitlines()[-1:] if err.strip() else [], "elapsed": elapsed,
-            "rss": rss, "problems": problems}
+            "rss": rss, "cpu": cpu, "problems": problems}
 
 
-#: Runs the command as a child and writes the child's peak resident memory (KiB) to argv[1].
+#: Runs the command as a child and writes the child's peak resident memory (KiB) and its CPU seconds
+#: (user + system: what the run cost, whatever the machine's load) to argv[1].
 _WRAP = ("import resource, subprocess, sys; r = subprocess.run(sys.argv[2:]); "
-         "open(sys.argv[1], 'w').write(str(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)); "
+         "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
+         "open(sys.argv[1], 'w').write(f'{u.ru_maxrss} {u.ru_utime + u.ru_stime}'); "
          "sys.exit(r.returncode)")
 
 
@@ -263,8 +266,9 @@ def _log_line(r: dict) -> str:
     clean = [a.replace("\t", " ").replace("\n", " ")[:200] for a in r["argv"]]
     err = " ".join(r["err"]).replace("\t", " ")[:300]
     rss = -1 if r["rss"] is None else r["rss"]
+    cpu = -1 if r.get("cpu") is None else r["cpu"]
     return (f"{r['index']}\t{r['rc']}\t{r['elapsed']:.3f}\t{rss}\t{';'.join(r['problems'])}\t"
-            f"{' '.join(clean)}\t{err}\n")
+            f"{' '.join(clean)}\t{err}\t{cpu:.3f}\n")
 
 
 def read_log(path) -> list[dict]:
@@ -277,7 +281,8 @@ def read_log(path) -> list[dict]:
         out[int(parts[0])] = {"index": int(parts[0]), "rc": int(parts[1]), "elapsed": float(parts[2]),
                               "rss": None if parts[3] == "-1" else int(parts[3]),
                               "problems": [p for p in parts[4].split(";") if p], "argv": parts[5].split(" "),
-                              "err": parts[6:7]}
+                              "err": parts[6:7],
+                              "cpu": float(parts[7]) if len(parts) > 7 and parts[7] != "-1.000" else None}
     return [out[k] for k in sorted(out)]
 
 
@@ -297,6 +302,9 @@ def summary(results: list[dict], total: int | None = None) -> str:
     p95 = refusals[min(len(refusals) - 1, int(0.95 * len(refusals)))] if refusals else 0.0
     rss_refused = max((r["rss"] or 0 for r in results if r["rc"] == 2), default=0)
     rss_all = max((r["rss"] or 0 for r in results), default=0)
+    cpus = sorted(r["cpu"] for r in results if r["rc"] == 2 and r.get("cpu") is not None)
+    cpu_words = (f"; CPU seconds of a refusal (user + system, whatever the load) max {cpus[-1]:.2f}, "
+                 f"p95 {cpus[min(len(cpus) - 1, int(0.95 * len(cpus)))]:.2f}" if cpus else "")
     of = f" of {total}" if total is not None and total != n else ""
     return (f"{n} cases{of}: {n - len(bad)} answered well ({100 * (n - len(bad)) / n:.1f} %); "
             f"{tracebacks} tracebacks, {other_rc} other exit statuses, {lines_bad} refusals not one line, "
@@ -304,7 +312,7 @@ def summary(results: list[dict], total: int | None = None) -> str:
             f"{len(refusals)} refusals (exit 2): time to refusal max {refusals[-1] if refusals else 0:.2f} s, "
             f"p95 {p95:.2f} s, median {refusals[len(refusals) // 2] if refusals else 0:.2f} s; "
             f"peak memory of a refusal {rss_refused / 2 ** 20:.0f} MiB, of any case {rss_all / 2 ** 20:.0f} MiB; "
-            f"{sum(r['rc'] == 0 for r in results)} ran to the end (exit 0)")
+            f"{sum(r['rc'] == 0 for r in results)} ran to the end (exit 0){cpu_words}")
 
 
 def main() -> int:
@@ -337,6 +345,7 @@ def main() -> int:
         indices = [i for i in indices if i in wanted]
     log = open(args.log, "a", encoding="utf-8") if args.log else None  # noqa: SIM115 - held for the run
     started = time.perf_counter()
+    load = os.getloadavg()
     with tempfile.TemporaryDirectory(prefix="spectex-fuzz-") as tmp:
         base = Path(tmp) / "base"
         base.mkdir()
@@ -356,7 +365,8 @@ def main() -> int:
     if log is not None:
         log.close()
     print(summary(results, len(every)))
-    print(f"{time.perf_counter() - started:.0f} s with {args.workers} workers")
+    print(f"{time.perf_counter() - started:.0f} s with {args.workers} workers; load average at the start "
+          f"{load[0]:.1f}, at the end {os.getloadavg()[0]:.1f} ({os.cpu_count()} CPUs)")
     return 0 if not any(r["problems"] for r in results) else 1
 
 

@@ -432,3 +432,24 @@ def test_docs_python_examples_run(tmp_path, monkeypatch):
     for code in blocks:
         exec(compile(code, "docs/bake.md", "exec"), namespace)
     assert namespace["result"].shapes[0] == (300, 400)
+
+
+def test_a_bake_larger_than_the_free_disk_is_refused_before_writing(texture, tmp_path, monkeypatch):
+    import collections
+
+    import spectex.bake._zarr as bz
+
+    usage = collections.namedtuple("usage", "total used free")
+    need = sum(3 * h * w for h, w in bz.level_shapes(SHAPE, 2))  # uint8, two levels
+    out = tmp_path / "t.zarr"
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need - 1))
+    words = f"makes 2 levels that need {need} bytes uncompressed, more than the {need - 1} bytes free"
+    with pytest.raises(ValueError, match=words):
+        bake_zarr(texture, out, SHAPE, **KW)
+    assert not out.exists()
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need))  # the control
+    assert bake_zarr(texture, out, SHAPE, **KW).baked > 0
+    # a resumed bake counts what is there already: the rest of the bytes free is enough
+    written = sum(f.stat().st_size for f in out.rglob("*") if f.is_file())
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need - written))
+    assert bake_zarr(texture, out, SHAPE, **KW).baked == 0

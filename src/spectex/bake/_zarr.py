@@ -14,6 +14,7 @@ as an image is a finished one.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -202,6 +203,7 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     dtype = check_choice("dtype", dtype, DTYPES)
     chunk, shard = _check_chunk_shard(chunk, shard, dtype)
     levels = _check_levels((h, w), levels, chunk, shard, dtype)
+    _check_free_space(path, (h, w), levels, dtype)
     connect_timeout = check_float("connect_timeout", connect_timeout, minimum=0.0, exclusive_minimum=True,
                                   maximum=3600.0)
     workers = _check_scheduler(scheduler, workers)
@@ -300,6 +302,34 @@ def _check_levels(shape, levels, chunk, shard, dtype) -> int:
         raise ValueError(f"shape {w}x{h} (--size) with shard {shard} makes {n_shards} shards, over the limit of "
                          f"{MAX_BAKE_SHARDS} (SPECTEX_MAX_BAKE_SHARDS; set it to raise the limit, or a larger shard)")
     return levels
+
+
+def _check_free_space(path: Path, shape, levels, dtype) -> None:
+    """Refuse a pyramid whose uncompressed bytes (less what an earlier run has written) exceed the free disk.
+
+    Compression may make the store smaller, but a bake that fills the disk hours in helps no one (as
+    ImageMagick's disk limit): the check is made before the first byte is written.
+    """
+    itemsize = np.dtype(dtype).itemsize
+    stored = sum(3 * lh * lw * itemsize for lh, lw in level_shapes(shape, levels))
+    folder = path.parent if str(path.parent) else Path(".")
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return  # a file system that cannot say: the write itself will tell
+    if stored <= free:
+        return
+    written = 0
+    if path.is_dir():
+        for root, _, files in os.walk(path):
+            for name in files:
+                with contextlib.suppress(OSError):
+                    written += os.lstat(os.path.join(root, name)).st_size
+    if stored - written > free:
+        more = f"{stored - written} more bytes" if written else f"{stored} bytes"
+        raise ValueError(f"shape {shape[1]}x{shape[0]} (--size) at {dtype} makes {levels} levels that need {more} "
+                         f"uncompressed, more than the {free} bytes free on the disk of '{folder}': free "
+                         "some space or bake a smaller region")
 
 
 def _check_scheduler(scheduler, workers):
