@@ -225,6 +225,7 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
         out, err = proc.communicate(timeout=TIMEOUT)
         timeout = False
     except subprocess.TimeoutExpired:
+        hwm = _session_peak(proc.pid)  # what the run had held when it was stopped
         # the whole group: killing the wrapper alone would leave spectex running, holding the pipes open
         with contextlib.suppress(ProcessLookupError):
             os.killpg(proc.pid, signal.SIGKILL)
@@ -237,6 +238,8 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
         rss, cpu = int(kib) * 1024, float(cpu)  # ru_maxrss is in KiB on Linux
     except (OSError, ValueError):
         rss = cpu = None
+    if timeout:
+        rss = hwm
     after = snapshot(folder)
     lost = [p for p in before if after.get(p) != before[p]]
     shutil.rmtree(folder, ignore_errors=True)
@@ -261,6 +264,22 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
     return {"index": index, "argv": argv, "rc": proc.returncode,
             "err": err.strip().splitlines()[-1:] if err.strip() else [], "elapsed": elapsed,
             "rss": rss, "cpu": cpu, "problems": problems}
+
+
+def _session_peak(sid: int) -> int | None:
+    """The largest peak resident memory (VmHWM, bytes) of the processes in session ``sid`` (Linux)."""
+    peak = None
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[3]) != sid:  # the session id, after state, ppid and pgrp
+                continue
+            for line in (stat.parent / "status").read_text().splitlines():
+                if line.startswith("VmHWM:"):
+                    peak = max(peak or 0, int(line.split()[1]) * 1024)
+        except (OSError, ValueError, IndexError):
+            continue
+    return peak
 
 
 #: Runs the command as a child and writes the child's peak resident memory (KiB) and its CPU seconds
@@ -319,6 +338,12 @@ def summary(results: list[dict], total: int | None = None) -> str:
     tracebacks = sum("traceback" in r["problems"] for r in results)
     unbounded = sum(any(p == "timeout" or p.startswith(("refused after", "peak")) for p in r["problems"])
                     for r in results)
+    timeouts = [r for r in results if "timeout" in r["problems"]]
+    timeout_words = ""
+    if timeouts:
+        peaks = [r["rss"] for r in timeouts if r["rss"]]
+        timeout_words = f" ({len(timeouts)} still running at {TIMEOUT} s"
+        timeout_words += f", peak memory when stopped up to {max(peaks) / 2 ** 20:.0f} MiB)" if peaks else ")"
     lost = sum(any(p.startswith("changed") for p in r["problems"]) for r in results)
     other_rc = sum(any(p.startswith("rc ") for p in r["problems"]) for r in results)
     lines_bad = sum(any(p.endswith(" lines") for p in r["problems"]) for r in results)
@@ -332,7 +357,8 @@ def summary(results: list[dict], total: int | None = None) -> str:
     of = f" of {total}" if total is not None and total != n else ""
     return (f"{n} cases{of}: {n - len(bad)} answered well ({100 * (n - len(bad)) / n:.1f} %); "
             f"{tracebacks} tracebacks, {other_rc} other exit statuses, {lines_bad} refusals not one line, "
-            f"{unbounded} unbounded (timeout, refusal > 5 s or peak > 1 GiB), {lost} with inputs lost or changed\n"
+            f"{unbounded} unbounded (timeout, refusal > 5 s or peak > 1 GiB){timeout_words}, {lost} with inputs "
+            "lost or changed\n"
             f"{len(refusals)} refusals (exit 2): time to refusal max {refusals[-1] if refusals else 0:.2f} s, "
             f"p95 {p95:.2f} s, median {refusals[len(refusals) // 2] if refusals else 0:.2f} s; "
             f"peak memory of a refusal {rss_refused / 2 ** 20:.0f} MiB, of any case {rss_all / 2 ** 20:.0f} MiB; "
