@@ -10,7 +10,9 @@ hostile inputs and is judged *answered well* when
 * a refusal (exit 2) comes within 5 s and 1 GB of peak memory;
 * nothing runs past 120 s (numba's kernels are compiled by a warm-up first, as
   for a user's second run; ``--cold`` leaves that out);
-* every file that was there before is byte-identical afterwards;
+* every file that was there before is byte-identical afterwards (except the
+  file ``-o`` names, or the file a link there points to, when the run succeeds
+  and it is none of the run's inputs: the user asked for it to be replaced);
 * a value no option may take (``٣``, ``1_000``, ``nan``, ``1e999``, ...) is refused, not run with.
 
 Run::
@@ -241,7 +243,8 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
     if timeout:
         rss = hwm
     after = snapshot(folder)
-    lost = [p for p in before if after.get(p) != before[p]]
+    named = _named_output(argv, folder) if proc.returncode == 0 else set()
+    lost = [p for p in before if after.get(p) != before[p] and p not in named]
     shutil.rmtree(folder, ignore_errors=True)
     lines = [ln for ln in err.splitlines() if ln.strip() and "rendering on the CPU instead" not in ln]
     problems = []
@@ -264,6 +267,26 @@ def run(argv, base: Path, work: Path, index: int) -> dict:
     return {"index": index, "argv": argv, "rc": proc.returncode,
             "err": err.strip().splitlines()[-1:] if err.strip() else [], "elapsed": elapsed,
             "rss": rss, "cpu": cpu, "problems": problems}
+
+
+def _named_output(argv, folder: Path) -> set[str]:
+    """The file that ``-o`` names (and the file a link there points to), relative to ``folder``: a run that
+    succeeds may replace it, as the user asked, unless it is also one of the run's inputs (named in argv)."""
+    if "-o" not in argv or argv.index("-o") + 1 >= len(argv):
+        return set()
+    k = argv.index("-o")
+    name = argv[k + 1]
+    others = {os.path.realpath(folder / a) for j, a in enumerate(argv) if j not in (k, k + 1) and a}
+    out = set()
+    for path in (folder / name, Path(os.path.realpath(folder / name))):
+        try:
+            rel = str(path.relative_to(folder.resolve()) if path.is_absolute() and path.is_relative_to(
+                folder.resolve()) else path.relative_to(folder))
+        except ValueError:
+            continue
+        if os.path.realpath(path) not in others:
+            out.add(rel)
+    return out
 
 
 def _session_peak(sid: int) -> int | None:

@@ -204,9 +204,10 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     chunk, shard = _check_chunk_shard(chunk, shard, dtype)
     levels = _check_levels((h, w), levels, chunk, shard, dtype)
     _check_free_space(path, (h, w), levels, dtype)
-    connect_timeout = check_float("connect_timeout", connect_timeout, minimum=0.0, exclusive_minimum=True,
-                                  maximum=3600.0)
+    connect_timeout = check_float("connect_timeout", connect_timeout, minimum=1e-3, maximum=3600.0)
     workers = _check_scheduler(scheduler, workers)
+    if scheduler is not None:
+        _probe(scheduler, connect_timeout)  # nothing listening: said before anything is loaded
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     _require()
@@ -529,6 +530,30 @@ def _run_local(job, todo, workers, progress, total) -> None:
             keys.append(key)
         with Callback(posttask=posttask):
             get(graph, keys, num_workers=workers or os.cpu_count() or 1)
+
+
+def _probe(scheduler, timeout) -> None:
+    """Refuse at once an address where nothing listens or whose host has no address (TCP-based schemes).
+
+    dask.distributed retries a refused connection until its timeout: one plain TCP connection says
+    "nothing listens there" in milliseconds. Slow or filtered networks are left to the timeout.
+    """
+    import socket
+
+    found = _ADDRESS.match(scheduler)
+    scheme, host, port = found.group(1), found.group(2).strip("[]"), int(found.group(3))
+    if scheme not in ("tcp", "tls", "ws", "wss"):
+        return
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except ConnectionRefusedError:
+        raise OSError(f"cannot reach the scheduler {scheduler}: nothing listens on port {port} of {host} "
+                      "(connection refused)") from None
+    except socket.gaierror as exc:
+        raise OSError(f"cannot reach the scheduler {scheduler}: host {host!r} not found ({exc.strerror})") from None
+    except OSError:
+        return  # a timeout, an unreachable network...: dask.distributed's own connection says what it finds
 
 
 def _connect(scheduler, timeout):
