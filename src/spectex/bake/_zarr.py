@@ -557,16 +557,40 @@ def _probe(scheduler, timeout) -> None:
 
 
 def _connect(scheduler, timeout):
+    """A ``distributed.Client`` of ``scheduler``, or OSError within about ``timeout`` seconds.
+
+    The client is made in a daemon thread that is waited for at most ``timeout + 2`` seconds:
+    dask.distributed does not bound its handshake, so an address where something else listens (a web
+    server, a silent socket) would otherwise hang the bake for ever.
+    """
+    import threading
+
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
-    try:
-        return Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
-    except (OSError, TimeoutError) as exc:
+    box = {}
+
+    def connect():
+        try:
+            box["client"] = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
+        except BaseException as exc:  # handed to the waiting thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="spectex-connect", daemon=True)
+    thread.start()
+    thread.join(timeout + 2.0)
+    if thread.is_alive():
+        raise OSError(f"cannot reach the scheduler {scheduler} within {timeout:g} s: something listens there but "
+                      "does not answer as a dask.distributed scheduler")
+    exc = box.get("error")
+    if isinstance(exc, (OSError, TimeoutError)):
         raise OSError(f"cannot reach the scheduler {scheduler} within {timeout:g} s: {exc}") from None
-    except ValueError as exc:  # an address that dask.distributed cannot parse
+    if isinstance(exc, ValueError):  # an address that dask.distributed cannot parse
         raise ValueError(f"scheduler {scheduler!r} is not an address dask.distributed can reach: {exc}") from None
+    if exc is not None:
+        raise exc
+    return box["client"]
 
 
 def _run_distributed(job, todo, client, progress, total) -> None:
