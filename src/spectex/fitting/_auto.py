@@ -13,8 +13,8 @@ What each layer carries, and why (``docs/fitting.md``):
   coarsest octaves, at most ``AUTO_MAX_SLOPE``) and holds nothing above
   about two cycles across the photo, coloured along the main axis of the
   photo's low-passed colours. The photo itself is never magnified.
-* **Colours** end with the means' shift (the bakes' means to the photo's)
-  and the tile clipped to the photo's range per channel; not the exact
+* **Colours** end with the rounds' shift of the means (the bakes' means
+  to the photo's) and the tile clipped to the photo's range per channel; not the exact
   histogram step, which fitted a few bake regions' pooled histogram and
   stretched a non-stationary photo's flat parts (see the last step in
   :func:`fit_auto`).
@@ -376,13 +376,14 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             gain = float(np.clip(gain * 10.0 ** (float(np.mean(err[-n_cont:])) / 20.0), 0.1, 8.0))
             problem.coarse_tile = coarse(gain)
         tick()
-    # the means last, and the tile inside the photo's range per channel (no colour the photo lacks).
-    # Not the exact histogram step (the bakes' histograms mapped to the photo's): a few bake regions of
-    # a non-stationary photo (moon's flat maria beside its craters) pool local contrasts that differ by
-    # 10 dB, and the quantile map fitted to that sample stretched the tile's flat parts, raising moon's
-    # finest bands by 3 dB with a speckle of grain (structural distance 1.15 against 1.04 this way;
-    # tissue 0.88 against 0.81; within 0.03 on the others, docs/fitting.md)
-    colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False), shift_only=True)
+    # the tile inside the photo's range per channel (no colour the photo lacks); the means are the
+    # rounds' (a further shift on fresh bakes moved them by 0.01-0.17 of an 8-bit step on gravel, moon,
+    # tissue and deep field: not worth a third set of bakes and stochastic tables, a third of the time).
+    # Not the exact histogram step (the bakes' histograms mapped to the photo's) that was here: a few
+    # bake regions of a non-stationary photo (moon's flat maria beside its craters) pool local contrasts
+    # 10 dB apart, and the quantile map fitted to that sample stretched the tile's flat parts, raising
+    # moon's finest bands by 3 dB with a speckle of grain (structural distance 1.15 against 1.04 without
+    # it; tissue 0.88 against 0.81; within 0.03 on the others, docs/fitting.md)
     colour = np.clip(colour, exemplar.reshape(-1, 3).min(axis=0), exemplar.reshape(-1, 3).max(axis=0))
     tick()
     texture = problem.texture(colour, alpha)
