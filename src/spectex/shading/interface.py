@@ -251,7 +251,7 @@ KEY = Input("u_key", "uint", "layer", "texture", "per layer: the hash key of its
             gl=lambda g: [int(v) for v in g.tables.key], host=_field("key", zero=0),
             js=_JS_PICK.format("key", "0"), stochastic=True, fold=True)
 SNAP = Input("u_snap", "vec2", "layer", "texture",
-             "per layer: its snap counts along s, t, whole numbers (tables.snap_counts; the tile's width, height "
+             "per layer: its snap counts along s, t, whole numbers (stochastic.snap_counts; the tile's width, height "
              "for a periodic layer, unused)",
              gl=lambda g: [_floats(s) for s in g.tables.snap], host=lambda h: _snap(h),
              js="[].concat(...L.map((l) => pick(l, 'snap', [texture.tile_shape[1], texture.tile_shape[0]])))",

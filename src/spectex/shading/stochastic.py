@@ -78,6 +78,7 @@ __all__ = [
     "triangle_grid_matrix",
     "lowbias32",
     "layer_key",
+    "snap_counts",
     "expand_lut",
     "sample_stochastic_grad",
     "sample_stochastic_at_lod",
@@ -85,6 +86,17 @@ __all__ = [
 
 #: ``sqrt(3)``: the height of an equilateral triangle of side 2.
 _SQRT3 = math.sqrt(3.0)
+
+
+def snap_counts(snap, tile_shape) -> tuple[float, float]:
+    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
+
+    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
+    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
+    texels, as without snapping.
+    """
+    h, w = int(tile_shape[0]), int(tile_shape[1])
+    return float(snap[0] or w), float(snap[1] or h)
 
 
 def triangle_grid_matrix(patch: float) -> np.ndarray:
@@ -354,7 +366,7 @@ def vertex_offset(i, j, key, w0, h0, nx, ny):
     of the ``w0 x h0`` level 0 into the tile (integer division), so that a
     patch's texels fall where the un-offset tile's would: a bake on the
     texel grid samples texel centres, unblurred. ``nx, ny`` are the
-    layer's snap counts (``tables.snap_counts``): ``Layer.snap``'s whole
+    layer's snap counts (``snap_counts``): ``Layer.snap``'s whole
     structure periods, or ``w0, h0`` (every texel) without snapping. All in
     integers, so every renderer computes the same offsets exactly.
     """
@@ -593,7 +605,6 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="t
     if not isinstance(tables, StochasticTables):
         raise TypeError(f"tables must be StochasticTables, got {type(tables).__name__}")
     from .._validate import check_snap
-    from .tables import snap_counts
 
     grid = triangle_grid_matrix(patch)
     key = layer_key(seed)

@@ -34,7 +34,7 @@ from .constants import (
 )
 from .sampler import filter_code
 
-__all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix", "snap_counts"]
+__all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
 
 
 class ShadingTables(NamedTuple):
@@ -89,17 +89,6 @@ def layer_matrix(size: float, rotation: float) -> np.ndarray:
     th = math.radians(rotation)
     c, s = math.cos(th), math.sin(th)
     return np.array([[c, s], [-s, c]], dtype=np.float64) / size
-
-
-def snap_counts(snap, tile_shape) -> tuple[float, float]:
-    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
-
-    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
-    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
-    texels, as without snapping.
-    """
-    h, w = int(tile_shape[0]), int(tile_shape[1])
-    return float(snap[0] or w), float(snap[1] or h)
 
 
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
@@ -177,7 +166,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     basis = np.zeros((n, 3, 3), dtype=np.float64)
     origin = np.zeros((n, 3), dtype=np.float64)
     if np.any(tiling == TILING_STOCHASTIC):
-        from .stochastic import layer_key, triangle_grid_matrix
+        from .stochastic import layer_key, snap_counts, triangle_grid_matrix
 
         gauss, lut, lut_rows = texture.stochastic_store(mipmaps=mipmaps)
         stoch = texture.stochastic_tables()
