@@ -55,6 +55,14 @@ PERIOD_MIN_CORRELATION = 0.15
 #: size (-6 dB per octave band); -3 leaves room for the slow variation of real ground, where the
 #: legacy fit's -1.5 made blotches larger than anything in the photo.
 AUTO_MAX_SLOPE = -3.0
+#: Least rise of the autocorrelation at a period above its trough before it (:func:`structure_period`).
+PERIOD_MIN_PROMINENCE = 0.1
+#: Least height of the autocorrelation's peak at twice a period, as a fraction of the period's own.
+PERIOD_MULTIPLE = 0.4
+#: Most stretch of the photo's period to the tile's whole-texel period (:func:`_tile_counts`).
+PERIOD_STRETCH = 0.12
+#: Stretch a whole texel period along the tile's second axis may add before a fractional one is taken.
+PERIOD_FRACTION_COST = 0.02
 #: The drift across the axis :func:`structure_period` allows per pixel of lag (about 6 degrees).
 TILT = 0.1
 #: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
@@ -86,7 +94,7 @@ COARSE_CYCLES = 2.0
 
 
 def structure_period(exemplar, *, min_lag: int = 8):
-    """The period of a structured exemplar along its columns and rows, from its autocorrelation.
+    """The period of a structured exemplar along its columns and rows, to a fraction of a pixel.
 
     The luma's circular autocorrelation (mean removed, divided by its value
     at lag 0) is read along the y axis (lag ``(dy, 0)``) and the x axis
@@ -96,12 +104,25 @@ def structure_period(exemplar, *, min_lag: int = 8):
     maximum wins, unless a shorter lag reaches 90% of it (a multiple of the
     true period is as high as the period itself).
 
+    A period is accepted only if it stands above the autocorrelation's own
+    floor: correlation :data:`PERIOD_MIN_CORRELATION` or more, and a peak
+    :data:`PERIOD_MIN_PROMINENCE` above the lowest value between half the
+    lag and the lag, and (where twice the lag is under half the side) a
+    peak again at twice the lag, at least :data:`PERIOD_MULTIPLE` of the
+    first's height. Bricks of random length along an axis give a weak bump
+    at their mean length that does not come back at twice it: no period.
+
+    The whole-pixel lag is then refined (:func:`_refine_period`): a
+    parabola through each peak at the period's multiples, the period the
+    least-squares slope of the peaks' places against their multiples (a
+    tile of ``k`` periods is cut ``k`` times more precisely than one peak
+    is read).
+
     Returns
     -------
-    (py, px) : tuple of int or None
-        Pixels; an entry is None where that axis has no lag with
-        correlation :data:`PERIOD_MIN_CORRELATION` or more (no period
-        shorter than half the side).
+    (py, px) : tuple of float or None
+        Pixels (not necessarily whole; rounded to 0.01); an entry is None
+        where that axis has no period.
     """
     from ._core import _luma
 
@@ -122,9 +143,62 @@ def structure_period(exemplar, *, min_lag: int = 8):
         if best is None or v[best] < PERIOD_MIN_CORRELATION:
             out.append(None)
             continue
-        first = next(i for i in peaks if v[i] >= 0.9 * v[best])
-        out.append(int(first + min_lag))
+        p = next(i for i in peaks if v[i] >= 0.9 * v[best]) + min_lag
+        if not _period_stands_out(line, p):
+            out.append(None)
+            continue
+        out.append(round(_refine_period(line, p), 2))
     return out[0], out[1]
+
+
+def _period_stands_out(line, p):
+    """Whether lag ``p`` of the autocorrelation ``line`` is a period (see :func:`structure_period`)."""
+    if line[p] - float(np.min(line[p // 2:p + 1])) < PERIOD_MIN_PROMINENCE:
+        return False
+    if 2 * p + 1 < len(line):
+        again = float(np.max(line[2 * p - 1:2 * p + 2]))
+        if again < PERIOD_MULTIPLE * line[p] or again - float(np.min(line[p:2 * p + 1])) < PERIOD_MIN_PROMINENCE / 2:
+            return False
+    return True
+
+
+def _peak_place(line, j):
+    """Sub-pixel place of the local maximum of ``line`` at or next to lag ``j`` (a parabola through three lags)."""
+    j = int(np.argmax(line[j - 1:j + 2])) + j - 1
+    if j < 1 or j + 1 >= len(line):
+        return float(j)
+    a, b, c = line[j - 1], line[j], line[j + 1]
+    den = a - 2.0 * b + c
+    if den >= 0.0:  # not a maximum
+        return float(j)
+    return j + float(np.clip(0.5 * (a - c) / den, -0.5, 0.5))
+
+
+def _refine_period(line, p):
+    """The period to a fraction of a pixel from the autocorrelation ``line``'s peaks at ``p, 2p, ...``.
+
+    Each peak is placed by a parabola (:func:`_peak_place`), the next
+    multiple looked for at the estimate so far; the estimate is the least
+    squares slope through the origin of the places against the multiples.
+    Stops at the first multiple that is no longer a peak standing
+    :data:`PERIOD_MIN_PROMINENCE` / 2 above the trough before it.
+    """
+    places = [(1, _peak_place(line, p))]
+    est = places[0][1]
+    m = 2
+    while round(m * est) + 2 < len(line):
+        j = int(round(m * est))
+        x = _peak_place(line, j)
+        jj = int(round(x))
+        trough = float(np.min(line[int((m - 1) * est):jj + 1]))
+        if abs(x - m * est) > 1.5 or line[jj] - trough < PERIOD_MIN_PROMINENCE / 2:
+            break
+        places.append((m, x))
+        ms = np.array([q[0] for q in places], dtype=np.float64)
+        xs = np.array([q[1] for q in places])
+        est = float(np.sum(ms * xs) / np.sum(ms * ms))
+        m += 1
+    return est
 
 
 def _best_cut(lines, span):
@@ -137,45 +211,101 @@ def _best_cut(lines, span):
     return int(np.argmin(costs))
 
 
-def _period_tile(exemplar, period):
-    """A square tile of whole periods, cut where its wrap edges show least; or None.
+def _tile_counts(h, w, period):
+    """The period tile's side and counts: ``(L, (qy, qx), (ky, kx))`` or None.
 
-    ``period = (py, px)``, either may be None (no period along that axis).
-    The side ``L`` is as many whole periods as fit (near square when both
-    are known, then resampled along y by ``L / (ky py)``, within 12%); the
-    crop's place along each axis is the one whose wrap edge differs least
-    (:func:`_best_cut`). Returns ``(tile (L, L, 3) float64, L, (ky, kx))``.
+    ``L`` texels hold ``kx`` periods of ``qx`` whole texels along x and
+    ``ky`` of ``qy`` along y (0 and None where that axis has no period).
+    Each texel period is the photo's period ``p`` resampled by
+    ``q / p``: along x (y where x has none) within half a texel
+    (``q = round(p)``), along the other as the square side allows, within
+    ``PERIOD_STRETCH``, whole unless a fractional one stretches less by
+    ``PERIOD_FRACTION_COST`` (a tile of ``k`` periods whose texel period is not
+    whole would put the snapped offsets, whole texels, up to a texel off per
+    period). Among the sides whose source crop fits the photo and that are
+    at least 70% of the largest, the least stretch wins.
+    """
+    py, px = period
+    strict = "x" if px is not None else "y"
+    found = []
+    for side in range(min(h, w) - 1, MIN_SIZE - 1, -1):
+        if side % max(1, round(px if strict == "x" else py)):
+            continue
+        best = []
+        for name, p, n in (("y", py, h), ("x", px, w)):
+            if p is None:
+                best.append((0, None, 1.0))
+                continue
+            options = []
+            for k in range(1, side // 2 + 1):
+                if side % k:
+                    continue
+                q = side // k
+                if name == strict and q != round(p):
+                    continue
+                if k * p <= n - 1 and abs(q / p - 1.0) <= PERIOD_STRETCH:
+                    options.append((abs(q / p - 1.0), k, q, q / p))
+            if name != strict:
+                # the other axis may keep a fractional texel period where whole ones stretch it more
+                # than PERIOD_FRACTION_COST further: its snapped offsets are then rounded down to
+                # texels, each less than a texel off (not accumulating over periods)
+                k = max(1, round(side / p))
+                if k * p <= n - 1 and abs(side / k / p - 1.0) <= PERIOD_STRETCH:
+                    options.append((abs(side / k / p - 1.0) + PERIOD_FRACTION_COST, k, side / k, side / k / p))
+            if not options:
+                best = None
+                break
+            best.append(min(options)[1:])
+        if best is not None:
+            found.append((side, best))
+    if not found:
+        return None
+    # the least stretch among the sides within 70% of the largest (the larger when equal)
+    largest = found[0][0]
+    side, ((ky, qy, sy), (kx, qx, sx)) = min(
+        (f for f in found if f[0] >= 0.7 * largest),
+        key=lambda f: (round(max(abs(f[1][0][2] - 1.0), abs(f[1][1][2] - 1.0)), 3), -f[0]))
+    return side, (qy, qx), (ky, kx), (sy, sx)
+
+
+def _period_tile(exemplar, period):
+    """A square tile of whole periods, each a whole number of texels, cut where its wrap edges show least; or None.
+
+    ``period = (py, px)`` in pixels (not necessarily whole), either may be
+    None (no period along that axis). The side and counts are
+    :func:`_tile_counts`'s; the crop of ``ky py`` by ``kx px`` photo
+    pixels (``L`` where an axis has no period), placed along each axis where
+    its wrap edge differs least (:func:`_best_cut`), is resampled (cubic,
+    wrapping: the crop is periodic) to ``L x L`` texels. Returns
+    ``(tile (L, L, 3) float64, L, (ky, kx), (qy, qx), scale)``: ``scale``
+    the texels per photo pixel along x (y where x has no period; the other
+    axis is stretched by at most ``PERIOD_STRETCH`` more).
     """
     from scipy import ndimage
 
     h, w = exemplar.shape[:2]
-    py, px = period
-    if py is None and px is None:
+    if period[0] is None and period[1] is None:
         return None
-    choice = None
-    if px is not None and py is not None:
-        for kx in range(w // px, 0, -1):
-            side = kx * px
-            ky = max(1, round(side / py))
-            if ky * py <= h - 1 and side <= w - 1 and side >= MIN_SIZE and abs(ky * py / side - 1.0) <= 0.12:
-                choice = (ky * py, side, ky, kx)
-                break
-    elif px is not None:
-        kx = (min(h, w) - 1) // px
-        choice = (kx * px, kx * px, 0, kx)
-    else:
-        ky = (min(h, w) - 1) // py
-        choice = (ky * py, ky * py, ky, 0)
-    if choice is None or min(choice[:2]) < MIN_SIZE:
+    found = _tile_counts(h, w, period)
+    if found is None:
         return None
-    ch, cw, ky, kx = choice
-    x0 = _best_cut(np.moveaxis(exemplar, 1, 0), cw)
-    y0 = _best_cut(exemplar[:, x0:x0 + cw], ch)
-    crop = exemplar[y0:y0 + ch, x0:x0 + cw].astype(np.float64)
-    if ch != cw:
-        # periodic along y: wrap-mode resampling keeps the crop seamless
-        crop = ndimage.zoom(crop, (cw / ch, 1.0, 1.0), order=1, mode="grid-wrap", grid_mode=True)[:cw]
-    return crop, cw, (ky, kx)
+    side, (qy, qx), (ky, kx), (sy, sx) = found
+    spans = [ky * period[0] if ky else float(side), kx * period[1] if kx else float(side)]
+    iy, ix = int(math.ceil(spans[0])), int(math.ceil(spans[1]))
+    x0 = _best_cut(np.moveaxis(exemplar, 1, 0), int(round(spans[1])))
+    x0 = min(x0, w - ix - 1)
+    y0 = _best_cut(exemplar[:, x0:x0 + ix], int(round(spans[0])))
+    y0 = min(y0, h - iy - 1)
+    crop = exemplar[y0:y0 + iy + 1, x0:x0 + ix + 1].astype(np.float64)
+    # texel centres (i + 0.5) of the L-texel tile at photo places (i + 0.5) span / L - 0.5 of the crop
+    yy = (np.arange(side) + 0.5) * (spans[0] / side) - 0.5
+    xx = (np.arange(side) + 0.5) * (spans[1] / side) - 0.5
+    gy, gx = np.meshgrid(yy, xx, indexing="ij")
+    tile = np.stack([ndimage.map_coordinates(crop[:, :, c], [gy, gx], order=3, mode="nearest")
+                     for c in range(3)], axis=2)
+    # the cubic's overshoot at sharp edges (mortar) kept inside the crop's own range
+    tile = np.clip(tile, crop.min(axis=(0, 1)), crop.max(axis=(0, 1)))
+    return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
 
 
 def _coarse_tile(exemplar, n, ratio, slope_db, rng):
@@ -223,7 +353,8 @@ def _coarse_tile(exemplar, n, ratio, slope_db, rng):
 def _trial(exemplar, pixel_size, candidates, patch, period):
     """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
 
-    ``candidates``: ``(label, tiling, tile, snap)``. ``structure``:
+    ``candidates``: ``(label, tiling, tile, snap, scale, lattice)``, ``scale`` the tile's texels per
+    photo pixel, ``lattice`` the structure's period in the bake (photo pixels; None: ``period``). ``structure``:
     structural distance / floor (:func:`spectex.metrics.structural_distance`)
     of a bake of the photo's size (at most 256) at its pixel size, against
     the photo's central crop of that size (4 windows each). ``repeat``:
@@ -239,12 +370,12 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     y0, x0 = (h - m) // 2, (w - m) // 2
     reference = exemplar[y0:y0 + m, x0:x0 + m]
     prepared = reference_statistics(reference, max_windows=4)
-    half = tuple(None if p is None else p / 2.0 for p in period)
     out = {}
-    for label, tiling, tile, snap in candidates:
+    for label, tiling, tile, snap, scale, lattice in candidates:
+        half = tuple(None if p is None else p / 2.0 for p in (lattice or period))
         rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
-        layer = Layer(size=tile.shape[0] * pixel_size, tiling=tiling, patch=patch, snap=snap)
+        layer = Layer(size=tile.shape[0] * pixel_size / scale, tiling=tiling, patch=patch, snap=snap)
         texture = SpectralTexture(rgba, [layer])
         bake = texture.bake((m, m), pixel_size=pixel_size)
         far = texture.bake((TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
@@ -369,25 +500,30 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         tile_method = f"tileable quilt (block {block}, reuse penalty 1)"
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
+    scale0 = 1.0  # the finest tile's texels per photo pixel
     trial = None
     if cut is not None:
-        crop, side, counts = cut
+        crop, side, counts, whole, texel_scale = cut
         # the crop as it is: cut where its wrap edges differ least, at whole periods, it is seamless as a
         # structure; make_seamless's smooth correction takes up every brick's colour step along the wrap
         # edges and spreads them into blotches (up to 0.66 on a 240-pixel wall tile; its structural
         # distance 1.98 against 0.86 for the crop itself)
         cut_tile = np.clip(crop, 0.0, 1.0).astype(np.float64)
         cut_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
-                      f"{counts[0]} periods, 0 where none) where its wrap edges show least")
+                      f"{counts[0]} periods, 0 where none) where its wrap edges show least, resampled to "
+                      f"whole-texel periods (x {whole[1]}, y {whole[0]} texels)")
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
-            tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
+            tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:
             # the trial bakes: the finest layer alone, each way, measured by the structural distance
             # and by the repeat of its content beyond the structure's lattice
             snap = (counts[1], counts[0])
-            trial = _trial(exemplar, pixel_size, [("periodic", "periodic", cut_tile, (0, 0)),
-                                                  ("snapped", "stochastic", cut_tile, snap),
-                                                  ("stochastic", "stochastic", tile0, (0, 0))], patch, period)
+            # the tile's lattice in the bake (photo pixels): its whole-texel periods over the texel scale
+            lattice = tuple(None if q is None else q / texel_scale for q in whole)
+            trial = _trial(exemplar, pixel_size, [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
+                                                  ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
+                                                  ("stochastic", "stochastic", tile0, (0, 0), 1.0, None)],
+                           patch, period)
             from ..metrics import repeat_peak
 
             own = repeat_peak(exemplar, period=period)
@@ -395,9 +531,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
             trial["choice"] = choice
             if choice == "periodic":
-                tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
+                tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
             elif choice == "snapped":
-                tile0, n, tilings0, snap0 = cut_tile, side, "stochastic", snap
+                tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", snap, texel_scale
                 tile_method = cut_method + f", drawn stochastically with offsets snapped to whole periods (snap {snap})"
     tick()
     # --- the coarse layers' own tile
@@ -413,7 +549,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         return rgba
 
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
-    finest = n * pixel_size
+    finest = n * pixel_size / scale0
     layer_list = [Layer(size=finest, tile=0, tiling=tilings0, patch=patch, snap=snap0)]
     for k in range(1, layers):
         size = finest * ratio ** k
@@ -459,7 +595,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0,
               "band_error_history_db": history, "tilings": [lay.tiling for lay in layer_list],
-              "structure_peak": structure, "period_px": period, "trial": trial, "snap": snap0, "patch": patch,
+              "structure_peak": structure, "period_px": period,
+              "tile_period_px": None if cut is None else cut[3], "trial": trial, "snap": snap0, "patch": patch,
               "scale": scale}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)
