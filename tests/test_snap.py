@@ -230,13 +230,21 @@ def test_fit_of_a_brick_wall_keeps_the_grid_without_repeating(wall_fits):
     assert got["periodic"]["near"] >= 0.5 and got["periodic"]["near"] >= got["auto"]["near"] + 0.3, got
 
 
-def subpixel_wall(side, *, brick=33.4, row=15.3, mortar=2.5, rng=0, random_length=False, ss=4):
+def subpixel_wall(side, *, brick=33.4, row=15.3, mortar=2.5, rng=0, random_length=False, turn=0.0, fan=0.0, ss=4):
     """A running-bond wall photo whose bricks are ``brick`` x ``row`` pixels (not whole numbers),
     brick-coloured with grain, rendered at ``ss`` x ``ss`` samples per pixel. ``random_length``:
-    every brick its own length (0.5 to 1.5 ``brick``), so no period across, rows still regular."""
+    every brick its own length (0.5 to 1.5 ``brick``), so no period across, rows still regular.
+    ``turn``: the wall turned by that many degrees; ``fan``: in perspective, its bricks' length
+    changing by that fraction from top to bottom (the vertical joints fan out)."""
     rng = np.random.default_rng(rng)
     n = side * ss
     yy, xx = (np.mgrid[0:n, 0:n] + 0.5) / ss
+    c = side / 2.0
+    if fan:
+        xx = c + (xx - c) / (1.0 + fan * (yy - c) / side)
+    if turn:
+        t = np.deg2rad(turn)
+        xx, yy = c + (xx - c) * np.cos(t) - (yy - c) * np.sin(t), c + (xx - c) * np.sin(t) + (yy - c) * np.cos(t)
     r = np.floor(yy / row).astype(np.int64)
     if random_length:
         edges = np.cumsum(rng.uniform(0.5, 1.5, (r.max() + 1, int(2 * side / brick) + 4)) * brick, axis=1)
@@ -253,7 +261,7 @@ def subpixel_wall(side, *, brick=33.4, row=15.3, mortar=2.5, rng=0, random_lengt
         shift = (r % 2) * brick / 2.0
         col = np.floor((xx + shift) / brick).astype(np.int64)
         vert = np.mod(xx + shift, brick) < mortar
-    ident = r * (col.max() + 2) + col + 1
+    ident = (r - r.min()) * (col.max() - col.min() + 2) + col - col.min()
     colours = np.clip(np.array([0.55, 0.25, 0.18]) + rng.normal(0.0, 0.07, (ident.max() + 1, 3))
                       + rng.normal(0.0, 0.06, (ident.max() + 1, 1)), 0.0, 1.0)
     img = colours[ident] + 0.03 * rng.standard_normal((n, n))[:, :, None]
@@ -301,3 +309,41 @@ def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
     # control: the whole-pixel period (33 for 33.4) puts nine periods 3.6 px off: mortar doubled and
     # offset at patch edges (measured 0.48)
     assert got["whole"] <= 0.7 * own, (own, got)
+
+
+def test_fit_straightens_a_turned_wall_and_says_when_a_photo_is_in_perspective():
+    from spectex.fitting import fit_result
+    from spectex.fitting._auto import _period_tile, structure_period
+
+    turned = subpixel_wall(320, rng=4, turn=3.0)
+    result = fit_result(turned, pixel_size=0.01, layers=2, iterations=1)
+    # the wall's lines are found 3 degrees off the axes and straightened before the period is read
+    assert abs(result.params["orientation_deg"] + 3.0) <= 0.3, result.params["orientation_deg"]
+    assert any(n.startswith("turned the photo by") for n in result.notes), result.notes
+    py, px = result.params["period_px"]
+    assert abs(px - 33.4) <= 0.25 and abs(py - 30.6) <= 0.3, (py, px)
+    # its tile keeps the mortar on the lattice across snapped patches (measured 0.71; a square-on
+    # wall's photo 0.74)
+    tile = result.texture.tiles[0]
+    side = tile.shape[0]
+    qy, qx = result.params["tile_period_px"]
+    kx, ky = side // qx, round(side / qy)
+    bake = SpectralTexture(tile, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(kx, ky))]).bake(
+        (512, 512), pixel_size=1.0 / side)
+    straight = _lattice_share(bake, (side / ky, side / kx))
+    # control: the same wall cut without straightening (its lattice 1.7 px off per period; measured 0.02)
+    period = structure_period(turned)
+    crude, cside, (cky, ckx), _, _ = _period_tile(turned, period)
+    rgba = np.ones((cside, cside, 4), dtype=np.float32)
+    rgba[:, :, :3] = crude
+    bake = SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(ckx, cky))]).bake(
+        (512, 512), pixel_size=1.0 / cside)
+    unturned = _lattice_share(bake, (cside / cky, cside / ckx))
+    assert straight >= 0.55 and unturned <= 0.5 * straight, (straight, unturned)
+    # a wall in perspective (bricks 25% longer at the bottom than the top) is said to be; a square-on
+    # one is not
+    fanned = fit_result(subpixel_wall(320, rng=4, fan=0.25), pixel_size=0.01, layers=2, iterations=1)
+    assert any("in perspective" in n for n in fanned.notes), fanned.notes
+    assert fanned.params["orientation_drift_deg"] > 1.5
+    square = fit_result(subpixel_wall(320, rng=4), pixel_size=0.01, layers=2, iterations=1)
+    assert not any("in perspective" in n or "turned" in n for n in square.notes), square.notes
