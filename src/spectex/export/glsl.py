@@ -16,7 +16,7 @@
 * ``spectex_uniforms.js``: the shader's uniforms from that table and a
   camera, as an ES module (the web viewer's own code);
 * ``tile.png`` and ``mips/tile.level<d>.png``: the tile and every mip level
-  spectex samples (:meth:`SpectralTexture.mip_levels`), lossless, for
+  spectex samples (:func:`spectex.shading.resources.mip_levels`), lossless, for
   engines that accept given mip levels (three.js ``texture.mipmaps``);
 * for a texture with stochastic layers, their tables (:mod:`spectex.export._stochastic`):
   ``gauss.rgba16f`` (per tile, its Gaussianised levels) and ``spectex_lut.r16f``
@@ -29,6 +29,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..shading.resources import mip_levels
 from ._shader import GLSL_TARGETS, ground_fragment, has_stochastic, layer_library, prelude, vertex_source
 
 __all__ = ["write_glsl"]
@@ -258,13 +259,13 @@ def write_glsl(texture, folder: Path) -> list[Path]:
     files.append(path)
     names = tile_names(texture)
     depth = 8 if texture.bits == 8 else 16
-    for name, tile, levels in zip(names, texture.tiles, texture.mip_levels()):
+    for name, tile, levels in zip(names, texture.tiles, mip_levels(texture)):
         files.append(write_image(out / name, tile, bit_depth=depth))
         stem = name.rsplit(".", 1)[0]
         for d, level in enumerate(levels):
             files.append(write_image(out / "mips" / f"{stem}.level{d}.png", level, bit_depth=depth))
     files += write_tables(texture, out)
     path = out / "README.md"
-    path.write_text(_readme(texture, names, len(texture.mip_levels()[0])), encoding="utf-8")
+    path.write_text(_readme(texture, names, len(mip_levels(texture)[0])), encoding="utf-8")
     files.append(path)
     return files

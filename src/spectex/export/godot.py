@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..shading.resources import mean_colours
 from ._shader import has_stochastic, layer_library
 from ._stochastic import LUT_FILE, constant_lines, gauss_name, layer_entries, table_info
 
@@ -58,9 +59,11 @@ def _uvec(values) -> str:
 
 def godot_shader(texture, tile_names) -> str:
     """The ``.gdshader`` text for ``texture`` (``tile_names``: per tile, its PNG)."""
+    from ..shading.tables import anchor_coords
+
     n = len(texture.layers)
-    means = texture.mean_colours()
-    anchors = texture.anchor_coords(0.0, 0.0)
+    means = mean_colours(texture)
+    anchors = anchor_coords(texture.layers, 0.0, 0.0)
     origin = anchors[:, :2]
     stochastic = has_stochastic(texture)
     h, w = texture.tile_shape

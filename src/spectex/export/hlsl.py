@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..shading.resources import mean_colours
 from ._shader import has_stochastic, layer_library
 from ._stochastic import constant_lines, table_info
 
@@ -79,10 +80,12 @@ def _uvec(values) -> str:
 
 def hlsl_include(texture, tile_names) -> str:
     """The text of ``spectex_ground.hlsl`` for ``texture``."""
+    from ..shading.tables import anchor_coords
+
     n = len(texture.layers)
     h, w = texture.tile_shape
-    means = texture.mean_colours()
-    anchors = texture.anchor_coords(0.0, 0.0)
+    means = mean_colours(texture)
+    anchors = anchor_coords(texture.layers, 0.0, 0.0)
     origin = anchors[:, :2]
     tiles = range(len(texture.tiles))
     mats = [layer.matrix() for layer in texture.layers]

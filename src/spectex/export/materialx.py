@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..shading.resources import mean_colours
+
 __all__ = ["write_materialx", "materialx_document", "MATERIALX_VERSION", "GROUND_AXES"]
 
 #: The MaterialX version the document declares.
@@ -112,7 +114,7 @@ def _srgb_decode(g: _Graph, colour: _Ref) -> _Ref:
 
 def materialx_document(texture, tile_files) -> str:
     """The ``.mtlx`` text for ``texture``; ``tile_files``: per tile, its file name (beside the document)."""
-    means = texture.mean_colours()
+    means = mean_colours(texture)
     root = ET.Element("materialx", version=MATERIALX_VERSION, colorspace="lin_rec709")
     root.append(ET.Comment(
         " spectex spectral texture: layers of one tile at different scales, blended by the tile's alpha "

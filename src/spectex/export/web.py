@@ -3,7 +3,7 @@
 ``index.html`` holds everything: the viewer's script (written for spectex,
 no libraries), the renderer's own shaders as GLSL ES 3.00
 (:mod:`spectex.export._shader`), the layer table, and every mip level of
-every tile exactly as spectex samples it (:meth:`SpectralTexture.mip_levels`),
+every tile exactly as spectex samples it (:func:`spectex.shading.resources.mip_levels`),
 as ``data:`` URIs of deflate-compressed raw RGBA bytes that the page inflates
 with the browser's ``DecompressionStream`` and uploads level by level. A
 texture with stochastic layers also carries their tables
@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..shading.resources import mean_colours, mip_levels
 from ._shader import ground_template, vertex_source
 from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info
 
@@ -62,7 +63,7 @@ def layer_table(texture, *, atmosphere=None) -> dict:
 
     atmosphere = Atmosphere() if atmosphere is None else atmosphere
     h, w = texture.tile_shape
-    means = texture.mean_colours()
+    means = mean_colours(texture)
     layers = []
     for layer, extra in zip(texture.layers, layer_entries(texture)):
         layers.append({
@@ -91,7 +92,7 @@ def viewer_data(texture, *, atmosphere=None) -> dict:
     """Everything the page needs, as plain JSON values."""
     tiles = [{"levels": [{"width": int(lv.shape[1]), "height": int(lv.shape[0]), "data": _level_uri(lv, texture.bits)}
                          for lv in levels]}
-             for levels in texture.mip_levels()]
+             for levels in mip_levels(texture)]
     shader = ground_template(texture, "es300")
     stochastic = None
     if table_info(texture) is not None:

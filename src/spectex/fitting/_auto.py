@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from .._validate import check_choice, check_float, check_int, check_rng
+from ..render.cpu import bake
 from ._core import (
     FIT_TILINGS,
     MAX_ANALYSIS_SIZE,
@@ -218,8 +219,8 @@ def _trial(exemplar, pixel_size, candidates, patch):
         rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
         layer = Layer(size=tile.shape[0] * pixel_size, tiling=tiling, patch=patch)
-        bake = SpectralTexture(rgba, [layer]).bake((m, m), pixel_size=pixel_size)
-        out[tiling] = structural_distance(bake, reference, prepared=prepared, max_windows=4).ratio
+        baked = bake(SpectralTexture(rgba, [layer]), (m, m), pixel_size=pixel_size)
+        out[tiling] = structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio
     return out
 
 

@@ -1,7 +1,8 @@
 """The shading core: how a spectral texture is sampled, composited and seen.
 
-One home for the shading specification (``docs/sampling.md``), below the
-data model (``spectex.texture``) and the renderers (``spectex.render``),
+One home for the shading specification (``docs/sampling.md``), between the
+data model (``spectex.texture``, plain data that imports nothing from here
+but the leaf ``shading.constants``) and the renderers (``spectex.render``),
 which call down into it; nothing here imports anything above.
 
 ========================  ================================================
@@ -10,6 +11,8 @@ module                    what lives there
 ``shading.constants``     the one table of codes and constants (blends,
                           tilings, filters, wraps, sky and haze, limits)
 ``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
+``shading.resources``     derived data of a texture (mip levels, texel
+                          stores, stochastic tables), cached by content
 ``shading.tables``        a texture as one typed structure for the kernels
                           and the shader (:class:`ShadingTables`)
 ``shading._layers``       a layer's sample and blend, per point and per row (6)
