@@ -1,9 +1,10 @@
 """The shading core: how a spectral texture is sampled, composited and seen.
 
-One home for the shading specification (``docs/sampling.md``), between the
-data model (``spectex.texture``, plain data that imports nothing from here
-but the leaf ``shading.constants``) and the renderers (``spectex.render``),
-which call down into it; nothing here imports anything above.
+One home for the shading specification (``docs/sampling.md``), below the
+renderers (``spectex.render``), which call down into it. It reads textures
+(``spectex.texture``: plain data, which imports nothing from here but the
+leaf ``shading.constants``) through their attributes and ``Layer.matrix``,
+without importing them; nothing here imports anything above.
 
 ========================  ================================================
 module                    what lives there
@@ -34,9 +35,9 @@ from __future__ import annotations
 from . import constants
 
 __all__ = ["constants", "Camera", "Atmosphere", "ViewParams", "view_params", "check_size", "MAX_RENDER_PIXELS",
-           "ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+           "ShadingTables", "pack", "anchor_coords"]
 
-_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables", "layer_matrix": "tables",
+_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables",
          "Camera": "camera", "Atmosphere": "camera", "ViewParams": "camera", "view_params": "camera",
          "check_size": "camera", "MAX_RENDER_PIXELS": "camera"}
 

@@ -19,7 +19,6 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_float
-from ..texture import layer_matrix
 from .constants import (
     ANCHOR_PERIOD,
     BLEND_FIRST,
@@ -36,7 +35,7 @@ from .constants import (
 from .resources import mean_colours, stochastic_store, stochastic_tables, texel_store
 from .sampler import filter_code
 
-__all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+__all__ = ["ShadingTables", "pack", "anchor_coords"]
 
 
 class ShadingTables(NamedTuple):
@@ -60,7 +59,7 @@ class ShadingTables(NamedTuple):
     min_lod: float
     max_lod: float
     tile: np.ndarray       #: (L,) int64: the layer's tile
-    mats: np.ndarray       #: (L, 2, 2) float64: world metres -> tile coordinates (``layer_matrix``)
+    mats: np.ndarray       #: (L, 2, 2) float64: world metres -> tile coordinates (each layer's ``matrix()``)
     blend: np.ndarray      #: (L,) int64: ``constants.BLEND_*``; ``BLEND_FIRST`` for the first enabled layer
     tiling: np.ndarray     #: (L,) int64: ``constants.TILING_*``
     mean: np.ndarray       #: (L, 3) float64: mean colour of the layer's tile (its 1 x 1 level)
@@ -95,7 +94,7 @@ def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
     """
     out = np.zeros((len(layers), 6), dtype=np.float64)
     for k, layer in enumerate(layers):
-        m = layer_matrix(layer.size, layer.rotation)
+        m = layer.matrix()
         dx = float(x0) - layer.offset[0]
         dy = float(y0) - layer.offset[1]
         s = m[0, 0] * dx + m[0, 1] * dy
@@ -172,7 +171,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
         wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
         min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile,
-        mats=np.stack([layer_matrix(layer.size, layer.rotation) for layer in layers]).astype(np.float64),
+        mats=np.stack([layer.matrix() for layer in layers]).astype(np.float64),
         blend=blend, tiling=tiling, mean=np.ascontiguousarray(mean_colours(texture)[tile], dtype=np.float64),
         opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
         on=np.array(enabled, dtype=np.int64),
