@@ -67,7 +67,10 @@ def textures():
     # (W1 0.21-0.27 at the grazing and far cameras; docs/export.md)
     stochastic = without_fine(SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic",
                                                            blend="alpha"))
-    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5), layers[1],
+    # layer 0 snapped to 4 x 3 periods of its tile (Layer.snap; 3 does not divide the tile: offsets rounded
+    # down to whole texels), layer 2 not
+    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5,
+                                                        snap=(4, 3)), layers[1],
                                                 replace(layers[2], tiling="stochastic", seed=8)])
     return {"paper": paper, "mixed": SpectralTexture([a, b], layers), "stochastic": stochastic,
             "mixed_stochastic": mixed_stochastic}

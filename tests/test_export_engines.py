@@ -28,7 +28,10 @@ def textures():
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
               Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
     stochastic = SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic")
-    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5), layers[1],
+    # layer 0 snapped to 4 x 3 periods of its tile (Layer.snap; 3 does not divide the tile: offsets rounded
+    # down to whole texels), layer 2 not
+    mixed_stochastic = SpectralTexture([a, b], [replace(layers[0], tiling="stochastic", patch=0.3, seed=5,
+                                                        snap=(4, 3)), layers[1],
                                                 replace(layers[2], tiling="stochastic", seed=8)])
     return {"paper": paper, "mixed": SpectralTexture([a, b], layers), "stochastic": stochastic,
             "mixed_stochastic": mixed_stochastic}

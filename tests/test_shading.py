@@ -149,7 +149,7 @@ def test_layer_library_without_uint_leaves_out_only_the_stochastic_functions(tmp
         text = head + lib + "out vec4 o;\nvoid main() { o = vec4(spectex_sky(0.5, vec3(0.1), vec3(0.9)), 1.0); }\n"
         if has:
             text = text.replace("void main() {", "void main() { o.x = spectex_vertex_offset(1u, 2u, 3u, vec2(8.0), "
-                                                  "vec2(0.125)).x;")
+                                                  "vec2(0.125), vec2(8.0)).x;")
         path = tmp_path / f"lib{int(has)}.frag"
         path.write_text(text)
         proc = subprocess.run([exe, str(path)], capture_output=True, text=True)

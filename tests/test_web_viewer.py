@@ -97,7 +97,7 @@ def mixed_stochastic_texture():
     between periodic ones: non-square float tiles, every blend."""
     base = mixed_texture()
     layers = list(base.layers)
-    layers[0] = replace(layers[0], tiling="stochastic", patch=0.4, seed=3)
+    layers[0] = replace(layers[0], tiling="stochastic", patch=0.4, seed=3, snap=(4, 3))
     layers[2] = replace(layers[2], tile=1, tiling="stochastic", patch=0.7, seed=11)
     return SpectralTexture(base.tiles, layers, bits=None)
 

@@ -200,3 +200,15 @@ def check_tile_shape(name: str, shape, *, maximum_side: int = 8192) -> None:
     h, w = int(shape[0]), int(shape[1])
     if max(h, w) > maximum_side:
         raise ValueError(f"{name} is {w}x{h} texels; a tile side must be at most {maximum_side}")
+
+
+def check_snap(name: str, value) -> tuple[int, int]:
+    """A stochastic layer's ``snap``: a pair ``(nx, ny)`` of whole numbers 0 to ``MAX_SNAP``."""
+    from .shading.constants import MAX_SNAP
+
+    if (not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2
+            or any(isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Integral) for v in value)
+            or not all(0 <= int(v) <= MAX_SNAP for v in value)):
+        raise ValueError(f"{name} must be a pair (nx, ny) of whole numbers 0 to {MAX_SNAP} (0: off along "
+                         f"that axis), got {_show(value)}")
+    return int(value[0]), int(value[1])

@@ -486,7 +486,7 @@ def repetition(image, period, *, patch: int = 5) -> float:
     return float(rep[has].mean())
 
 
-def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
+def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0, period=None) -> float:
     """How strongly the image's fine detail repeats, at any period and angle.
 
     The luminance (Rec. 709 luma for colour, alpha ignored) minus its
@@ -515,12 +515,16 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
         own correlation length, not a repeat.
     sigma : float
         Standard deviation of the blur removed, pixels (> 0).
-
-    Returns
-    -------
-    float
-        In [-1, 1]; ``nan`` for an image without fine detail (zero variance
-        after the blur is removed).
+    period : (float or None, float or None), optional
+        The period ``(py, px)`` in pixels (not necessarily whole) of a
+        structure the image is meant to have, e.g. the mortar grid of a
+        brick wall (``spectex.fitting.structure_period`` of its photo): the
+        fine detail's mean over that lattice (its value averaged over all
+        the periods, at each of ``round(py) x round(px)`` phases) is removed
+        before the autocorrelation, so what is left is how much the
+        *content* repeats (a tile of whole periods repeated: about 1; the
+        same structure with other content in every period: near the
+        photo's own). None on an axis: no period along it.
 
     References
     ----------
@@ -541,6 +545,8 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
     lum = _luma(image)
     detail = lum - ndimage.gaussian_filter(lum, sigma, mode="wrap")
     detail -= detail.mean()
+    if period is not None:
+        detail = detail - _lattice_mean(detail, period)
     spec = np.fft.rfft2(detail)
     acf = np.fft.irfft2(spec.real ** 2 + spec.imag ** 2, s=(h, w))
     zero = acf[0, 0]
@@ -550,6 +556,26 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0) -> float:
     dx = np.fft.fftfreq(w) * w
     far = (dy[:, None] ** 2 + dx[None, :] ** 2) >= float(min_lag) ** 2
     return float(np.max(acf[far]) / zero)
+
+
+def _lattice_mean(detail, period):
+    """``detail``'s mean over the lattice of ``period = (py, px)`` (pixels, None: no period), at every pixel."""
+    if not isinstance(period, (tuple, list)) or len(period) != 2:
+        raise ValueError(f"period must be a pair (py, px) of pixels or None, got {period!r}")
+    h, w = detail.shape
+    bins = []
+    for name, p, n in (("period[0]", period[0], h), ("period[1]", period[1], w)):
+        if p is None:
+            bins.append(np.zeros(n, dtype=np.int64))
+            continue
+        p = check_float(name, p, minimum=2.0, maximum=n / 2.0)
+        k = max(1, int(round(p)))
+        bins.append(np.minimum((np.mod(np.arange(n) + 0.5, p) / p * k).astype(np.int64), k - 1))
+    ky, kx = int(bins[0].max()) + 1, int(bins[1].max()) + 1
+    cell = bins[0][:, None] * kx + bins[1][None, :]
+    sums = np.bincount(cell.ravel(), weights=detail.ravel(), minlength=ky * kx)
+    counts = np.bincount(cell.ravel(), minlength=ky * kx)
+    return (sums / np.maximum(counts, 1))[cell]
 
 
 # --------------------------------------------------------------------------

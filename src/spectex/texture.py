@@ -59,6 +59,7 @@ from ._validate import (
     check_int,
     check_length,
     check_rng,
+    check_snap,
     check_tile_shape,
 )
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
@@ -164,6 +165,16 @@ class Layer:
         Stochastic tiling: which random offsets the grid's vertices get, 0
         to 2^32 - 1 (layers of one tile should differ). Ignored for
         periodic tiling.
+    snap : (int, int)
+        Stochastic tiling of a structured tile (bricks, tiles, paving): the
+        tile holds ``nx`` x ``ny`` whole periods of its structure, and the
+        patches' random offsets are whole periods, multiples of ``1/nx``
+        of the tile along s and ``1/ny`` along t (rounded down to whole
+        texels), so every patch shows the structure's grid at the same
+        place and the blend crosses aligned structure, while the content
+        inside the periods differs from patch to patch. 0 along an axis:
+        offsets free along it (whole texels); ``(0, 0)`` (the default):
+        off. Each 0 to 256. Ignored for periodic tiling.
     """
 
     size: float
@@ -175,6 +186,7 @@ class Layer:
     tiling: str = "periodic"
     patch: float = DEFAULT_PATCH
     seed: int = 0
+    snap: tuple[int, int] = (0, 0)
 
     def __post_init__(self):
         object.__setattr__(self, "size", check_length("size", self.size))
@@ -190,6 +202,7 @@ class Layer:
         object.__setattr__(self, "patch", check_float("patch", self.patch, minimum=0.0, exclusive_minimum=True,
                                                       maximum=4.0))
         object.__setattr__(self, "seed", check_int("seed", self.seed, minimum=0, maximum=2 ** 32 - 1))
+        object.__setattr__(self, "snap", check_snap("snap", self.snap))
 
     def matrix(self) -> np.ndarray:
         """The 2 x 2 map from world displacement (metres) to tile coordinates (s, t).

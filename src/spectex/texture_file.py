@@ -18,6 +18,7 @@ lists its layers, finest first::
     tiling = "stochastic"    # periodic | stochastic (version 2)
     patch = 0.5              # stochastic: triangle side in tiles
     seed = 0                 # stochastic: the grid vertices' random offsets
+    snap = [7, 4]            # stochastic, optional: whole structure periods in the tile (0: off)
 
     [stochastic]             # only with stochastic layers: how their tables are rebuilt
     method = "histogram-preserving"
@@ -29,12 +30,14 @@ lists its layers, finest first::
 field; an error names the field and the file.
 
 Version 2 adds the layer fields ``tiling``, ``patch`` and ``seed`` and the
-``[stochastic]`` table. A stochastic layer's tables (the Gaussianised tile,
-the inverse look-up tables, the decorrelation: ``spectex.shading.stochastic``)
-are a deterministic function of the tile's texels and of the constants in
-``[stochastic]``, so the file stores those, not the tables; a file whose
-constants this spectex does not build with is refused rather than shown
-differently. Version-1 files (no stochastic layers) still load.
+``[stochastic]`` table; ``snap`` (``Layer.snap``, written only where it is
+not ``[0, 0]``) came later in version 2: a file with it is refused by a
+spectex without it ("unknown field"), never shown with its patches unsnapped.
+A stochastic layer's tables (the Gaussianised tile, the inverse look-up tables,
+the decorrelation: ``spectex.shading.stochastic``) are a deterministic
+function of the tile's texels and of the constants in ``[stochastic]``, so
+the file stores those, not the tables; a file whose constants this spectex
+does not build with is refused rather than shown differently. Version-1 files (no stochastic layers) still load.
 """
 
 from __future__ import annotations
@@ -66,11 +69,12 @@ _HEADER = """# spectex spectral texture: layers of one tile at different scales.
 # ones before by its 'blend': alpha | detail | variance | fine | cover, with alpha = opacity * tile alpha.
 # size and offset are metres, rotation degrees counter-clockwise. tiling: periodic (the
 # tile repeats) | stochastic (never repeats; patch: triangle side in tiles, seed: the random
-# offsets). Tiles are relative to this file.
+# offsets, snap: [nx, ny] whole structure periods in the tile, offsets snapped to them, 0 off).
+# Tiles are relative to this file.
 """
 
 _LAYER_FIELDS = ("tile", "size", "offset", "rotation", "blend", "opacity")
-_LAYER_FIELDS_V2 = _LAYER_FIELDS + ("tiling", "patch", "seed")
+_LAYER_FIELDS_V2 = _LAYER_FIELDS + ("tiling", "patch", "seed", "snap")
 #: The method name of the stochastic tables this spectex builds (``[stochastic] method``).
 STOCHASTIC_METHOD = "histogram-preserving"
 
@@ -96,6 +100,8 @@ def to_dict(texture, tile_names) -> dict:
             entry["patch"] = layer.patch
         if layer.tiling == "stochastic" or layer.seed != 0:
             entry["seed"] = layer.seed
+        if layer.snap != (0, 0):
+            entry["snap"] = list(layer.snap)
         layers.append(entry)
     doc = {
         "format": FORMAT,

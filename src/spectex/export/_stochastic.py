@@ -18,7 +18,7 @@ exports write their IEEE half bits and lose nothing:
   as Godot's ``Image.create_from_data``, Unity's ``LoadRawTextureData`` and
   three.js's ``DataTexture`` take them.
 
-Per layer the shader also takes its grid map, hash key, first table row and
+Per layer the shader also takes its grid map, hash key, snap counts, first table row and
 decorrelation (:func:`layer_entries`), and, per frame, the grid position of
 the anchor (``shading.tables.anchor_coords``, columns 2-5).
 """
@@ -86,10 +86,12 @@ def layer_entries(texture) -> list[dict]:
     """Per layer, its tiling and, for a stochastic layer, what its shader call takes (JSON values).
 
     ``grid`` (m00, m01, m10, m11: tile -> skewed grid coordinates), ``key``
-    (the hash key of its seed, a uint32), ``lut_row`` (its tile's first
+    (the hash key of its seed, a uint32), ``snap`` (its snap counts along s
+    and t, whole numbers: ``Layer.snap``'s structure periods per tile, or
+    the tile's width and height where that is 0; ``shading.tables.snap_counts``), ``lut_row`` (its tile's first
     table row), ``basis`` (3 x 3, row-major: RGB = origin + basis v; GLSL's
     ``mat3`` takes the transpose, column after column), ``origin``; and
-    ``patch``, ``seed`` for people.
+    ``patch``, ``seed`` and ``snap_periods`` (``Layer.snap`` itself) for people.
     """
     from spectex.shading.tables import pack
 
@@ -103,6 +105,8 @@ def layer_entries(texture) -> list[dict]:
                 "patch": float(layer.patch), "seed": int(layer.seed),
                 "grid": [float(v) for v in tables.grid[k].reshape(-1)],
                 "key": int(tables.key[k]),
+                "snap": [float(v) for v in tables.snap[k]],
+                "snap_periods": [int(v) for v in getattr(layer, "snap", (0, 0))],
                 "lut_row": int(tables.tile[k]) * int(tables.lut_rows),
                 "basis": [float(v) for v in tables.basis[k].reshape(-1)],
                 "origin": [float(v) for v in tables.origin[k]],
@@ -164,6 +168,7 @@ def constant_lines(texture, anchors, *, declare: str, types: dict, number, vecto
     return [
         array("vec4", "SPECTEX_GRID", [vector(g) for g in per_layer("grid", [0.0] * 4)]),
         array("uint", "SPECTEX_KEY", [f"{int(v)}u" for v in per_layer("key", 0)]),
+        array("vec2", "SPECTEX_SNAP", [vector(v) for v in per_layer("snap", [1.0, 1.0])]),
         array("float", "SPECTEX_LUT_ROW", [number(v) for v in per_layer("lut_row", 0)]),
         *(array("vec3", f"SPECTEX_B{j}", [vector(b[:, j]) for b in basis]) for j in range(3)),
         array("vec3", "SPECTEX_ORIGIN_RGB", [vector(o) for o in per_layer("origin", [0.0] * 3)]),

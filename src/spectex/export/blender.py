@@ -25,11 +25,15 @@ from pathlib import Path
 
 from ..shading.resources import mean_colours
 
-__all__ = ["COVER_NOTE", "FINE_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
+__all__ = ["COVER_NOTE", "FINE_NOTE", "SNAP_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
 #: What the export says about a stochastic layer (the script prints its own line per layer).
 STOCHASTIC_NOTE = ("uses spectex's stochastic tiling, which Blender's nodes cannot draw: it is drawn as its "
                    "periodic tile instead (it repeats), and does not match spectex's picture")
+
+#: What the export adds for a stochastic layer snapped to its structure's periods (``Layer.snap``).
+SNAP_NOTE = ("Its snap to whole periods of the tile's structure (Layer.snap) has nothing to act on: the "
+             "periodic tile keeps the structure's grid, and repeats.")
 
 #: What the export says about a fine (detail) layer, whose fade needs the pixel's footprint.
 FINE_NOTE = ("is a fine (detail) layer: spectex fades it out with the pixel's footprint, which Blender's nodes "
@@ -59,8 +63,9 @@ def blender_script(texture, tile_files) -> str:
 
 
 def _readme(texture, tile_files) -> str:
-    notes = [f"* layer {k} {STOCHASTIC_NOTE}." for k, layer in enumerate(texture.layers)
-             if getattr(layer, "tiling", "periodic") != "periodic"]
+    notes = [f"* layer {k} {STOCHASTIC_NOTE}." + (f" {SNAP_NOTE}" if getattr(layer, "snap", (0, 0)) != (0, 0)
+                                                 else "")
+             for k, layer in enumerate(texture.layers) if getattr(layer, "tiling", "periodic") != "periodic"]
     notes += [f"* layer {k} {FINE_NOTE}." for k, layer in enumerate(texture.layers) if layer.blend == "fine"]
     notes += [f"* layer {k} {COVER_NOTE}." for k, layer in enumerate(texture.layers) if layer.blend == "cover"]
     stochastic = ("\n## What Blender's nodes cannot draw\n\n" + "\n".join(notes) + "\n") if notes else ""

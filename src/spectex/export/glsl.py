@@ -193,7 +193,7 @@ little-endian IEEE half floats, rows top first (row 0 is `t = 0`, no flip):
 Units: tile `i` on unit `i`, its Gaussianised levels on unit `{n} + i`
 (`u_gauss[i]`), the table on unit `{2 * n}` (`u_lut`). More uniforms, all from
 `spectex_texture.json` (`spectexTextureUniforms` sets them): `u_lut_rows`,
-`u_lut_q`, and per layer `u_grid`, `u_key` (uint), `u_lut_row`, `u_basis`
+`u_lut_q`, and per layer `u_grid`, `u_key` (uint), `u_snap` (vec2), `u_lut_row`, `u_basis`
 (mat3, column-major), `u_origin`; per frame (`spectexFrameUniforms`) the
 anchor's position in each stochastic layer's triangle grid, computed in
 float64 on the host from the same `(s, t) = M_k (camera - offset_k)` *before*

@@ -152,7 +152,8 @@ def godot_shader(texture, tile_names) -> str:
                 f"SPX_TEX(spectex_lut_texture), {anchor},",
                 f"        (spectex_anchored ? spectex_ganchor[{k}] : SPECTEX_ORIGIN_GANCHOR[{k}]),",
                 f"        (spectex_anchored ? uvec2(spectex_gbase[{k}]) : SPECTEX_ORIGIN_GBASE[{k}]),",
-                f"        SPECTEX_MAT[{k}], SPECTEX_GRID[{k}], SPECTEX_KEY[{k}], SPECTEX_LUT_ROW[{k}],",
+                f"        SPECTEX_MAT[{k}], SPECTEX_GRID[{k}], SPECTEX_KEY[{k}], SPECTEX_SNAP[{k}],",
+                f"        SPECTEX_LUT_ROW[{k}],",
                 f"        SPECTEX_B0[{k}], SPECTEX_B1[{k}], SPECTEX_B2[{k}],",
                 f"        SPECTEX_ORIGIN_RGB[{k}], SPECTEX_OPACITY[{k}], SPECTEX_MEAN[{k}], c, p, jx, jy);"]
             continue
@@ -175,12 +176,14 @@ _STOCHASTIC_LAYER = [
     "// A stochastic layer over c (histogram-preserving tiling and blending): as spectex's",
     "// shade_layer_stochastic, with the grid position relative to the anchor's.",
     "void spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 anchor, vec2 ganchor,",
-    "                              uvec2 gbase, vec4 m, vec4 gm, uint key, float lut_row, vec3 b0, vec3 b1,",
+    "                              uvec2 gbase, vec4 m, vec4 gm, uint key, vec2 snap, float lut_row, vec3 b0,",
+    "                              vec3 b1,",
     "                              vec3 b2, vec3 origin, float opacity, vec3 mean, inout vec3 c, vec2 p, vec2 jx,",
     "                              vec2 jy) {",
     "    vec2 rel = spectex_layer_deriv(m, p);",
     "    vec2 g = ganchor + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, gbase.x, gbase.y, key,",
+    "                                            snap,",
     "                                            spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),",
     "                                            SPECTEX_TEX_SIZE, (blend == SPX_BLEND_FINE) ? 1.0 : "
     "spectex_max_anisotropy, gm,",
@@ -202,8 +205,8 @@ def _stochastic_declarations(texture, anchors) -> list[str]:
                      f"  // {gauss_name(texture, i)}")
     return lines + [
         f"uniform sampler2D spectex_lut_texture : hint_default_white, filter_nearest, repeat_disable;  // {LUT_FILE}",
-        "// per layer: tile -> triangle-grid map, hash key, first table row, decorrelation (RGB = origin +",
-        "// b0 v.x + b1 v.y + b2 v.z), and the grid position of world (0, 0) (float64 on the host)",
+        "// per layer: tile -> triangle-grid map, hash key, snap counts, first table row, decorrelation",
+        "// (RGB = origin + b0 v.x + b1 v.y + b2 v.z), and the grid position of world (0, 0) (float64 on the host)",
         *constant_lines(texture, anchors, declare="const", types={}, number=_f, vector=_vec, uvector=_uvec),
     ]
 

@@ -188,7 +188,7 @@ _STOCHASTIC_LAYER = [
     "    vec2 g = SPECTEX_G_ANCHOR(k) + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);",
     "    uint2 base = SPECTEX_G_BASE(k);",
     "    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), SPECTEX_ST_ANCHOR(k) + rel, g, base.x,",
-    "                                            base.y, SPECTEX_KEY[k], spectex_layer_deriv(m, jx),",
+    "                                            base.y, SPECTEX_KEY[k], SPECTEX_SNAP[k], spectex_layer_deriv(m, jx),",
     "                                            spectex_layer_deriv(m, jy), SPECTEX_TEX_SIZE, "
     "(blend == SPX_BLEND_FINE) ? 1.0 : SPECTEX_MAX_ANISOTROPY,",
     "                                            gm, SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q,",
@@ -206,7 +206,7 @@ def _stochastic_constants(texture, anchors) -> list[str]:
     """The stochastic layers' constants (zeros for periodic layers)."""
     types = {"vec2": "float2", "vec3": "float3", "vec4": "float4", "uvec2": "uint2"}
     return [
-        "// ---- stochastic layers: per layer its tile -> triangle-grid map, hash key, first table row,",
+        "// ---- stochastic layers: per layer its tile -> triangle-grid map, hash key, snap counts, first table row,",
         "// decorrelation (RGB = origin + b0 v.x + b1 v.y + b2 v.z) and the grid position of ground (0, 0)",
         *constant_lines(texture, anchors, declare="static const", types=types, number=_f, vector=_vec,
                         uvector=_uvec),

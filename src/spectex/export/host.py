@@ -85,6 +85,7 @@ def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = 8.0) -> d
             "u_lut_rows": float(table["stochastic"]["lut_rows"]), "u_lut_q": float(table["stochastic"]["lut_q"]),
             "u_grid": [tuple(pick(layer, "grid", [0.0] * 4)) for layer in layers],
             "u_key": [pick(layer, "key", 0) for layer in layers],
+            "u_snap": [tuple(pick(layer, "snap", [1.0, 1.0])) for layer in layers],
             "u_lut_row": [float(pick(layer, "lut_row", 0)) for layer in layers],
             # mat3 is column-major: the transpose of the row-major basis
             "u_basis": [tuple(np.reshape(pick(layer, "basis", [0.0] * 9), (3, 3)).T.reshape(-1)) for layer in layers],

@@ -14,7 +14,8 @@ spectex draws it before sky and haze).
 
 A layer whose tiling has no standard-node equivalent (spectex's stochastic
 tiling) is drawn with ``hextiledimage`` instead, and the file says so next
-to it: that layer will not match spectex's picture.
+to it: that layer will not match spectex's picture (and a snapped one,
+``Layer.snap``, loses its structure's grid: the comment says that too).
 
 The document is written with the standard library's ``xml.etree``, so
 exporting needs no MaterialX installation; the tests read it with MaterialX,
@@ -159,7 +160,11 @@ def materialx_document(texture, tile_files) -> str:
             g.comment(f"layer {k} uses spectex's {tiling} tiling, which has no standard-node equivalent: "
                       "hextiledimage (MaterialX 1.39.4 and later) stands in for it. It breaks up the "
                       "repetition too, but with its own cells, rotations and blending: this layer will not "
-                      "match spectex's picture.")
+                      "match spectex's picture."
+                      + (f" Its snap to whole periods of the tile's structure (Layer.snap {tuple(layer.snap)}: "
+                         "patch offsets of whole periods, which keep a brick or tile grid in place) is lost "
+                         "too: hextiledimage's cells break the grid." if getattr(layer, "snap", (0, 0)) != (0, 0)
+                         else ""))
             img = g.node("hextiledimage", "color4", f"layer{k}_texel", file=file, texcoord=uv)
         x = g.node("convert", "color3", f"layer{k}_rgb", in_=img)
         if first:  # the first layer sets the colour

@@ -166,7 +166,7 @@ def bake_layers(texture, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="tr
             from ..shading.stochastic import sample_stochastic
 
             out[k] = sample_stochastic(stochastic_tables(texture)[layer.tile], s, t, patch=layer.patch,
-                                       seed=layer.seed, filter=filter, **derivs)
+                                       seed=layer.seed, snap=layer.snap, filter=filter, **derivs)
         else:
             out[k] = sample(MipTexture(levels[layer.tile], min_filter=filter, bits=None), s, t, **derivs)
     return out

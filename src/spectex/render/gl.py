@@ -152,6 +152,7 @@ class GLRenderer:
             self._set_uniform("u_lut_q", float(len(mip_levels(self.texture)[0]) - 1))
             self._set_uniform("u_grid", [tuple(float(v) for v in g.reshape(-1)) for g in tables.grid])
             self._set_uniform("u_key", [int(v) for v in tables.key])
+            self._set_uniform("u_snap", [tuple(float(v) for v in sn) for sn in tables.snap])
             self._set_uniform("u_lut_row", [float(t * tables.lut_rows) for t in tables.tile])
             # GLSL's mat3 is column-major: the columns of basis, one after the other
             self._set_uniform("u_basis", [tuple(float(v) for v in b.T.reshape(-1)) for b in tables.basis])

@@ -85,7 +85,7 @@ def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
                                       T.wrap_t, T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod,
                                       T.max_lod, T.lut, T.tile[k] * T.lut_rows, T.basis[k], T.origin[k],
                                       T.grid[k], np.int64(anchor[k, 4]), np.int64(anchor[k, 5]), T.key[k],
-                                      s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
+                                      (T.snap[k, 0], T.snap[k, 1]), s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
     return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,
                        T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod, T.max_lod,
                        s, t, dsdx, dtdx, dsdy, dtdy)
@@ -278,8 +278,8 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key, lut, row0, basis, origin, k,
-                           off_k, px, py, lamw, lr, lg, lb, la, m):
+def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key, snap, lut, row0, basis, origin,
+                           k, off_k, px, py, lamw, lr, lg, lb, la, m):
     """Section 6b on ``m`` samples of a row (the fast path's sampler state): layer ``k``'s
     histogram-preserving sample at the world lambda plus ``off_k``, the numbers of
     :func:`~spectex.shading.stochastic.sample_stochastic_at_lod` (to float rounding), with the
@@ -289,6 +289,8 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
     w0 = np.float64(size0)
     bi = np.int64(anchor[k, 4])
     bj = np.int64(anchor[k, 5])
+    nx = snap[k, 0]
+    ny = snap[k, 1]
     for x in range(m):
         dx = px[x]
         dy = py[x]
@@ -305,11 +307,11 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         d1 = np.int64(fd)
         i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
         w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
-        ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0)
+        ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0, nx, ny)
         r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
-        ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0)
+        ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0, nx, ny)
         r2, g2, b2, a2 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
-        ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, w0)
+        ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, w0, nx, ny)
         r3, g3, b3, a3 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
         inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
         mu = GAUSS_MEAN
@@ -337,7 +339,7 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
     ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
     (not clamped); ``lr .. la`` are float32 scratch; ``fade_bias`` as in
     :func:`shade_ground`. ``stochastic`` is
-    ``(tiling, gflat, grid, key, lut, lut_rows, basis, origin)`` (one tuple:
+    ``(tiling, gflat, grid, key, snap, lut, lut_rows, basis, origin)`` (one tuple:
     CPython passes a call of more than 30 arguments as ``*args``, which
     numba cannot inline): stochastic layers (``tiling``) read the Gaussian
     levels ``gflat`` and the tables ``lut`` (:func:`_sample_row_stochastic`).
@@ -352,12 +354,12 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
         cg[x] = 0.0
         cb[x] = 0.0
     q = offsets.shape[0] - 1
-    tiling, gflat, grid, key, lut, lut_rows, basis, origin = stochastic
+    tiling, gflat, grid, key, snap, lut, lut_rows, basis, origin = stochastic
     for k in range(tile.shape[0]):
         if on[k] == 0:
             continue
         if tiling[k] == TILING_STOCHASTIC:
-            _sample_row_stochastic(gflat, tile[k] * stride, offsets, size0, mats, anchor, grid, key[k], lut,
+            _sample_row_stochastic(gflat, tile[k] * stride, offsets, size0, mats, anchor, grid, key[k], snap, lut,
                                    tile[k] * lut_rows, basis, origin, k, lod_off[k], px, py, lamw, lr, lg, lb, la,
                                    m)
         else:

@@ -16,7 +16,7 @@ from __future__ import annotations
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE", "BLEND_COVER",
     "FADE_START", "FADE_END",
-    "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH",
+    "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
@@ -53,6 +53,9 @@ TILING_PERIODIC, TILING_STOCHASTIC = 0, 1
 # Stochastic tiling (histogram-preserving tiling and blending, ``shading.stochastic``).
 #: Default side of the triangle grid's triangles, in tiles.
 DEFAULT_PATCH = 0.5
+#: Most whole structure periods a tile may hold along an axis for ``Layer.snap`` (the offsets are
+#: snapped to multiples of 1 / snap of the tile; the shaders compute them in 32-bit integers).
+MAX_SNAP = 256
 #: The Gaussianised tile: mean and standard deviation of its values at level 0.
 GAUSS_MEAN = 0.5
 GAUSS_SCALE = 0.1

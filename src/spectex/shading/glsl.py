@@ -100,6 +100,7 @@ def _static_values(tables) -> tuple[dict, dict]:
         "u_lod_off": ("float", [_float(tables.lod_off[k]) for k in range(n)]),
         "u_grid": ("vec4", [_vec(tables.grid[k]) for k in range(n)]),
         "u_key": ("uint", [f"{int(tables.key[k]) & 0xFFFFFFFF}u" for k in range(n)]),
+        "u_snap": ("vec2", [_vec(tables.snap[k]) for k in range(n)]),
         "u_lut_row": ("float", [_float(int(tables.tile[k]) * int(tables.lut_rows)) for k in range(n)]),
         "u_basis": ("mat3", ["mat3(" + ", ".join(_float(v) for v in np.asarray(tables.basis[k]).T.reshape(-1)) + ")"
                              for k in range(n)]),

@@ -343,19 +343,27 @@ def hash32(x):
 
 
 @_jit_inline
-def vertex_offset(i, j, key, w0, h0):
+def vertex_offset(i, j, key, w0, h0, nx, ny):
     """The random offset (tile units) of grid vertex ``(i, j)`` under a layer's ``key``.
 
     ``h = lowbias32(i ^ lowbias32(j ^ key))`` on the vertex's coordinates
     as uint32 (two's complement, so the grid's vertices repeat only after
-    2^32 of them); ``(h & 0xFFFF, h >> 16) / 65536`` in [0, 1)^2, snapped
-    down to whole texels of the ``w0 x h0`` level 0 (``floor(u w0) / w0``),
-    so that a patch's texels fall where the un-offset tile's would: a bake
-    on the texel grid samples texel centres, unblurred.
+    2^32 of them); its halves ``(h & 0xFFFF, h >> 16) / 65536`` in [0, 1)^2
+    pick one of ``nx`` x ``ny`` snap positions, ``k = floor(u nx)`` (in
+    integers: ``(u16 nx) >> 16``), which lies ``floor(k w0 / nx)`` texels
+    of the ``w0 x h0`` level 0 into the tile (integer division), so that a
+    patch's texels fall where the un-offset tile's would: a bake on the
+    texel grid samples texel centres, unblurred. ``nx, ny`` are the
+    layer's snap counts (``tables.snap_counts``): ``Layer.snap``'s whole
+    structure periods, or ``w0, h0`` (every texel) without snapping. All in
+    integers, so every renderer computes the same offsets exactly.
     """
     h = hash32((i & _M32) ^ hash32((j & _M32) ^ key))
-    return (math.floor((h & 0xFFFF) * (1.0 / 65536.0) * w0) / w0,
-            math.floor((h >> 16) * (1.0 / 65536.0) * h0) / h0)
+    ix = np.int64(nx)
+    iy = np.int64(ny)
+    kx = ((h & 0xFFFF) * ix) >> 16
+    ky = ((h >> 16) * iy) >> 16
+    return ((kx * np.int64(w0)) // ix) / w0, ((ky * np.int64(h0)) // iy) / h0
 
 
 @_jit_inline
@@ -435,13 +443,15 @@ def lut_lookup(lut, row0, level, g, c):
 
 @_jit_inline
 def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin, s, t, kx, ky,
-                             bi, bj, key, lam, min_filter, mag_filter, wrap_s, wrap_t):
+                             bi, bj, key, snap, lam, min_filter, mag_filter, wrap_s, wrap_t):
     """One histogram-preserving sample at a clamped level of detail; returns RGBA in [0, 1].
 
     ``(s, t)``: the un-offset tile coordinates; ``(kx, ky)``: the same
     point in skewed grid coordinates relative to the grid vertex ``(bi,
     bj)`` (integers; the host splits a far-away position into this vertex
-    and a small remainder); ``key``: the layer's hash key. ``data, base,
+    and a small remainder); ``key``: the layer's hash key; ``snap``: its
+    snap counts ``(nx, ny)`` (:func:`vertex_offset`; one argument: a call of more
+    than 30 cannot be inlined by numba). ``data, base,
     offsets, widths, heights``: the Gaussian tile's levels in a texel store
     (as in :func:`sampling.sample_at_lod`); ``lut[row0:]``: the tile's
     expanded table (:func:`expand_lut`); ``basis``, ``origin``: the
@@ -449,15 +459,16 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
     w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
+    nx, ny = snap
     w0 = np.float64(widths[0])
     h0 = np.float64(heights[0])
-    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0)
+    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
     r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
-    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, h0)
+    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, h0, nx, ny)
     r2, g2, b2, a2 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
-    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, h0)
+    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, h0, nx, ny)
     r3, g3, b3, a3 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
     inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
@@ -480,7 +491,7 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
 @_jit_inline
 def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter,
                            max_aniso, bias, min_lod, max_lod, lut, row0, basis, origin, grid, bi, bj, key,
-                           s, t, kx, ky, dsdx, dtdx, dsdy, dtdy):
+                           snap, s, t, kx, ky, dsdx, dtdx, dsdy, dtdy):
     """:func:`sampling.sample_grad` for a stochastic layer: lambda from the un-offset derivatives.
 
     The level of detail (and the anisotropic recipe's ``N`` samples along
@@ -502,7 +513,7 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
         f = i / (n + 1.0) - 0.5 if n > 1 else 0.0
         r1, g1, b1, a1 = sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin,
                                                   s + f * ds, t + f * dt, kx + f * dkx, ky + f * dky, bi, bj, key,
-                                                  lam, min_filter, mag_filter, wrap_s, wrap_t)
+                                                  snap, lam, min_filter, mag_filter, wrap_s, wrap_t)
         r += r1
         g += g1
         b += b1
@@ -513,8 +524,8 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
 
 @numba.njit(cache=True, parallel=True, nogil=True)
 def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
-                       min_lod, max_lod, lut, basis, origin, grid, key, mode, s, t, dsdx, dtdx, dsdy, dtdy, lod,
-                       out):
+                       min_lod, max_lod, lut, basis, origin, grid, key, nx, ny, mode, s, t, dsdx, dtdx, dsdy, dtdy,
+                       lod, out):
     n = s.shape[0]
     for k in numba.prange(n):
         kx = grid[0, 0] * s[k] + grid[0, 1] * t[k]
@@ -522,13 +533,13 @@ def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filte
         if mode == 1:
             r, g, b, a = sample_stochastic_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                                 mag_filter, max_aniso, bias, min_lod, max_lod, lut, 0, basis,
-                                                origin, grid, 0, 0, key, s[k], t[k], kx, ky, dsdx[k], dtdx[k],
-                                                dsdy[k], dtdy[k])
+                                                origin, grid, 0, 0, key, (nx, ny), s[k], t[k], kx, ky, dsdx[k],
+                                                dtdx[k], dsdy[k], dtdy[k])
         else:
             lam = clamp_lod(lod[k], bias, min_lod, max_lod)
             r, g, b, a = sample_stochastic_at_lod(data, 0, offsets, widths, heights, lut, 0, basis, origin,
-                                                  s[k], t[k], kx, ky, 0, 0, key, lam, min_filter, mag_filter,
-                                                  wrap_s, wrap_t)
+                                                  s[k], t[k], kx, ky, 0, 0, key, (nx, ny), lam, min_filter,
+                                                  mag_filter, wrap_s, wrap_t)
         out[k, 0] = r
         out[k, 1] = g
         out[k, 2] = b
@@ -541,8 +552,8 @@ def layer_key(seed) -> int:
     return int(lowbias32(np.uint32(seed & 0xFFFFFFFF)))
 
 
-def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mipmaps=True, anisotropy=1.0,
-                      dsdx=None, dtdx=None, dsdy=None, dtdy=None, lod=None):
+def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="trilinear", mipmaps=True,
+                      anisotropy=1.0, dsdx=None, dtdx=None, dsdy=None, dtdy=None, lod=None):
     """Sample a tile by histogram-preserving tiling and blending at ``(s, t)``.
 
     Like :func:`spectex.sampling.sample` with ``REPEAT`` wrapping, for the
@@ -559,6 +570,9 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mi
         Side of the grid's triangles in tiles (> 0; 0.25 to 1 is useful).
     seed : int
         Which random offsets the vertices get (>= 0).
+    snap : (int, int)
+        Whole structure periods the tile holds along s and t; the offsets
+        are snapped to them (``Layer.snap``; 0: off along that axis).
     filter : str
         Minification filter (``spectex.sampling.FILTERS`` or "trilinear");
         magnification is ``NEAREST`` under ``NEAREST``, else ``LINEAR``.
@@ -578,8 +592,12 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mi
     """
     if not isinstance(tables, StochasticTables):
         raise TypeError(f"tables must be StochasticTables, got {type(tables).__name__}")
+    from .._validate import check_snap
+    from .tables import snap_counts
+
     grid = triangle_grid_matrix(patch)
     key = layer_key(seed)
+    nx, ny = snap_counts(check_snap("snap", snap), tables.gaussian[0].shape[:2])
     code = filter_code("filter", filter)
     anisotropy = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
     levels = tables.gaussian if mipmaps else tables.gaussian[:1]
@@ -611,5 +629,5 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, filter="trilinear", mi
         a_ = b_ = c_ = d_ = np.zeros(1)
     _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
                        anisotropy, 0.0, -1000.0, 1000.0, tables.expanded(), tables.basis, tables.origin, grid, key,
-                       mode, s_, t_, a_, b_, c_, d_, lod_, out)
+                       nx, ny, mode, s_, t_, a_, b_, c_, d_, lod_, out)
     return out.reshape(shape + (4,))

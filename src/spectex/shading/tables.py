@@ -35,7 +35,7 @@ from .constants import (
 from .resources import mean_colours, stochastic_store, stochastic_tables, texel_store
 from .sampler import filter_code
 
-__all__ = ["ShadingTables", "pack", "anchor_coords"]
+__all__ = ["ShadingTables", "pack", "anchor_coords", "snap_counts"]
 
 
 class ShadingTables(NamedTuple):
@@ -75,8 +75,22 @@ class ShadingTables(NamedTuple):
     lut_rows: int          #: table rows per tile (``stochastic.expand_lut``)
     grid: np.ndarray       #: (L, 2, 2) float64: tile coordinates -> skewed triangle-grid coordinates
     key: np.ndarray        #: (L,) int64: the layer's hash key (``stochastic.layer_key(seed)``)
+    #: (L, 2) float64: what the patch offsets are snapped to along s, t, as a count per tile (whole
+    #: numbers): ``Layer.snap``'s periods, or the level-0 width, height (whole texels) where it is 0
+    snap: np.ndarray
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
     origin: np.ndarray     #: (L, 3) float64
+
+
+def snap_counts(snap, tile_shape) -> tuple[float, float]:
+    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
+
+    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
+    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
+    texels, as without snapping.
+    """
+    h, w = int(tile_shape[0]), int(tile_shape[1])
+    return float(snap[0] or w), float(snap[1] or h)
 
 
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
@@ -150,6 +164,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
                 and widths.shape[0] == size0.bit_length())
     grid = np.zeros((n, 2, 2), dtype=np.float64)
     key = np.zeros(n, dtype=np.int64)
+    snap = np.tile(np.array([w0, h0], dtype=np.float64), (n, 1))
     basis = np.zeros((n, 3, 3), dtype=np.float64)
     origin = np.zeros((n, 3), dtype=np.float64)
     if np.any(tiling == TILING_STOCHASTIC):
@@ -161,6 +176,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
             if tiling[k] == TILING_STOCHASTIC:
                 grid[k] = triangle_grid_matrix(layer.patch)
                 key[k] = layer_key(layer.seed)
+                snap[k] = snap_counts(getattr(layer, "snap", (0, 0)), (h0, w0))
                 basis[k] = stoch[layer.tile].basis
                 origin[k] = stoch[layer.tile].origin
     else:
@@ -177,4 +193,4 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         on=np.array(enabled, dtype=np.int64),
         lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),
         size0=size0, fast=fast, gauss=gauss, lut=lut, lut_rows=int(lut_rows), grid=grid, key=key,
-        basis=basis, origin=origin)
+        snap=snap, basis=basis, origin=origin)

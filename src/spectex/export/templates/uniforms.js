@@ -2,7 +2,7 @@
 // as spectex.render does (docs/sampling.md, sections 6 and 7). Plain functions,
 // no libraries. `texture` is the exported layer table (spectex_texture.json or
 // the viewer's own copy): {tile_shape, layers: [{matrix, offset, opacity,
-// lod_offset, mean, tiling, and for stochastic layers grid, key, lut_row, basis,
+// lod_offset, mean, tiling, and for stochastic layers grid, key, snap, lut_row, basis,
 // origin}], stochastic: null or {lut_rows, lut_q}, atmosphere: {horizon, zenith,
 // haze_distance}}.
 
@@ -22,6 +22,7 @@ function spectexTextureUniforms(texture) {
     out.u_lut_q = texture.stochastic.lut_q;            // the last mip level
     out.u_grid = [].concat(...L.map((l) => pick(l, "grid", [0, 0, 0, 0])));  // tile -> skewed grid
     out.u_key = L.map((l) => pick(l, "key", 0));       // the hash key of the layer's seed (uint32)
+    out.u_snap = [].concat(...L.map((l) => pick(l, "snap", [1, 1])));  // snap counts along s, t (whole numbers)
     out.u_lut_row = L.map((l) => pick(l, "lut_row", 0));
     // mat3 is column-major: basis is row-major, so its transpose, row after row
     out.u_basis = [].concat(...L.map((l) => {

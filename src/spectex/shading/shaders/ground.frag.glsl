@@ -44,6 +44,7 @@ uniform vec4 u_grid[N_LAYERS];     // per layer: tile coords -> skewed grid coor
 uniform vec2 u_ganchor[N_LAYERS];  // per layer: the anchor's grid position minus its vertex
 uniform uvec2 u_gbase[N_LAYERS];   // per layer: that grid vertex, mod 2^32
 uniform uint u_key[N_LAYERS];      // per layer: the hash key of its seed
+uniform vec2 u_snap[N_LAYERS];     // per layer: its snap counts (whole numbers; tables.snap_counts)
 uniform float u_lut_row[N_LAYERS]; // per layer: first table row of its tile
 uniform mat3 u_basis[N_LAYERS];    // per layer: its tile's decorrelation, RGB = origin + basis v
 uniform vec3 u_origin[N_LAYERS];
@@ -83,11 +84,11 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
 #if ISO_LOD
     float lam = lam_w + u_lod_off[k];
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y, u_key[k],
-                                       u_tex_size, lam, MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
+                                       u_snap[k], u_tex_size, lam, MIN_FILTER, u_lut_q, u_lut_row[k], u_lut_rows,
                                        u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
 #else
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), st, g, u_gbase[k].x, u_gbase[k].y,
-                                            u_key[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
+                                            u_key[k], u_snap[k], spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy),
                                             u_tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : u_max_aniso, gm, MIN_FILTER, u_lut_q, u_lut_row[k],
                                             u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
     float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)

@@ -90,18 +90,27 @@ SPX_UINT spectex_hash(SPX_UINT x) {
     return x;
 }
 
-// The offset that goes with a vertex's hash h: (h & 0xFFFF, h >> 16) / 65536
-// tile units, snapped down to whole texels of level 0 (tex_size texels,
-// inv_size = 1 / tex_size); the 16-bit halves converted as int (the same
-// numbers; a native conversion where the CPU has none for uint).
-vec2 spectex_hash_offset(SPX_UINT h, vec2 tex_size, vec2 inv_size) {
-    return floor(vec2(float(int(h & 65535u)), float(int(h >> 16u))) * (1.0 / 65536.0) * tex_size) * inv_size;
+// The offset that goes with a vertex's hash h (stochastic.vertex_offset): its
+// 16-bit halves (h & 0xFFFF, h >> 16) pick one of snap.x x snap.y positions,
+// k = (half * snap) >> 16, which lies floor(k tex_size / snap) texels of level 0
+// into the tile (inv_size = 1 / tex_size). snap: the layer's snap counts, whole
+// numbers (spectex/shading/tables.py, snap_counts: Layer.snap's structure periods
+// per tile, or tex_size, every texel, without snapping). In unsigned integers, so
+// every renderer computes the same offsets exactly; floats converted as int (a
+// native conversion where the CPU has none for uint).
+vec2 spectex_hash_offset(SPX_UINT h, vec2 tex_size, vec2 inv_size, vec2 snap) {
+    SPX_UINT nx = SPX_UINT(int(snap.x));
+    SPX_UINT ny = SPX_UINT(int(snap.y));
+    SPX_UINT kx = ((h & 65535u) * nx) >> 16u;
+    SPX_UINT ky = ((h >> 16u) * ny) >> 16u;
+    return vec2(float(int((kx * SPX_UINT(int(tex_size.x))) / nx)),
+                float(int((ky * SPX_UINT(int(tex_size.y))) / ny))) * inv_size;
 }
 
 // The random offset (tile units) of grid vertex (i, j) (uint, wrapping) under
 // a layer's key: h = lowbias32(i ^ lowbias32(j ^ key)).
-vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size, vec2 inv_size) {
-    return spectex_hash_offset(spectex_hash(i ^ spectex_hash(j ^ key)), tex_size, inv_size);
+vec2 spectex_vertex_offset(SPX_UINT i, SPX_UINT j, SPX_UINT key, vec2 tex_size, vec2 inv_size, vec2 snap) {
+    return spectex_hash_offset(spectex_hash(i ^ spectex_hash(j ^ key)), tex_size, inv_size, snap);
 }
 
 // The table row (fractional: row d1 + beta) that goes with the levels a
@@ -131,14 +140,15 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 
 // One stochastic sample at lambda: st the tile coordinates, g the same point
 // in skewed grid coordinates relative to the grid vertex (base_i, base_j),
-// tex_size the level-0 width and height;
+// tex_size the level-0 width and height, snap the layer's snap counts
+// (spectex_hash_offset);
 // three patches of the Gaussianised tile `gauss`, each offset by its
 // vertex's hash, blended with the barycentric weights preserving the
 // variance, then the layer's row `lut_row0` (+ level) of the tables and the
 // inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2, b0..b2 the
 // basis's columns). RGBA in [0, 1].
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
-                               SPX_UINT base_j, SPX_UINT key, vec2 tex_size, float lam, int min_filter, float q,
+                               SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
                                float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
     // The triangle (docs/sampling.md, 6b): lower (f.x + f.y < 1) with vertices
     // (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1), (0, 1), (1, 0);
@@ -164,9 +174,9 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     ws = ws * (1.0 / (ws.x + ws.y + ws.z));
     w = ws + clamp(lam - SPX_SHARP_LOD, 0.0, 1.0) * (w - ws);
     vec2 inv_size = 1.0 / tex_size;
-    vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size), lam);
-    vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size), lam);
-    vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size), lam);
+    vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size, snap), lam);
+    vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size, snap), lam);
+    vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size, snap), lam);
     // the weights sum to 1: sum w_i (x_i - m) = sum w_i x_i - m
     vec4 gb = (w.x * x1 + w.y * x2 + w.z * x3 - SPX_GAUSS_MEAN) * (1.0 / length(w)) + SPX_GAUSS_MEAN;
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
@@ -178,7 +188,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
 // the major axis, each with its own grid position, averaged). grid: the
 // tile -> skewed grid map (m00, m01, m10, m11).
 vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
-                                    SPX_UINT base_j, SPX_UINT key, vec2 dx, vec2 dy, vec2 tex_size,
+                                    SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 dx, vec2 dy, vec2 tex_size,
                                     float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
                                     float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
     float lam;
@@ -191,13 +201,13 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
         for (float i = 1.0; i <= n; i += 1.0) {
             float fi = i / (n + 1.0) - 0.5;
             acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
-                                             base_j, key, tex_size, lam, min_filter, q, lut_row0, lut_rows,
+                                             base_j, key, snap, tex_size, lam, min_filter, q, lut_row0, lut_rows,
                                              b0, b1, b2, origin);
         }
         return acc / n;
     }
 #endif
-    return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, tex_size,
+    return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size,
                                      lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin);
 }
 #endif

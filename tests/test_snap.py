@@ -1,0 +1,231 @@
+"""Layer.snap: stochastic patches offset by whole structure periods keep a brick grid and do not repeat.
+
+A running-bond brick tile (rows offset by half a brick, so the lattice along y is two rows) of
+whole periods, drawn three ways: periodic (keeps the grid, repeats), stochastic (does not repeat,
+breaks the grid), stochastic with ``snap`` (keeps the grid, does not repeat). Every route that
+draws a stochastic layer takes the snap: the CPU kernels (general and fast path), GL, and the
+exports through their fixtures (tests/test_export*.py, tests/test_engines_real.py,
+tests/test_web_viewer.py snap one stochastic layer to 4 x 3 periods).
+"""
+
+import tomllib
+
+import numpy as np
+import pytest
+import tomli_w
+
+from helpers import SIZE, VIEWS, psnr
+from spectex import metrics
+from spectex.render import bake
+from spectex.render.cpu import render_cpu
+from spectex.shading.stochastic import layer_key, lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix
+from spectex.shading.tables import anchor_coords
+from spectex.texture import Layer, SpectralTexture
+
+BRICK_W, BRICK_H = 16, 8
+
+
+def bricks(nx, ny, *, mortar=2, rng=0, mottle=0.0):
+    """Running bond: ``ny`` periods of two rows of ``nx`` bricks (16 x 8 px); each brick its own grey
+    with grain, mortar 0.1; ``mottle``: that much smooth variation (Gaussian noise of 4 and 24 px)
+    over everything, as a photo has. Returns RGBA ``(16 ny, 16 nx, 4)`` and the mortar mask."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(rng)
+    h, w = ny * 2 * BRICK_H, nx * BRICK_W
+    yy, xx = np.mgrid[0:h, 0:w]
+    row = yy // BRICK_H
+    shift = (row % 2) * (BRICK_W // 2)
+    ident = row * nx + ((xx + shift) // BRICK_W) % nx
+    img = rng.uniform(0.45, 0.9, ident.max() + 1)[ident] + 0.05 * rng.standard_normal((h, w))
+    is_mortar = (yy % BRICK_H < mortar) | ((xx + shift) % BRICK_W < mortar)
+    img[is_mortar] = 0.1
+    for sigma in (4.0, 24.0):
+        smooth = ndimage.gaussian_filter(rng.standard_normal((h, w)), sigma, mode="wrap")
+        img += mottle * smooth / smooth.std()
+    rgba = np.ones((h, w, 4), dtype=np.float32)
+    rgba[:, :, :3] = np.clip(img, 0.0, 1.0)[:, :, None]
+    return rgba, is_mortar
+
+
+@pytest.fixture(scope="module")
+def brick_tile():
+    return bricks(8, 8)  # 128 x 128: 8 bricks across, 8 periods of two rows down
+
+
+def _bake(tile, **kw):
+    tex = SpectralTexture(tile, [Layer(size=1.0, **kw)])
+    return bake(tex, (512, 512), pixel_size=1.0 / tile.shape[1])
+
+
+def test_snapped_offsets_are_whole_periods_rounded_down_to_texels():
+    # at a grid vertex one patch has weight 1: the texel shown is the un-offset one moved by the
+    # vertex's snapped offset, k = (u16 * n) >> 16 periods of 128 / n texels (rounded down)
+    tile = bricks(8, 8, rng=3)[0]
+    tables = stochastic_tables(tile)
+    grid = triangle_grid_matrix(0.5)
+    ij = np.random.default_rng(2).integers(-1000, 1000, size=(3000, 2))
+    st = ij @ np.linalg.inv(grid).T
+    h = lowbias32(ij[:, 0].astype(np.uint32) ^ lowbias32(ij[:, 1].astype(np.uint32) ^ np.uint32(layer_key(7))))
+
+    def expected(nx, ny):
+        kx = ((h & 0xFFFF).astype(np.int64) * nx) >> 16
+        ky = ((h >> 16).astype(np.int64) * ny) >> 16
+        col = (np.floor(st[:, 0] * 128).astype(np.int64) + kx * 128 // nx) % 128
+        row = (np.floor(st[:, 1] * 128).astype(np.int64) + ky * 128 // ny) % 128
+        return tile[row, col]
+
+    for snap, counts in (((8, 3), (8, 3)), ((0, 5), (128, 5)), ((0, 0), (128, 128))):
+        out = sample_stochastic(tables, st[:, 0], st[:, 1], patch=0.5, seed=7, snap=snap, lod=0.0, filter="nearest")
+        assert np.abs(out - expected(*counts)).mean() < 0.3 / 255.0, snap
+    # control: the snapped layer does not show what the unsnapped offsets point to
+    out = sample_stochastic(tables, st[:, 0], st[:, 1], patch=0.5, seed=7, snap=(8, 3), lod=0.0, filter="nearest")
+    assert np.abs(out - expected(128, 128)).mean() > 20.0 / 255.0
+
+
+def test_snap_keeps_the_brick_grid_and_does_not_repeat(brick_tile):
+    tile, mortar = brick_tile
+    wall = bricks(32, 32, rng=5)[0][:, :, :3]  # "the photo": the same kind of wall, other bricks
+    yy, xx = np.mgrid[0:512, 0:512]
+    on_mortar = mortar[yy % 128, xx % 128]
+    period = (2 * BRICK_H, BRICK_W)
+    got = {}
+    for name, kw in (("snap", dict(tiling="stochastic", seed=3, snap=(8, 8))),
+                     ("periodic", dict(tiling="periodic")), ("free", dict(tiling="stochastic", seed=3))):
+        baked = _bake(tile, **kw)
+        got[name] = dict(mortar=float(np.mean(baked[..., 0][on_mortar] < 0.2)),
+                         brick=float(np.mean(baked[..., 0][~on_mortar] < 0.2)),
+                         repeat=metrics.repeat_peak(baked, period=period),
+                         exact=metrics.repetition(baked, 128),
+                         structure=metrics.structural_distance(baked, wall).ratio)
+    snap, periodic, free = got["snap"], got["periodic"], got["free"]
+    # the grid: every mortar pixel of the lattice is mortar, no brick pixel is (measured 1.0 / 0.0)
+    assert snap["mortar"] >= 0.99 and snap["brick"] <= 0.01, got
+    # its content does not repeat: the repeat beyond the structure's own lattice (measured 0.10; the
+    # periodic tile 1.0, the photo itself 0.05) and exact copies one tile away (0.01; periodic 1.0)
+    assert snap["repeat"] <= 0.25 and snap["exact"] <= 0.05, got
+    # the structure measure no worse than the periodic tile's (measured 1.42 against 1.59)
+    assert snap["structure"] <= periodic["structure"] * 1.05, got
+    # controls: periodic repeats, stochastic without snap breaks the grid (mortar 0.28, ghosts)
+    assert periodic["repeat"] >= 0.9 and periodic["exact"] >= 0.9, got
+    assert free["mortar"] <= 0.6 and free["structure"] >= snap["structure"] + 0.2, got
+
+
+def test_repeat_peak_period_removes_the_lattice_only():
+    wall = bricks(32, 32, rng=5)[0][:, :, :3]
+    plain = metrics.repeat_peak(wall)
+    assert plain > 0.8  # the mortar grid is a repeat of its own
+    assert metrics.repeat_peak(wall, period=(16, 16)) < 0.1
+    # control: the wrong lattice (one row, where the bond repeats every two) leaves the joints
+    assert metrics.repeat_peak(wall, period=(8, 16)) > 0.5
+    with pytest.raises(ValueError, match="period"):
+        metrics.repeat_peak(wall, period=16)
+    with pytest.raises(ValueError, match=r"period\[1\]"):
+        metrics.repeat_peak(wall, period=(16, 1))
+
+
+def _snapped_texture(snap):
+    tile = bricks(8, 8, rng=1)[0]
+    layers = SpectralTexture.paper_preset(tile, tiling="stochastic").layers
+    layers = [Layer(**{**lay.__dict__, "snap": snap if k < 3 else (0, 0)}) for k, lay in enumerate(layers)]
+    return SpectralTexture(tile, layers)
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("name", ["close", "grazing"])
+def test_snapped_layers_gl_matches_cpu(gl, name):
+    from spectex.render.gl import GLRenderer
+
+    tex = _snapped_texture((8, 3))  # 3 does not divide the 128-texel tile: offsets rounded down to texels
+    cam = VIEWS[name]
+    with GLRenderer(tex, ctx=gl) as r:
+        g = r.render(cam, SIZE)
+    c = render_cpu(tex, cam, SIZE)
+    assert psnr(g, c) >= 40.0
+    # control: the same layers unsnapped draw another picture
+    with GLRenderer(_snapped_texture((0, 0)), ctx=gl) as r:
+        assert psnr(r.render(cam, SIZE), c) < 35.0
+
+
+def test_snapped_cpu_fast_path_matches_the_general_sampler():
+    from spectex.render import Camera
+    from spectex.shading import pack, view_params
+    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
+
+    tex = _snapped_texture((8, 3))
+    tables = pack(tex)
+    assert tables.fast
+    cam = Camera((3.0e4, -2.0e4, 2.0), yaw=40.0, pitch=-35.0, fov=60.0)
+    view = view_params(cam, (24, 40), supersample=1)
+    anchor = anchor_coords(tex.layers, *cam.position[:2])
+    fast = np.empty((24, 40, 3), np.float32)
+    general = np.empty((24, 40, 3), np.float32)
+    render_kernel_fast(tables, anchor, view, row_order(24), fast)
+    render_kernel(tables, anchor, view, row_order(24), general)
+    diff = np.abs(fast - general)
+    assert np.mean(diff > 1e-5) <= 0.01 and diff.max() <= 0.03
+    # control: the fast path without the snap is another picture
+    unsnapped = np.empty((24, 40, 3), np.float32)
+    render_kernel_fast(pack(_snapped_texture((0, 0))), anchor, view, row_order(24), unsnapped)
+    assert np.abs(unsnapped - fast).mean() > 0.01
+    # the bake (general kernel) agrees with the standalone sampler, snapped
+    layer = tex.layers[0]
+    p = layer.size / 128
+    baked = bake(SpectralTexture(tex.tiles, [layer]), (64, 64), pixel_size=p)
+    r, c = np.mgrid[0:64, 0:64]
+    s, t = layer.coords((c + 0.5) * p, (r + 0.5) * p)
+    m = layer.matrix()
+    ref = sample_stochastic(stochastic_tables(tex.tiles[0]), s, t, patch=layer.patch, seed=layer.seed, snap=(8, 3),
+                            dsdx=m[0, 0] * p, dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
+    assert np.max(np.abs(baked - ref[..., :3])) < 2e-3
+
+
+def test_snap_is_saved_loaded_and_checked(tmp_path):
+    tex = _snapped_texture((8, 3))
+    path = tex.save(tmp_path / "wall.toml")
+    doc = tomllib.loads(path.read_text())
+    # a layer without snap writes nothing (such files stay readable by a spectex without the field)
+    assert [entry.get("snap") for entry in doc["layers"]] == [[8, 3]] * 3 + [None] * (len(tex.layers) - 3)
+    back = SpectralTexture.load(path)
+    assert [lay.snap for lay in back.layers] == [lay.snap for lay in tex.layers]
+    for bad in ((1,), (-1, 0), (1.5, 2), (True, 0), (257, 0), "4x3", 4):
+        with pytest.raises(ValueError, match=r"^snap must be a pair \(nx, ny\)"):
+            Layer(size=1.0, tiling="stochastic", snap=bad)
+    with pytest.raises(ValueError, match="snap"):
+        sample_stochastic(stochastic_tables(tex.tiles[0]), 0.0, 0.0, snap=(0, -2))
+    doc["layers"][0]["snap"] = [8, 300]
+    bad_file = tmp_path / "bad.toml"
+    bad_file.write_text(tomli_w.dumps(doc))
+    with pytest.raises(ValueError, match=r"layers\[0\]\.snap.*300"):
+        SpectralTexture.load(bad_file)
+
+
+@pytest.fixture(scope="module")
+def wall_fits():
+    """spectex.fit of a 256 x 256 running-bond wall: the default (the trial picks the snapped way) and
+    the control forced periodic (the period-cut tile repeated)."""
+    from spectex.fitting import fit_result
+
+    photo = bricks(16, 16, rng=9, mottle=0.05)[0][:, :, :3]
+    return photo, {name: fit_result(photo, pixel_size=0.01, layers=3, iterations=1, tiling=tiling)
+                   for name, tiling in (("auto", "auto"), ("periodic", "periodic"))}
+
+
+def test_fit_of_a_brick_wall_keeps_the_grid_without_repeating(wall_fits):
+    photo, fits = wall_fits
+    auto = fits["auto"]
+    assert auto.params["period_px"] == (16, 16)
+    assert auto.params["trial"]["choice"] == "snapped" and auto.texture.layers[0].snap == (15, 15)
+    got = {}
+    for name, result in fits.items():
+        near = bake(result.texture, (512, 512), pixel_size=0.01)
+        far = bake(result.texture, (512, 512), pixel_size=0.08)
+        got[name] = dict(near=metrics.repeat_peak(near, period=(16, 16)), far=metrics.repeat_peak(far),
+                         structure=metrics.structural_distance(near[:256, :256], photo).ratio)
+    own = metrics.repeat_peak(photo, period=(16, 16))
+    # the content does not repeat (near: the lattice removed; far: 8x out, where the lattice is 2 px)
+    assert got["auto"]["near"] <= own + 0.15 and got["auto"]["far"] <= 0.1, (own, got)
+    # structure no worse than the periodic tile's
+    assert got["auto"]["structure"] <= 1.1 * got["periodic"]["structure"], got
+    # the control: the periodic fit repeats
+    assert got["periodic"]["near"] >= 0.5 and got["periodic"]["near"] >= got["auto"]["near"] + 0.3, got
