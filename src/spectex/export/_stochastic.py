@@ -88,7 +88,7 @@ def layer_entries(texture) -> list[dict]:
     ``grid`` (m00, m01, m10, m11: tile -> skewed grid coordinates), ``key``
     (the hash key of its seed, a uint32), ``snap`` (its snap counts along s
     and t, whole numbers: ``Layer.snap``'s structure periods per tile, or
-    the tile's width and height where that is 0; ``shading.tables.snap_counts``), ``lut_row`` (its tile's first
+    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``lut_row`` (its tile's first
     table row), ``basis`` (3 x 3, row-major: RGB = origin + basis v; GLSL's
     ``mat3`` takes the transpose, column after column), ``origin``; and
     ``patch``, ``seed`` and ``snap_periods`` (``Layer.snap`` itself) for people.

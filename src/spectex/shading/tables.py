@@ -35,7 +35,7 @@ from .constants import (
 from .resources import mean_colours, stochastic_store, stochastic_tables, texel_store
 from .sampler import filter_code
 
-__all__ = ["ShadingTables", "pack", "anchor_coords", "snap_counts"]
+__all__ = ["ShadingTables", "pack", "anchor_coords"]
 
 
 class ShadingTables(NamedTuple):
@@ -80,17 +80,6 @@ class ShadingTables(NamedTuple):
     snap: np.ndarray
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
     origin: np.ndarray     #: (L, 3) float64
-
-
-def snap_counts(snap, tile_shape) -> tuple[float, float]:
-    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
-
-    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
-    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
-    texels, as without snapping.
-    """
-    h, w = int(tile_shape[0]), int(tile_shape[1])
-    return float(snap[0] or w), float(snap[1] or h)
 
 
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
@@ -168,7 +157,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     basis = np.zeros((n, 3, 3), dtype=np.float64)
     origin = np.zeros((n, 3), dtype=np.float64)
     if np.any(tiling == TILING_STOCHASTIC):
-        from .stochastic import layer_key, triangle_grid_matrix
+        from .stochastic import layer_key, snap_counts, triangle_grid_matrix
 
         gauss, lut, lut_rows = stochastic_store(texture, mipmaps=mipmaps)
         stoch = stochastic_tables(texture)
