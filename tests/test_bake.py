@@ -255,6 +255,7 @@ def test_bake_zarr_refuses_paths_that_are_not_its_own(texture, tmp_path):
     (dict(scheduler="tcp://host:99999"), ValueError, "scheduler"),
     (dict(scheduler="tcp://host"), ValueError, "scheduler"),
     (dict(connect_timeout=0.0), ValueError, "connect_timeout"),
+    (dict(connect_timeout=1e-320), ValueError, "connect_timeout must be >= 0.001"),
     (dict(pixel_size=1e300), ValueError, "pixel_size"),
     (dict(pixel_size=1e-300), ValueError, "pixel_size"),
     (dict(origin=(1e300, 0.0)), ValueError, "origin"),
@@ -276,9 +277,23 @@ def test_bake_zarr_rejects_bad_input_before_writing(texture, tmp_path, monkeypat
 
 
 def test_unreachable_scheduler_writes_nothing(texture, tmp_path):
-    with pytest.raises(OSError, match="cannot reach the scheduler tcp://127.0.0.1:9 within 0.5 s"):
+    import socket
+    import time
+
+    # nothing listens: refused at once (dask.distributed alone would retry until its timeout)
+    start = time.perf_counter()
+    with pytest.raises(OSError, match="tcp://127.0.0.1:9: nothing listens on port 9 of 127.0.0.1"):
         bake_zarr(texture, tmp_path / "t.zarr", (20, 20), pixel_size=1.0, chunk=16, shard=16,
-                  scheduler="tcp://127.0.0.1:9", connect_timeout=0.5)
+                  scheduler="tcp://127.0.0.1:9", connect_timeout=30)
+    assert time.perf_counter() - start < 30  # not the timeout
+    # something listens but never answers as a scheduler: the timeout says so
+    with socket.socket() as silent:
+        silent.bind(("127.0.0.1", 0))
+        silent.listen()
+        address = f"tcp://127.0.0.1:{silent.getsockname()[1]}"
+        with pytest.raises(OSError, match=f"cannot reach the scheduler {address} within 0.5 s"):
+            bake_zarr(texture, tmp_path / "t.zarr", (20, 20), pixel_size=1.0, chunk=16, shard=16,
+                      scheduler=address, connect_timeout=0.5)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -433,3 +448,24 @@ def test_docs_python_examples_run(tmp_path, monkeypatch):
     for code in blocks:
         exec(compile(code, "docs/bake.md", "exec"), namespace)
     assert namespace["result"].shapes[0] == (300, 400)
+
+
+def test_a_bake_larger_than_the_free_disk_is_refused_before_writing(texture, tmp_path, monkeypatch):
+    import collections
+
+    import spectex.bake._zarr as bz
+
+    usage = collections.namedtuple("usage", "total used free")
+    need = sum(3 * h * w for h, w in bz.level_shapes(SHAPE, 2))  # uint8, two levels
+    out = tmp_path / "t.zarr"
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need - 1))
+    words = f"makes 2 levels that need {need} bytes uncompressed, more than the {need - 1} bytes free"
+    with pytest.raises(ValueError, match=words):
+        bake_zarr(texture, out, SHAPE, **KW)
+    assert not out.exists()
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need))  # the control
+    assert bake_zarr(texture, out, SHAPE, **KW).baked > 0
+    # a resumed bake counts what is there already: the rest of the bytes free is enough
+    written = sum(f.stat().st_size for f in out.rglob("*") if f.is_file())
+    monkeypatch.setattr(bz.shutil, "disk_usage", lambda p: usage(10 ** 12, 0, need - written))
+    assert bake_zarr(texture, out, SHAPE, **KW).baked == 0

@@ -55,10 +55,25 @@ def _run_cli(args, **kw):
                             stderr=subprocess.PIPE, text=True, **kw)
 
 
+#: A bake of 400 shards on one thread: long enough (seconds) to be stopped in the middle.
+SLOW_BAKE = ("--size", "640x512", "--pixel-size", "0.05", "--chunk", "16", "--shard", "32", "--levels", "2",
+             "--workers", "1")
+
+
+def _wait_for_markers(proc, markers, count, seconds=120):
+    """Wait until the running bake ``proc`` has left ``count`` shard markers; it must still be running."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and proc.poll() is None:
+        if markers.is_dir() and len(list(markers.iterdir())) >= count:
+            break
+        time.sleep(0.02)
+    assert proc.poll() is None, "the bake finished before it could be stopped; make it larger"
+
+
 @pytest.mark.slow
-def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, tmp_path):
-    args = [str(texture_file), "--size", "640x512", "--pixel-size", "0.05", "--chunk", "16", "--shard", "32",
-            "--levels", "2", "--workers", "1"]
+@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
+def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, tmp_path, signum):
+    args = [str(texture_file), *SLOW_BAKE]
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     whole = tmp_path / "a" / "t.zarr"
@@ -69,14 +84,13 @@ def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, tmp_pa
     out = tmp_path / "b" / "t.zarr"
     proc = _run_cli([*args, "-o", str(out)])
     markers = out / ".spectex-progress"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if markers.is_dir() and len(list(markers.iterdir())) >= 20:
-            break
-        time.sleep(0.02)
-    assert proc.poll() is None, "the bake finished before it could be killed; make it larger"
-    proc.send_signal(signal.SIGKILL)
-    proc.communicate()
+    _wait_for_markers(proc, markers, 20)
+    proc.send_signal(signum)
+    _, stderr = proc.communicate(timeout=120)
+    if signum == signal.SIGKILL:
+        assert proc.returncode == -signal.SIGKILL
+    else:  # a clean stop: 128 + the signal, one line, no traceback
+        assert proc.returncode == 128 + signum and len(stderr.strip().splitlines()) == 1, stderr
     doc = json.loads((out / "zarr.json").read_text())
     assert doc["attributes"]["spectex"]["complete"] is False and "ome" not in doc["attributes"]
     kept = len(list(markers.iterdir()))
@@ -86,6 +100,32 @@ def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, tmp_pa
     assert proc.returncode == 0, stderr
     assert f"{kept} kept from an earlier run" in stdout
     assert snapshot(out) == snapshot(whole)
+
+
+@pytest.mark.slow
+def test_cli_bake_a_second_writer_while_the_first_runs_is_refused_and_the_store_exact(texture_file, tmp_path):
+    """Two writers that surely overlap: the second starts once the first has written shards."""
+    args = [str(texture_file), *SLOW_BAKE]
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    whole = tmp_path / "a" / "t.zarr"
+    proc = _run_cli([*args, "-o", str(whole)])
+    assert proc.communicate(timeout=300)[0] is not None and proc.returncode == 0
+
+    out = tmp_path / "b" / "t.zarr"
+    first = _run_cli([*args, "-o", str(out)])
+    _wait_for_markers(first, out / ".spectex-progress", 5)
+    lock = json.loads((out / "spectex.lock").read_text())
+    assert lock["pid"] == first.pid  # the lock names its owner
+    second = _run_cli([*args, "-o", str(out)])
+    _, err = second.communicate(timeout=120)
+    assert first.poll() is None, "the first bake ended before the second was refused; make it larger"
+    assert second.returncode == 2 and f"is being baked by process {first.pid} on" in err, err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    stdout, stderr = first.communicate(timeout=300)
+    assert first.returncode == 0, stderr
+    assert snapshot(out) == snapshot(whole)  # the refused writer changed nothing
+    assert not (out / "spectex.lock").exists()
 
 
 def _fails(argv, capsys):

@@ -172,6 +172,10 @@ def _snapshot(folder: Path) -> dict:
     return out
 
 
+#: The words of a refused typed number (spectex._numbers).
+_NOT_ASCII = "expected a whole number in ASCII digits"
+
+
 @dataclass(frozen=True)
 class Case:
     """One hostile run: ``argv`` after ``spectex`` ('{ro}' is a read-only folder)."""
@@ -553,7 +557,14 @@ CASES = [
                             "tcp://localhost:99999"), ("words", "not an address"))),
     Case("bake-scheduler-unreachable", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler",
                                         "tcp://127.0.0.1:9", "--connect-timeout", "0.5"), 2,
-         "cannot reach the scheduler tcp://127.0.0.1:9 within 0.5 s"),
+         "cannot reach the scheduler tcp://127.0.0.1:9: nothing listens on port 9"),
+    Case("bake-scheduler-no-such-host", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler",
+                                         "tcp://nosuchhost.invalid:8786"), 2, "host 'nosuchhost.invalid' not found"),
+    Case("bake-connect-timeout-denormal", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler",
+                                           "tcp://127.0.0.1:9", "--connect-timeout", "1e-320"), 2,
+         "connect_timeout must be >= 0.001"),
+    Case("noise-gain-overflow-one-line", ("noise", "fbm", "--gain", "1e308", "--size", "16", "-o", "x.png"), 2,
+         "^spectex noise: error: gain=1e\\+308 with octaves=6 overflows"),
     Case("bake-connect-timeout-alone", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--connect-timeout", "3"), 2,
          "--connect-timeout does not apply without --scheduler"),
     Case("bake-deleted-shard-rebaked", ("bake", "tex.toml", "-o", "b.zarr", *BAKE), 0,
@@ -604,6 +615,41 @@ CASES = [
          "--opacity must be between 0.001 and 1"),  # found by benchmarks/fuzz_hostile.py: ran for minutes
     Case("render-one-frame-gif", ("render", "tex.toml", *CAMERA, "--size", "16x16", "--frames", "1", "-o",
                                   "x.gif"), 0, changes=("x.gif",)),
+    # --- typed numbers: ASCII digits only (Python's int() and float() take any script's digits, '_',
+    # spaces, 'inf'); the controls, plain ASCII (a sign, a negative zero), must run
+    *(Case(f"{cmd}-{what}", (cmd, *argv), 2, words) for cmd, what, argv, words in (
+        ("fit", "layers-arabic-indic-digit", ("img.png", "--layers", "٣", "-o", "out"), _NOT_ASCII),
+        ("noise", "octaves-full-width-digit", ("fbm", "--octaves", "３", "-o", "x.png"), _NOT_ASCII),
+        ("noise", "seed-underscores", ("perlin", "--seed", "1_000", "-o", "x.png"), _NOT_ASCII),
+        ("text", "length-spaces", ("c.txt", "--length", " 3 "), _NOT_ASCII),
+        ("render", "frames-float-spelling", ("tex.toml", *CAMERA, "--frames", "3.0", "-o", "x.gif"), _NOT_ASCII),
+        ("bake", "chunk-5000-digits", ("tex.toml", "-o", "b.zarr", *BAKE, "--chunk", "9" * 5000),
+         "at most 100 digits"),
+        ("tile", "size-devanagari-digits", ("--size", "१६", "-o", "x.png"), "expected WxH"),
+        ("synth", "bit-depth-arabic-indic", ("img.png", "--bit-depth", "١٦", "-o", "x.png"), _NOT_ASCII),
+        ("noise", "scale-1e999", ("perlin", "--scale", "1e999", "-o", "x.png"), "must be finite"),
+        ("tile", "beta-full-width", ("--beta", "１.５", "-o", "x.png"), "a number in ASCII digits"),
+        ("fit", "ratio-underscores", ("img.png", "--ratio", "1_0.5", "-o", "out"), "a number in ASCII digits"),
+        ("noise", "fps-infinity", ("perlin", "--frames", "2", "--fps", "infinity", "-o", "x.gif"), "must be finite"),
+        ("spectrum", "fmax-hex-float", ("img.png", "--fmax", "0x1p-3"), "a number in ASCII digits"),
+        ("render", "camera-full-width-digit", ("tex.toml", "--camera", "0,0,2,0,-１0", "-o", "x.png"),
+         "a number in ASCII digits"),
+    )),
+    Case("noise-ascii-sign-control", ("noise", "fbm", "--octaves", "+3", "--seed", "-0", "--size", "8", "-o",
+                                      "x.png"), 0, changes=("x.png",)),
+    Case("tile-negative-zero-beta-control", ("tile", "--beta", "-0.0", "--size", "8", "-o", "x.png"), 0,
+         changes=("x.png",)),
+    # --- costs refused from the exemplar's header (before it is decoded or numba imported)
+    Case("synth-block-over-exemplar", ("synth", "img.png", "--block", "100", "-o", "x.png"), 2,
+         "exemplar of 32x32 pixels is smaller than block=100"),
+    Case("synth-window-over-exemplar", ("synth", "img.png", "--method", "efros-leung", "--window", "41", "-o",
+                                        "x.png"), 2, "window=41 is larger than the exemplar"),
+    Case("synth-tileable-overlap", ("synth", "img.png", "--block", "16", "--overlap", "8", "--tileable", "-o",
+                                    "x.png"), 2, "overlap must be smaller than block/2"),
+    Case("synth-quilting-small-control", ("synth", "img.png", "--block", "16", "--size", "24", "-o", "x.png"), 0,
+         changes=("x.png",)),
+    Case("bake-png-pixel-size-tiny", ("bake", "tex.toml", "-o", "x.png", "--size", "8", "--pixel-size", "1e-300"),
+         2, r"pixel_size must be between 1e-06 and 1e\+09 metres"),
 ]
 
 
@@ -920,3 +966,157 @@ def test_an_unwritable_numba_cache_falls_back_with_one_line(tmp_path):
             assert "compiled kernels are not kept between runs" in run.stderr
             assert run.stderr.count("\n") == 1
             assert not os.path.exists(folder)  # the private cache is removed at exit
+
+
+# ------------------------------------------------- typed numbers, in one place
+
+@pytest.mark.parametrize("text, value", [("3", 3), ("+3", 3), ("-0", 0), ("007", 7), ("-12", -12),
+                                         ("9" * 100, int("9" * 100))])
+def test_parse_int_takes_ascii_whole_numbers(text, value):
+    from spectex._numbers import parse_int
+
+    assert parse_int(text) == value
+
+
+@pytest.mark.parametrize("text", ["٣", "３", "१", "1_000", " 3 ", "3 ", "3.0", "1e3", "0x10", "", "+", "nan", "9" * 101,
+                                  "9" * 5000, "3\n"])
+def test_parse_int_refuses_what_python_int_would_take(text):
+    from spectex._numbers import parse_int
+
+    with pytest.raises(ValueError, match="ASCII digits|at most 100 digits"):
+        parse_int(text)
+
+
+@pytest.mark.parametrize("text, value", [("0.5", 0.5), (".5", 0.5), ("5.", 5.0), ("-1e-3", -1e-3), ("1E3", 1000.0),
+                                         ("1e-320", 1e-320), ("1e308", 1e308)])
+def test_parse_float_takes_ascii_decimals(text, value):
+    from spectex._numbers import parse_float
+
+    assert parse_float(text) == value
+
+
+@pytest.mark.parametrize("text", ["-0", "-0.0", "-0e5"])
+def test_parse_float_makes_negative_zero_plain(text):
+    import math
+
+    from spectex._numbers import parse_float
+
+    assert math.copysign(1.0, parse_float(text)) == 1.0  # a control: float(text) keeps the sign
+    assert math.copysign(1.0, float(text)) == -1.0
+
+
+@pytest.mark.parametrize("text, words", [("inf", "finite"), ("-Infinity", "finite"), ("nan", "finite"),
+                                         ("1e999", "finite"), ("-1e400", "finite"), ("１.５", "ASCII"),
+                                         ("1_0.5", "ASCII"), (" 0.5", "ASCII"), ("0x1p3", "ASCII"), ("1e", "ASCII"),
+                                         ("", "ASCII"), ("1,5", "ASCII"), ("٠.٥", "ASCII")])
+def test_parse_float_refuses_what_python_float_would_take(text, words):
+    from spectex._numbers import parse_float
+
+    with pytest.raises(ValueError, match=words):
+        parse_float(text)
+
+
+def test_every_number_option_uses_the_one_parser():
+    """No option of any command is parsed by Python's int or float themselves (they take '٣')."""
+    from spectex.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    builtins = [(name, a.dest) for name, p in sub.choices.items() for a in p._actions if a.type in (int, float)]
+    assert not builtins
+
+
+def test_limits_from_the_environment_take_ascii_only(monkeypatch):
+    from spectex._limits import limit
+
+    monkeypatch.setenv("SPECTEX_MAX_X", "١٠٠")
+    assert limit("X", 7) == 7
+    monkeypatch.setenv("SPECTEX_MAX_X", "100")  # the control
+    assert limit("X", 7) == 100
+
+
+def test_a_float_beyond_a_double_is_a_value_error():
+    from spectex._validate import check_float
+
+    with pytest.raises(ValueError, match="must be finite"):
+        check_float("gain", 10 ** 400)
+    assert check_float("gain", 10 ** 300) == 1e300  # the control
+
+
+# ------------------------------------------------- refusals before the heavy work
+
+#: Refusals that need no numba: each must come before numba (or zarr, dask, moderngl) is imported.
+LIGHT_REFUSALS = [
+    ("synth", "img.png", "--block", "100", "-o", "x.png"),
+    ("synth", "img.png", "--size", "100000x100000", "-o", "x.png"),
+    ("synth", "img.png", "--method", "efros-leung", "--exhaustive", "--window", "5", "--size", "2048", "-o",
+     "x.png"),
+    ("synth", "img.png", "--method", "efros-leung", "--window", "4", "-o", "x.png"),
+    ("synth", "img.png", "--tolerance", "-1", "-o", "x.png"),
+    ("bake", "tex.toml", "-o", "b.zarr", "--size", "1000000000x1000000000", "--pixel-size", "1"),
+    ("bake", "tex.toml", "-o", "b.zarr", "--size", "16", "--pixel-size", "1e300"),
+    ("bake", "tex.toml", "-o", "b.zarr", "--size", "16", "--pixel-size", "1", "--chunk", "7"),
+    ("bake", "tex.toml", "-o", "x.png", "--size", "100000x100000", "--pixel-size", "1"),
+    ("fit", "img.png", "--layers", "99", "-o", "out"),
+    ("fit", "img.png", "--ratio", "1000", "-o", "out"),
+    ("tile", "--size", "100000", "-o", "x.png"),
+    ("tile", "--size", "4", "-o", "x.png"),
+    ("render", "tex.toml", *CAMERA, "--anisotropy", "99", "-o", "x.png"),
+    ("render", "tex.toml", *CAMERA, "--size", "100000x100000", "-o", "x.png"),
+]
+HEAVY = ("numba", "zarr", "dask", "moderngl")
+
+
+def _imports(argv, folder):
+    """Exit status and the top-level modules a ``spectex`` run imported (``-X importtime``)."""
+    env = dict(os.environ, PYTHONPATH=str(SRC), PYTHONWARNINGS="")
+    proc = subprocess.run([sys.executable, "-X", "importtime", "-m", "spectex", *argv], cwd=folder, env=env,
+                          stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=TIME_LIMIT)
+    names = {line.rsplit("|", 1)[-1].strip() for line in proc.stderr.splitlines() if line.startswith("import time:")}
+    return proc.returncode, names
+
+
+@pytest.fixture(scope="module")
+def light_folder(tmp_path_factory):
+    from spectex import io
+    from spectex.texture import SpectralTexture
+
+    folder = tmp_path_factory.mktemp("light")
+    io.write_image(folder / "img.png", np.random.default_rng(26).random((32, 32, 3)).astype(np.float32))
+    SpectralTexture.paper_preset(tile_size=16).save(folder / "tex.toml")
+    return folder
+
+
+@pytest.mark.parametrize("argv", LIGHT_REFUSALS, ids=[" ".join(a[:4]) for a in LIGHT_REFUSALS])
+def test_refusals_come_before_the_heavy_imports(argv, light_folder):
+    rc, names = _imports(argv, light_folder)
+    assert rc == 2
+    assert not names & set(HEAVY), sorted(names & set(HEAVY))
+
+
+def test_heavy_imports_control(light_folder):
+    """The control: the same command that does the work imports numba (so the test above can fail)."""
+    rc, names = _imports(("synth", "img.png", "--block", "16", "--size", "16", "-o", "x.png"), light_folder)
+    assert rc == 0 and "numba" in names
+    (light_folder / "x.png").unlink()
+
+
+def test_read_image_checks_the_header_before_decoding(tmp_path):
+    from spectex import io
+
+    io.write_image(tmp_path / "a.png", np.zeros((40, 24, 3), np.float32))
+    data = (tmp_path / "a.png").read_bytes()
+    (tmp_path / "cut.png").write_bytes(data[: len(data) // 2])  # a header, then half the pixels
+    seen = []
+
+    def refuse(shape):
+        seen.append(shape)
+        raise ValueError("refused from the header")
+
+    with pytest.raises(ValueError, match="refused from the header"):  # not "not a readable image"
+        io.read_image(tmp_path / "cut.png", check_header=refuse)
+    assert seen == [(40, 24, 3)]
+    with pytest.raises(ValueError, match="not a readable image"):  # the control: decoded, it fails
+        io.read_image(tmp_path / "cut.png", check_header=seen.append)
+    np.save(tmp_path / "a.npy", np.zeros((5, 6, 2), np.float32))
+    io.read_image(tmp_path / "a.npy", check_header=seen.append)
+    assert seen[-1] == (5, 6, 2)

@@ -35,7 +35,10 @@ def check_float(name: str, value, *, minimum=None, maximum=None,
     """Return ``value`` as a finite float, or raise naming ``name``."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a number, got {_show(value)}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # an int (or Fraction) beyond a double: 10**400
+        raise ValueError(f"{name} must be finite (at most about 1.8e308 in size), got {_show(value)}") from None
     if math.isnan(value) or (math.isinf(value) and not allow_inf):
         raise ValueError(f"{name} must be finite, got {value}")
     if minimum is not None:

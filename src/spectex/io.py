@@ -172,9 +172,12 @@ def _png_bit_depth(path: Path) -> int | None:
 
 #: A tighter limit than MAX_IMAGE_PIXELS for the read in progress: (pixels, "where it comes from"), or None.
 _READ_LIMIT = contextvars.ContextVar("spectex_read_limit", default=None)
+#: A check of the read in progress, called with ``(height, width, channels)`` from the header, before
+#: decoding, or None.
+_READ_CHECK = contextvars.ContextVar("spectex_read_check", default=None)
 
 
-def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
+def _check_pixels(name: str, path: Path, width: int, height: int, channels: int = 1) -> None:
     if width * height > MAX_IMAGE_PIXELS:
         raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
                          f"{MAX_IMAGE_PIXELS} pixels (spectex.io.MAX_IMAGE_PIXELS; "
@@ -183,6 +186,9 @@ def _check_pixels(name: str, path: Path, width: int, height: int) -> None:
     if tighter is not None and width * height > tighter[0]:
         raise ValueError(f"{name} '{path}' is {width}x{height} = {width * height} pixels, over the limit of "
                          f"{tighter[0]} pixels {tighter[1]}")
+    check = _READ_CHECK.get()
+    if check is not None:
+        check((height, width, channels))
 
 
 def _read_npy(path: Path, name: str) -> np.ndarray:
@@ -201,7 +207,7 @@ def _read_npy(path: Path, name: str) -> np.ndarray:
     if len(shape) not in (2, 3) or not (np.issubdtype(dtype, np.number) or dtype == np.bool_):
         raise ValueError(f"{name} must hold a 2-D or 3-D numeric array, got shape {shape} and dtype {dtype} "
                          f"in '{path}'")
-    _check_pixels(name, path, shape[1], shape[0])
+    _check_pixels(name, path, shape[1], shape[0], shape[2] if len(shape) == 3 else 1)
     if len(shape) == 3 and shape[2] > 4:
         raise ValueError(f"{name} must have at most 4 channels, got shape {shape} in '{path}'")
     try:
@@ -220,7 +226,7 @@ def _read_png16(path: Path, name: str) -> np.ndarray:
         with open(path, "rb") as fh:
             reader = png.Reader(file=fh)
             reader.preamble()
-            _check_pixels(name, path, reader.width, reader.height)
+            _check_pixels(name, path, reader.width, reader.height, reader.planes)
             w, h, rows, info = reader.asDirect()
             data = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
     except ValueError:
@@ -258,14 +264,15 @@ def _open_pil(path: Path, name: str):
     finally:
         Image.MAX_IMAGE_PIXELS = saved
     try:
-        _check_pixels(name, path, *im.size)
+        # a palette becomes RGB or RGBA, other modes keep their bands (a lower bound is what a check needs)
+        _check_pixels(name, path, *im.size, 3 if im.mode in ("P", "PA") else len(im.getbands()))
     except BaseException:
         im.close()
         raise
     return im
 
 
-def read_image(path, *, name: str = "image", max_pixels=None) -> np.ndarray:
+def read_image(path, *, name: str = "image", max_pixels=None, check_header=None) -> np.ndarray:
     """Read an image file as float32 in [0, 1].
 
     Conversions, all documented and lossless where the format allows:
@@ -280,7 +287,11 @@ def read_image(path, *, name: str = "image", max_pixels=None) -> np.ndarray:
     Images over :data:`MAX_IMAGE_PIXELS` pixels are refused from their header,
     before anything is decoded; ``max_pixels``, a pair ``(pixels, words)``,
     sets a tighter limit for this read (a synthesis exemplar), its refusal
-    ending with ``words`` (where the limit comes from).
+    ending with ``words`` (where the limit comes from). ``check_header``, a
+    callable, is called with ``(height, width, channels)`` from the header
+    (channels: as many as the image read will have, at least), before
+    anything is decoded, so that a caller can refuse what the image's size
+    makes impossible or too costly (a synthesis's block or window) at once.
 
     Raises
     ------
@@ -291,9 +302,17 @@ def read_image(path, *, name: str = "image", max_pixels=None) -> np.ndarray:
     if max_pixels is not None:  # (pixels, why): refused from the header, before decoding
         token = _READ_LIMIT.set(tuple(max_pixels))
         try:
-            return read_image(path, name=name)
+            return read_image(path, name=name, check_header=check_header)
         finally:
             _READ_LIMIT.reset(token)
+    if check_header is not None:
+        if not callable(check_header):
+            raise TypeError(f"check_header must be callable, got {type(check_header).__name__}")
+        token = _READ_CHECK.set(check_header)
+        try:
+            return read_image(path, name=name)
+        finally:
+            _READ_CHECK.reset(token)
     path = check_input_file(name, path)
     note_input(path)
     if path.suffix.lower() == ".npy":

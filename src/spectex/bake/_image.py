@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import check_choice, check_shape
+from .._validate import check_choice, check_length, check_shape
 
 __all__ = ["IMAGE_BITS", "bake_image"]
 
@@ -46,13 +46,17 @@ def bake_image(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), bit_depth
     from ..io import write_image
     from ..texture import SpectralTexture
     from ._block import bake_window, to_dtype
+    from ._zarr import _check_origin
 
-    if not isinstance(texture, SpectralTexture):
-        texture = SpectralTexture.load(texture)
+    # every number before the texture is loaded (that imports and may compile the sampler: seconds)
     if Path(path).suffix.lower() != ".png":
         raise ValueError(f"path must end in .png, got '{path}'")
     check_choice("bit_depth", str(bit_depth), tuple(str(b) for b in IMAGE_BITS))
     h, w = check_shape("shape", shape, maximum_pixels=1 << 26)
+    check_length("pixel_size", pixel_size)
+    _check_origin(origin)
+    if not isinstance(texture, SpectralTexture):
+        texture = SpectralTexture.load(texture)
     rgb = bake_window(texture, (0, h, 0, w), origin=origin, pixel_size=pixel_size)
     # the store's integers (to_dtype, rounded half to even), as floats that write_image gives back exactly
     top = 2 ** int(bit_depth) - 1

@@ -14,6 +14,7 @@ as an image is a finished one.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -193,8 +194,8 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     """
     from .. import texture_file
 
-    # --- everything is checked before anything is written
-    texture, text = _texture_and_text(texture)
+    # --- everything is checked before anything is written, and every number before the texture is
+    # loaded (loading it imports and may compile the sampler: seconds), so that a refusal is at once
     path = _check_store_path(path)
     h, w = check_shape("shape", shape, maximum_pixels=1 << 62)
     p = check_length("pixel_size", pixel_size)
@@ -202,12 +203,15 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
     dtype = check_choice("dtype", dtype, DTYPES)
     chunk, shard = _check_chunk_shard(chunk, shard, dtype)
     levels = _check_levels((h, w), levels, chunk, shard, dtype)
-    connect_timeout = check_float("connect_timeout", connect_timeout, minimum=0.0, exclusive_minimum=True,
-                                  maximum=3600.0)
+    _check_free_space(path, (h, w), levels, dtype)
+    connect_timeout = check_float("connect_timeout", connect_timeout, minimum=1e-3, maximum=3600.0)
     workers = _check_scheduler(scheduler, workers)
+    if scheduler is not None:
+        _probe(scheduler, connect_timeout)  # nothing listening: said before anything is loaded
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
     _require()
+    texture, text = _texture_and_text(texture)
 
     shapes = level_shapes((h, w), levels)
     sizes = [p * 2.0 ** k for k in range(levels)]
@@ -299,6 +303,34 @@ def _check_levels(shape, levels, chunk, shard, dtype) -> int:
         raise ValueError(f"shape {w}x{h} (--size) with shard {shard} makes {n_shards} shards, over the limit of "
                          f"{MAX_BAKE_SHARDS} (SPECTEX_MAX_BAKE_SHARDS; set it to raise the limit, or a larger shard)")
     return levels
+
+
+def _check_free_space(path: Path, shape, levels, dtype) -> None:
+    """Refuse a pyramid whose uncompressed bytes (less what an earlier run has written) exceed the free disk.
+
+    Compression may make the store smaller, but a bake that fills the disk hours in helps no one (as
+    ImageMagick's disk limit): the check is made before the first byte is written.
+    """
+    itemsize = np.dtype(dtype).itemsize
+    stored = sum(3 * lh * lw * itemsize for lh, lw in level_shapes(shape, levels))
+    folder = path.parent if str(path.parent) else Path(".")
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return  # a file system that cannot say: the write itself will tell
+    if stored <= free:
+        return
+    written = 0
+    if path.is_dir():
+        for root, _, files in os.walk(path):
+            for name in files:
+                with contextlib.suppress(OSError):
+                    written += os.lstat(os.path.join(root, name)).st_size
+    if stored - written > free:
+        more = f"{stored - written} more bytes" if written else f"{stored} bytes"
+        raise ValueError(f"shape {shape[1]}x{shape[0]} (--size) at {dtype} makes {levels} levels that need {more} "
+                         f"uncompressed, more than the {free} bytes free on the disk of '{folder}': free "
+                         "some space or bake a smaller region")
 
 
 def _check_scheduler(scheduler, workers):
@@ -500,17 +532,65 @@ def _run_local(job, todo, workers, progress, total) -> None:
             get(graph, keys, num_workers=workers or os.cpu_count() or 1)
 
 
+def _probe(scheduler, timeout) -> None:
+    """Refuse at once an address where nothing listens or whose host has no address (TCP-based schemes).
+
+    dask.distributed retries a refused connection until its timeout: one plain TCP connection says
+    "nothing listens there" in milliseconds. Slow or filtered networks are left to the timeout.
+    """
+    import socket
+
+    found = _ADDRESS.match(scheduler)
+    scheme, host, port = found.group(1), found.group(2).strip("[]"), int(found.group(3))
+    if scheme not in ("tcp", "tls", "ws", "wss"):
+        return
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except ConnectionRefusedError:
+        raise OSError(f"cannot reach the scheduler {scheduler}: nothing listens on port {port} of {host} "
+                      "(connection refused)") from None
+    except socket.gaierror as exc:
+        raise OSError(f"cannot reach the scheduler {scheduler}: host {host!r} not found ({exc.strerror})") from None
+    except OSError:
+        return  # a timeout, an unreachable network...: dask.distributed's own connection says what it finds
+
+
 def _connect(scheduler, timeout):
+    """A ``distributed.Client`` of ``scheduler``, or OSError within about ``timeout`` seconds.
+
+    The client is made in a daemon thread that is waited for at most ``timeout + 2`` seconds:
+    dask.distributed does not bound its handshake, so an address where something else listens (a web
+    server, a silent socket) would otherwise hang the bake for ever.
+    """
+    import threading
+
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("scheduler needs dask.distributed: pip install 'spectex[bake]'") from None
-    try:
-        return Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
-    except (OSError, TimeoutError) as exc:
+    box = {}
+
+    def connect():
+        try:
+            box["client"] = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
+        except BaseException as exc:  # handed to the waiting thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="spectex-connect", daemon=True)
+    thread.start()
+    thread.join(timeout + 2.0)
+    if thread.is_alive():
+        raise OSError(f"cannot reach the scheduler {scheduler} within {timeout:g} s: something listens there but "
+                      "does not answer as a dask.distributed scheduler")
+    exc = box.get("error")
+    if isinstance(exc, (OSError, TimeoutError)):
         raise OSError(f"cannot reach the scheduler {scheduler} within {timeout:g} s: {exc}") from None
-    except ValueError as exc:  # an address that dask.distributed cannot parse
+    if isinstance(exc, ValueError):  # an address that dask.distributed cannot parse
         raise ValueError(f"scheduler {scheduler!r} is not an address dask.distributed can reach: {exc}") from None
+    if exc is not None:
+        raise exc
+    return box["client"]
 
 
 def _run_distributed(job, todo, client, progress, total) -> None:

@@ -3,22 +3,31 @@
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
+
+from spectex._numbers import parse_float, parse_int
 
 
 class UsageError(Exception):
     """A command-line mistake: reported in one line, exit status 2."""
 
 
+def whole_number(text: str) -> int:
+    """Any whole number in ASCII digits (:func:`spectex._numbers.parse_int`): the base of the int options."""
+    try:
+        return parse_int(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def size(text: str) -> tuple[int, int]:
-    """Parse ``WxH`` (or ``N`` for a square) into ``(height, width)``."""
+    """Parse ``WxH`` (or ``N`` for a square) into ``(height, width)``; ASCII digits only."""
     parts = text.lower().split("x")
     try:
         if len(parts) == 1:
-            w = h = int(parts[0])
+            w = h = parse_int(parts[0])
         elif len(parts) == 2:
-            w, h = int(parts[0]), int(parts[1])
+            w, h = parse_int(parts[0]), parse_int(parts[1])
         else:
             raise ValueError
     except ValueError:
@@ -29,20 +38,14 @@ def size(text: str) -> tuple[int, int]:
 
 
 def positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
+    value = whole_number(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
     return value
 
 
 def nonneg_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got '{text}'") from None
+    value = whole_number(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
     return value
@@ -61,12 +64,18 @@ def seed(text: str) -> int:
 
 
 def finite_float(text: str) -> float:
+    """A finite number in ASCII digits (:func:`spectex._numbers.parse_float`): the base of the float options."""
     try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be finite, got '{text}'")
+        return parse_float(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def bit_depth(text: str) -> int:
+    """A PNG ``--bit-depth``: 8 or 16."""
+    value = whole_number(text)
+    if value not in (8, 16):
+        raise argparse.ArgumentTypeError(f"must be 8 or 16, got {value}")
     return value
 
 
@@ -95,7 +104,7 @@ def positive_float(text: str) -> float:
 
 
 def floats(count: int):
-    """An argument type for ``count`` comma-separated numbers."""
+    """An argument type for ``count`` comma-separated numbers (spaces around the commas are allowed)."""
 
     def parse(text: str) -> tuple[float, ...]:
         parts = text.split(",")
@@ -272,14 +281,18 @@ def add_normalize(parser) -> None:
                              "(.npy, float TIFF) outside [0, 1] are refused)")
 
 
-def read_unit_image(args, path, name: str, *, max_pixels=None):
-    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it."""
+def read_unit_image(args, path, name: str, *, max_pixels=None, check_header=None):
+    """Read an image for ``args.command``, in [0, 1]: refused outside it unless ``--normalize`` rescales it.
+
+    ``max_pixels`` and ``check_header`` are :func:`spectex.io.read_image`'s: checks from the header, before
+    the image is decoded.
+    """
     import numpy as np
 
     from spectex._validate import check_unit_range, normalize_image
     from spectex.io import read_image
 
-    image = read_image(path, name=name, max_pixels=max_pixels)
+    image = read_image(path, name=name, max_pixels=max_pixels, check_header=check_header)
     if not np.all(np.isfinite(image)):
         raise ValueError(f"{name} must hold finite values, got NaN or infinity")
     if getattr(args, "normalize", False):

@@ -89,7 +89,7 @@ def run(args) -> int | None:
     from pathlib import Path
 
     from spectex._output import OutputSet
-    from spectex.fitting import fit_result, prepare_exemplar
+    from spectex.fitting import check_options, fit_result, prepare_exemplar
     start = time.perf_counter()
     # a denormal opacity ran for minutes (fuzz_hostile)
     if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
@@ -97,6 +97,8 @@ def run(args) -> int | None:
     if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
+    # every option before the photo is read (a large one takes seconds)
+    check_options(layers=args.layers, ratio=args.ratio, opacity=args.opacity, rng=args.seed)
     # Every file checked before the work (none may be the photo); all six replace the earlier
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])

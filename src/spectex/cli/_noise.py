@@ -34,7 +34,7 @@ def register(sub) -> None:
     p.add_argument("--colormap", default=None, metavar="NAME",
                    help="colour ramp: grey, earth, stone, sand, moss, marble, wood, clouds, fire, lava, "
                         "ocean, rust, blue, or any Matplotlib colormap (default: grey, or the kind's own)")
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default 8)")
+    p.add_argument("--bit-depth", type=_common.bit_depth, default=8, help="PNG bits per channel, 8 or 16 (default 8)")
     p.add_argument("--frames", type=_common.positive_int, default=None,
                    help="write an animation of N frames (slices of 3-D noise) to .gif or .mp4")
     p.add_argument("--speed", type=_common.finite_float, default=0.05,

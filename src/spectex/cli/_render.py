@@ -74,6 +74,7 @@ def run(args) -> int:
     # Everything is checked before anything is drawn or written.
     from pathlib import Path
 
+    from spectex._validate import check_float
     from spectex.io import check_mp4_size, check_output_path, write_animation, write_image
     from spectex.render import Atmosphere, Camera, check_size
     from spectex.render.gl import GLUnavailable
@@ -85,6 +86,7 @@ def run(args) -> int:
         _common.refuse(args, ["to", "fps"], "to a single picture (only with --frames 2 or more, or a .gif/.mp4)")
     output = check_output_path("output", args.output, _ANIM if animated else _IMAGE, inputs=[args.texture])
     h, w = check_size(args.size, args.supersample, name="--size")
+    check_float("--anisotropy", args.anisotropy, minimum=1.0, maximum=16.0)  # the renderer's range, said at once
     if animated and output.suffix.lower() == ".mp4":
         check_mp4_size(h, w)
     start = Camera.from_tuple(args.camera, fov=args.fov)

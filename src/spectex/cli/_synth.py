@@ -44,15 +44,15 @@ def register(subparsers) -> None:
                         "white noise, always does)")
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
     _common.add_normalize(p)
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8, help="PNG bits per channel (default: 8)")
+    p.add_argument("--bit-depth", type=_common.bit_depth, default=8, help="PNG bits per channel, 8 or 16 (default: 8)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
                    help="output image (.png, .jpg, .tif, ..., or .npy)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int | None:
-    from spectex import synthesis
-    from spectex.io import ARRAY_SUFFIXES, IMAGE_SUFFIXES, check_output_path, write_image
+    from spectex import _limits
+    from spectex.io import ARRAY_SUFFIXES, IMAGE_SUFFIXES, check_output_path
 
     output = check_output_path("output", args.output, IMAGE_SUFFIXES + ARRAY_SUFFIXES,
                                inputs=[args.exemplar, args.match])
@@ -63,12 +63,17 @@ def run(args) -> int | None:
     if args.match is not None and args.method != "histogram":
         raise ValueError(f"--match works with --method histogram, got --method {args.method}")
     _refuse_unused(args)
-    from spectex._limits import SYNTH_EXEMPLAR_PIXELS
-
+    # Every size and cost is checked with the exemplar's size from its header (check_header), before
+    # it is decoded or numba is imported, so that a refusal comes at once.
+    plan = _plan(args)
     tighter = None if args.method == "histogram" else (
-        SYNTH_EXEMPLAR_PIXELS, f"for {args.method} (SPECTEX_MAX_SYNTH_EXEMPLAR_PIXELS; set it to raise the limit, "
-                               "or crop or shrink the exemplar)")
-    exemplar = _common.read_unit_image(args, args.exemplar, "exemplar", max_pixels=tighter)
+        _limits.SYNTH_EXEMPLAR_PIXELS, f"for {args.method} (SPECTEX_MAX_SYNTH_EXEMPLAR_PIXELS; set it to raise "
+                                       "the limit, or crop or shrink the exemplar)")
+    exemplar = _common.read_unit_image(args, args.exemplar, "exemplar", max_pixels=tighter,
+                                       check_header=plan)
+    from spectex import synthesis
+    from spectex.io import write_image
+
     joint = args.colours == "joint"
     if args.match is not None:
         image = _common.read_unit_image(args, args.match, "match image")
@@ -89,6 +94,27 @@ def run(args) -> int | None:
     h, w = result.shape[:2]
     _common.report(f"wrote {output} ({w}x{h}, {args.method})")
     return 0
+
+
+def _plan(args):
+    """The check of this synthesis's sizes and cost for an exemplar of ``(height, width, channels)`` (from
+    its header; the library checks again with the image)."""
+    from spectex import _limits
+    from spectex._validate import check_float, check_shape
+
+    def plan(exemplar_shape) -> None:
+        if args.match is not None:
+            return  # the matched image keeps its own size
+        if args.method == "histogram":
+            check_shape("--size", args.size)
+        elif args.method == "quilting":
+            check_float("tolerance", args.tolerance, minimum=0.0)
+            _limits.check_quilting(exemplar_shape, args.size, block=args.block, overlap=args.overlap,
+                                   tileable=args.tileable, channels=exemplar_shape[2])
+        else:
+            _limits.check_efros_leung(exemplar_shape, args.size, window=args.window, k=4,
+                                      method="exhaustive" if args.exhaustive else "fast", channels=exemplar_shape[2])
+    return plan
 
 
 def _refuse_unused(args) -> None:

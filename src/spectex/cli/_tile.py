@@ -62,8 +62,8 @@ def register(subparsers) -> None:
                    help="emboss: contrast; 1 reaches 0 or 1 at the steepest slope (default: 1)")
     p.add_argument("--alpha-value", type=_common.finite_float, default=None,
                    help="--alpha none: the constant alpha (default: 0.5; with --from: 1)")
-    p.add_argument("--bit-depth", type=int, choices=(8, 16), default=8,
-                   help="PNG bits per channel (default: 8)")
+    p.add_argument("--bit-depth", type=_common.bit_depth, default=8,
+                   help="PNG bits per channel, 8 or 16 (default: 8)")
     _common.add_normalize(p)
     p.add_argument("--preview", action="store_true", help="also write NAME_preview.png (3 x 3 repetition)")
     p.add_argument("-o", "--output", type=_common.output_name, required=True,
@@ -72,17 +72,16 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int | None:
+    from spectex._limits import MAX_TILE_SIDE
     from spectex._output import OutputSet
     from spectex._validate import check_shape
     from spectex.io import check_output_path, write_image
-    from spectex.tiles import MAX_SIZE, make_seamless, make_tile
-    from spectex.tiles import preview as make_preview
 
     _refuse_unused(args)
-    if args.size is not None:  # checked here to name --size (the library says shape=)
+    if args.size is not None:  # checked here to name --size (the library says shape=), before numba is imported
         h, w = check_shape("--size", args.size)
-        if not 8 <= min(h, w) <= max(h, w) <= MAX_SIZE:
-            raise ValueError(f"--size must be between 8 and {MAX_SIZE} on each side, got {w}x{h}")
+        if not 8 <= min(h, w) <= max(h, w) <= MAX_TILE_SIDE:
+            raise ValueError(f"--size must be between 8 and {MAX_TILE_SIDE} on each side, got {w}x{h}")
     inputs = [args.source] if args.source is not None else []
     output = check_output_path("output", args.output, _SUFFIXES, inputs=inputs)
     if args.bit_depth == 16 and output.suffix.lower() != ".png":
@@ -93,6 +92,9 @@ def run(args) -> int | None:
     # Both files or neither, planned (and checked against the inputs) before the work.
     outputs = (OutputSet(output.parent, [output.name, preview.name], inputs=inputs, create=False)
                if preview is not None else None)
+    from spectex.tiles import make_seamless, make_tile
+    from spectex.tiles import preview as make_preview
+
     steps = _common.Steps((3 if args.source is not None else 2) + (preview is not None))
     with steps:
         if args.source is not None:

@@ -16,6 +16,7 @@ See ``docs/fitting.md``.
 from __future__ import annotations
 
 from .._validate import check_choice
+from ._auto import check_options  # noqa: F401 - for the command line (not in __all__)
 from ._core import (
     FIT_METHODS,
     FIT_TILINGS,

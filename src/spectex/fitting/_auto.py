@@ -259,15 +259,15 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
     return pixel_size, scale
 
 
-def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
-             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
-    """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
-    from ..metrics import band_power
-    from ..shading.constants import DEFAULT_PATCH
-    from ..texture import Layer, layer_placement
-    from ..tiles import make_seamless
+def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, tiling="auto", patch=None,
+                  progress=None):
+    """The fit's options checked (no image needed: the command line checks them before reading the photo).
 
-    start = time.perf_counter()
+    Returns ``(layers, ratio, opacity, iterations, rng, tiling, patch)`` with the defaults filled in and
+    ``rng`` a Generator.
+    """
+    from ..shading.constants import DEFAULT_PATCH
+
     layers = check_int("layers", layers, minimum=2, maximum=8)
     ratio = check_float("ratio", ratio, minimum=1.0, exclusive_minimum=True, maximum=64.0)
     opacity = AUTO_OPACITY if opacity is None else check_float("opacity", opacity, minimum=0.0, maximum=1.0,
@@ -280,6 +280,20 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
                                                              maximum=4.0)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
+    return layers, ratio, opacity, iterations, rng, tiling, patch
+
+
+def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
+             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
+    """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
+    start = time.perf_counter()
+    layers, ratio, opacity, iterations, rng, tiling, patch = check_options(
+        layers=layers, ratio=ratio, opacity=opacity, iterations=iterations, rng=rng, tiling=tiling, patch=patch,
+        progress=progress)
+    from ..metrics import band_power
+    from ..texture import Layer, layer_placement
+    from ..tiles import make_seamless
+
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)

@@ -142,7 +142,8 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
     periodic, p = _periods(period, dims)
     if periodic and lacunarity != round(lacunarity):
         raise ValueError(f"lacunarity must be a whole number when period is given, got {lacunarity}")
-    freq = lacunarity ** np.arange(octaves, dtype=np.float64)
+    with np.errstate(over="ignore", under="ignore"):  # said below in one line, not as a warning too
+        freq = lacunarity ** np.arange(octaves, dtype=np.float64)
     if not np.all(np.isfinite(freq)):
         raise ValueError(f"lacunarity={lacunarity} with octaves={octaves} overflows the frequency")
     pf = np.empty((octaves, dims), dtype=np.float64)
@@ -155,7 +156,8 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
             pf[o] = scaled
         else:
             pf[o] = 256.0
-    amp = gain ** np.arange(octaves, dtype=np.float64)
+    with np.errstate(over="ignore", under="ignore"):
+        amp = gain ** np.arange(octaves, dtype=np.float64)
     if not np.all(np.isfinite(amp)) or amp[-1] == 0:
         raise ValueError(f"gain={gain} with octaves={octaves} overflows or underflows the amplitude")
     if normalize:

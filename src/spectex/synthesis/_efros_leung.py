@@ -7,8 +7,8 @@ import math
 import numba
 import numpy as np
 
-from .._limits import check_exemplar_pixels, check_work
-from .._validate import check_choice, check_float, check_image, check_int, check_rng, check_shape
+from .._limits import check_efros_leung
+from .._validate import check_choice, check_float, check_image, check_rng
 
 _METHODS = ("fast", "exhaustive")
 
@@ -300,20 +300,6 @@ def _gaussian(window: int) -> np.ndarray:
     return g / g.sum()
 
 
-def _work(pixels, eh, ew, window, k, nch, method) -> float:
-    """Estimated operations of a synthesis (for the limit :data:`spectex._limits.SYNTH_WORK`).
-
-    Exhaustive: every output pixel compares its window with every exemplar
-    position. Fast: about ``window**2 * (k + 1)`` candidates a pixel, plus
-    the k-coherence sets (all pairs of exemplar positions in 24 dimensions,
-    about 8 times faster per operation than the pixel loop).
-    """
-    n = max(eh - window + 1, 1) * max(ew - window + 1, 1)
-    if method == "exhaustive":
-        return float(pixels) * n * window * window * nch
-    return float(pixels) * window ** 4 * (k + 1) * nch + (3.0 * n * n if k else 0.0)
-
-
 def _coherence_sets(ex: np.ndarray, window: int, k: int) -> np.ndarray:
     """k-coherence sets: for every valid centre, the k most similar others.
 
@@ -437,23 +423,14 @@ def efros_leung(exemplar, shape, *, window: int = 11, rng=0, method: str = "fast
        SIGGRAPH 2002 (k-coherence).
     """
     ex = check_image("exemplar", exemplar, unit=True)
-    out_h, out_w = check_shape("shape", shape)
-    window = check_int("window", window, minimum=3)
-    if window % 2 == 0:
-        raise ValueError(f"window must be odd, got {window}")
     rng = check_rng(rng)
-    method = check_choice("method", method, _METHODS)
     epsilon = check_float("epsilon", epsilon, minimum=0.0)
     max_error = check_float("max_error", max_error, minimum=0.0, exclusive_minimum=True)
-    k = check_int("k", k, minimum=0, maximum=32)
     tileable = bool(tileable)
+    method = check_choice("method", method, _METHODS)
     eh, ew = ex.shape[:2]
-    if eh < window or ew < window:
-        raise ValueError(f"window={window} is larger than the exemplar ({ew}x{eh} pixels)")
-    check_exemplar_pixels("exemplar", ex.shape, "efros-leung")
-    check_work(f"efros-leung ({method}) of shape {out_w}x{out_h} from a {ew}x{eh} exemplar with window {window}",
-               _work(out_h * out_w, eh, ew, window, k, 1 if ex.ndim == 2 else ex.shape[2], method),
-               "use a smaller shape, exemplar or window")
+    out_h, out_w, window, k = check_efros_leung(ex.shape, shape, window=window, k=k, method=method,
+                                                channels=1 if ex.ndim == 2 else ex.shape[2])
     grey = ex.ndim == 2
     e3 = np.ascontiguousarray(ex[:, :, None] if grey else ex, dtype=np.float32)
     nch = e3.shape[2]

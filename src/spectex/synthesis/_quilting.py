@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from .._limits import check_exemplar_pixels, check_work
-from .._validate import check_float, check_image, check_int, check_rng, check_shape
+from .._limits import check_quilting
+from .._validate import check_float, check_image, check_rng
 
 # Batch independent blocks (see quilt); False forces block-by-block work, which
 # must give the same quilt (a test compares the two).
@@ -213,28 +213,13 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     from ._cut import place_block
 
     ex = check_image("exemplar", exemplar, unit=True)
-    out_h, out_w = check_shape("shape", shape)
-    block = check_int("block", block, minimum=2)
-    if overlap is None:
-        overlap = max(1, block // 6)
-    overlap = check_int("overlap", overlap, minimum=1)
-    if overlap >= block:
-        raise ValueError(f"overlap must be smaller than block={block}, got {overlap}")
     tolerance = check_float("tolerance", tolerance, minimum=0.0)
     rng = check_rng(rng)
     tileable = bool(tileable)
     reuse = check_float("reuse", reuse, minimum=0.0, maximum=1e6)
-    if tileable and 2 * overlap >= block:
-        raise ValueError(f"overlap must be smaller than block/2={block / 2:g} for a tileable quilt, got {overlap}")
     eh, ew = ex.shape[:2]
-    if eh < block or ew < block:
-        raise ValueError(f"exemplar of {ew}x{eh} pixels is smaller than block={block}")
-    check_exemplar_pixels("exemplar", ex.shape, "quilting")
-    blocks = -(-out_h // (block - overlap)) * -(-out_w // (block - overlap))
-    nch_ = 1 if ex.ndim == 2 else ex.shape[2]
-    check_work(f"quilting of shape {out_w}x{out_h} in blocks of {block} from a {ew}x{eh} exemplar",
-               blocks * eh * ew * (nch_ + 1) * 2.0 * max(np.log2(eh * ew), 1.0),  # an FFT correlation a block
-               "use a smaller shape or exemplar, or a larger block")
+    out_h, out_w, block, overlap = check_quilting(ex.shape, shape, block=block, overlap=overlap, tileable=tileable,
+                                                  channels=1 if ex.ndim == 2 else ex.shape[2])
     grey = ex.ndim == 2
     e3 = np.ascontiguousarray(ex[:, :, None] if grey else ex)
     nch = e3.shape[2]

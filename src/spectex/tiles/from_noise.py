@@ -63,6 +63,7 @@ import math
 import numba
 import numpy as np
 
+from .._limits import MAX_TILE_SIDE
 from .._parallel import threads_for as _threads_for
 from .._validate import check_choice, check_float, check_int, check_rng, check_shape
 from ..color import LUMA_REC709
@@ -74,8 +75,9 @@ METHODS = ("spectral", "octaves", "noise")
 ALPHAS = ("emboss", "luminance", "noise", "none")
 
 #: Largest tile side accepted by :func:`make_tile` (memory at 8192 x 8192:
-#: 1 GiB for the tile, about 3 GiB at the peak with the FFT work space).
-MAX_SIZE = 8192
+#: 1 GiB for the tile, about 3 GiB at the peak with the FFT work space); its home is
+#: :mod:`spectex._limits`, so that the command line checks it before importing numba.
+MAX_SIZE = MAX_TILE_SIDE
 
 # Rec. 709 luma weights as numba sees them (module globals are constants to it).
 _LUMA_R, _LUMA_G, _LUMA_B = LUMA_REC709
