@@ -63,7 +63,6 @@ from ._validate import (
     check_tile_shape,
 )
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
-from .tiles.mipmap import gl_level_shapes, quantize
 
 __all__ = ["Layer", "SpectralTexture", "BLENDS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_matrix", "layer_placement"]
 
@@ -281,6 +280,8 @@ class SpectralTexture:
                                  "all tiles must have the same shape")
             if np.any(tile < 0) or np.any(tile > 1):
                 raise ValueError(f"tiles[{i}] values must be in [0, 1], got [{tile.min():g}, {tile.max():g}]")
+            from .tiles.mipmap import quantize  # here: the package of tiles imports numba
+
             checked.append(np.ascontiguousarray(quantize(tile, bits)))
         layers = [_as_layer(i, layer) for i, layer in enumerate(layers)]
         if not layers:
@@ -417,6 +418,8 @@ class SpectralTexture:
     @property
     def nbytes_mipmapped(self) -> int:
         """Bytes with all mip levels."""
+        from .tiles.mipmap import gl_level_shapes
+
         per = sum(h * w for h, w in gl_level_shapes(*self.tile_shape)) * 4 * (1 if self.bits == 8 else 4)
         return len(self.tiles) * per
 
