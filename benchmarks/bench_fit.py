@@ -4,12 +4,14 @@ Run from the repository root::
 
     python benchmarks/bench_fit.py             # about a minute
     python benchmarks/bench_fit.py --repeat 5
+    python benchmarks/bench_fit.py --time-only     # the time part only
 
 Two parts, each side by side in one run:
 
 * **time**: ``spectex.fit`` on a 512 x 512 exemplar (scikit-image's gravel,
   whole), best of ``--repeat`` after a warm-up (numba caches excluded), wall
-  and CPU time; and the whole ``spectex fit PHOTO -o DIR`` command in this
+  and CPU time, against the legacy fit (``method="legacy"``) timed
+  interleaved in the same run (a ratio); and the whole ``spectex fit PHOTO -o DIR`` command in this
   process (fit, renders, plots, files), against the issue's 10 s;
 * **fidelity**: for brick, grass and gravel (128 x 128 crops, as in the
   tests, and the whole 512 x 512 pictures), the fitted texture against the
@@ -37,6 +39,17 @@ import time
 from spectex.render import bake
 
 
+def _cpu():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def _cpu_wall(fn):
     t0, c0 = time.perf_counter(), time.process_time()
     out = fn()
@@ -46,6 +59,7 @@ def _cpu_wall(fn):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--time-only", action="store_true", help="the time part only (seconds)")
     args = ap.parse_args(argv)
 
     import skimage.data
@@ -56,19 +70,23 @@ def main(argv=None) -> int:
     from spectex.metrics import band_power, repetition
     from spectex.texture import SpectralTexture
 
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
+    print(f"machine: {_cpu()}, {os.cpu_count()} CPUs, "
           f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
 
     # ------------------------------------------------------------------ time
     gravel = skimage.data.gravel()
     fit(gravel[:64, :64], iterations=1)  # warm-up: numba caches, imports
-    walls, cpus = [], []
-    for _ in range(args.repeat):
+    fit(gravel[:64, :64], iterations=1, method="legacy")
+    walls, cpus, legacy = [], [], []
+    for _ in range(args.repeat):  # interleaved: the same load for both
         _, wall, cpu = _cpu_wall(lambda: fit(gravel))
         walls.append(wall)
         cpus.append(cpu)
-    print(f"\nfit, 512 x 512 exemplar: best wall {min(walls):.2f} s, CPU {min(cpus):.2f} s "
-          f"(runs: {', '.join(f'{w:.2f}' for w in walls)})")
+        legacy.append(_cpu_wall(lambda: fit(gravel, method="legacy"))[1])
+    print(f"\nfit, 512 x 512 exemplar (gravel): best wall {min(walls):.2f} s, CPU {min(cpus):.2f} s "
+          f"(runs: {', '.join(f'{w:.2f}' for w in walls)}; target 10 s); legacy fit best {min(legacy):.2f} s: "
+          f"ratio {min(walls) / min(legacy):.2f}")
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
     with tempfile.TemporaryDirectory() as tmp:
         photo = os.path.join(tmp, "gravel.png")
         write_image(photo, gravel / 255.0)
@@ -77,7 +95,9 @@ def main(argv=None) -> int:
             _, wall, _ = _cpu_wall(lambda: cli_main(["fit", photo, "-o", os.path.join(tmp, f"out{i}")]))
             cli_walls.append(wall)
     print(f"spectex fit (in process, fit + renders + plots + files): best wall {min(cli_walls):.2f} s "
-          f"(target 10 s; runs: {', '.join(f'{w:.2f}' for w in cli_walls)})")
+          f"(runs: {', '.join(f'{w:.2f}' for w in cli_walls)})")
+    if args.time_only:
+        return 0
 
     # -------------------------------------------------------------- fidelity
     default = SpectralTexture.paper_preset(tile_size=256)

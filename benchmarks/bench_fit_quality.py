@@ -27,6 +27,11 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
 * ``clip``: clipped channel values of the near render, percent (the photo's in the header);
 * ``rp near``, ``rp far``: :func:`spectex.metrics.repeat_peak` of the near render and of the far
   view (<= 0.1 does not repeat);
+* ``rs near``, ``rs far``: the same with the photo's structure lattice removed
+  (``repeat_peak(..., period=)``, the period :func:`spectex.fitting.structure_period` finds on a
+  structured photo; ``nan`` on the others): how much the *content* repeats, where the lattice
+  itself (bricks, tile grout) is the photo's own repeat (``rp own`` in the header: brick 0.18,
+  tiles 0.90), which no texture that keeps the structure can lower;
 * ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
   with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
@@ -109,7 +114,31 @@ def _make(method, photo, near_shape, far_side, rng):
     return near, _down(big, 8), seconds
 
 
-def _measure(photo, near, far):
+def _period(photo):
+    """The photo's structure period ``(py, px)`` in pixels where it is structured (the fit's own test), else None."""
+    from spectex.fitting import STRUCTURED_PEAK, prepare_exemplar, structure_peak
+    from spectex.fitting._auto import structure_period
+
+    exemplar = prepare_exemplar(photo)[0]
+    if structure_peak(exemplar) < STRUCTURED_PEAK:
+        return None
+    period = structure_period(exemplar)
+    return None if period == (None, None) else period
+
+
+def _content_repeat(image, period, zoom=1):
+    """``repeat_peak`` with the structure's lattice (``period`` / ``zoom`` pixels) removed; nan without one."""
+    from spectex import metrics
+
+    if period is None:
+        return float("nan")
+    scaled = tuple(None if p is None or p / zoom < 2 else p / zoom for p in period)
+    if scaled == (None, None):
+        return float("nan")
+    return metrics.repeat_peak(image, period=scaled, min_lag=min(24, min(image.shape[:2]) // 2))
+
+
+def _measure(photo, near, far, period=None):
     from spectex import metrics
 
     h, w = photo.shape[:2]
@@ -124,7 +153,15 @@ def _measure(photo, near, far):
             "copies": copies.value if copies else float("nan"),
             "copies photo": copies.reference if copies else float("nan"),
             "copies flag": (copies is not None and not copies.within),
+            "rs near": _content_repeat(near, period), "rs far": _content_repeat(far, period, zoom=8),
+            "rs photo": _content_repeat(photo, period),
             "groups": s1.group_ratios}
+
+
+def metrics_rp(image):
+    from spectex import metrics
+
+    return metrics.repeat_peak(image)
 
 
 def _grid(rows, path):
@@ -180,7 +217,7 @@ def main(argv=None) -> int:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'copies':>7s} {'s':>6s}"
+             f"{'rs near':>7s} {'rs far':>6s} {'copies':>7s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -189,20 +226,23 @@ def main(argv=None) -> int:
         far_side = 256 if args.quick else 512
         made = {}
         first = True
+        period = _period(photo)
         for m in methods:
             out = _make(m, photo, near_shape, far_side, args.rng)
             if out is None:
                 continue
             near, far, seconds = out
             made[m] = (near, far)
-            r = _measure(photo, near, far)
+            r = _measure(photo, near, far, period)
             means[m].append(r["s 1x"])
             if first:
-                print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f})")
+                print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "
+                      f"rp own {metrics_rp(photo):.3f}, structure period {period}, rs own {r['rs photo']:.3f})")
                 first = False
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
-                  f"{r['rp far']:6.3f} {r['copies']:6.2f}{flag} {seconds:6.1f}", flush=True)
+                  f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['copies']:6.2f}{flag} "
+                  f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture
             _grid(rows, args.grid)

@@ -213,19 +213,27 @@ def test_fit_never_repeats_by_default(fitted):
     assert repeat_peak(bake(periodic, (1024, 1024), pixel_size=p)) > 0.5
 
 
-def test_fit_keeps_a_periodic_finest_layer_for_a_structured_exemplar(fitted):
-    # brick's own fine detail repeats (its structure_peak is over the threshold): tiling and
-    # blending would blur the bricks, so the finest layer stays periodic, by measurement
+def test_fit_cuts_a_structured_exemplar_at_its_period(fitted):
+    # brick's own fine detail repeats (its structure_peak is over the threshold): plain tiling and
+    # blending would break the bricks, so the finest layer's tile is cut at the structure's period
+    # and drawn periodic or stochastic with its offsets snapped to whole periods (Layer.snap), as
+    # the trial bakes measure (tests/test_snap.py: the snapped way keeps a wall's grid and does not repeat)
     from spectex.fitting import STRUCTURED_PEAK, structure_peak
 
     res = fitted["brick"]
     assert res.params["structure_peak"] >= STRUCTURED_PEAK
-    assert res.texture.layers[0].tiling == "periodic"
     assert structure_peak(res.exemplar) == res.params["structure_peak"]
     # the tile is cut at the bricks' period across (33 px in the photo): whole columns of bricks
     py, px = res.params["period_px"]
     assert px is not None and 28 <= px <= 38
     assert res.params["tile_px"] % px == 0
+    layer = res.texture.layers[0]
+    choice = res.params["trial"]["choice"]
+    assert choice in ("periodic", "snapped")
+    if choice == "snapped":
+        assert layer.tiling == "stochastic" and layer.snap[0] == res.params["tile_px"] // px
+    else:
+        assert layer.tiling == "periodic"
     with pytest.raises(ValueError, match="tiling"):
         fit(_crop("gravel", 48), tiling="random")
 

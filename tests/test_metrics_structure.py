@@ -192,7 +192,7 @@ def test_clipping_refuses_bad_input(call):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["gravel", "brick"])
-def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name):
+def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name, monkeypatch):
     photo = _photo(name)
     # the photo at its own scale everywhere, seen from 8 times further: no magnified copy
     continuation = _down(_mosaic(photo, np.random.default_rng(3)), 8)
@@ -207,6 +207,21 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name):
     # the magnification found is the copy's
     assert int(np.nanargmax(flagged.per_magnification)) == flagged.magnifications.index(16.0)
     assert fine.zoom == 8.0 and len(fine.per_magnification) == len(fine.magnifications)
+    # a fainter copy (20 %) magnified 64 times (8 in the view: a 512-pixel view holds 64 of its
+    # pixels, searched at the photo's full resolution; missed before, 0.01): flagged there. The
+    # control: the same search without the full-resolution row sees nothing at 64.
+    huge = ndimage.rotate(ndimage.zoom(photo[200:300, 200:300], 8.0, order=1), 50.0, reshape=False,
+                          mode="reflect")[144:656, 144:656]
+    faint = 0.8 * continuation + 0.2 * huge
+    far = metrics.coarse_copies(faint, photo, zoom=8, magnifications=(16, 32, 64))
+    assert not far.within and far.value > fine.value + 0.2, (far.value, fine.value)
+    assert int(np.nanargmax(far.per_magnification)) == 2
+    assert np.isfinite(fine.per_magnification[fine.magnifications.index(64.0)])
+    import spectex._texture_stats as ts
+
+    monkeypatch.setattr(ts, "_FULL_SCALE", ts._SEARCH_SCALES[0])  # the search as it was: no full row
+    blind = metrics.coarse_copies(faint, photo, zoom=8, magnifications=(16, 32, 64))
+    assert blind.within and not np.isfinite(blind.per_magnification[2]), blind.per_magnification
 
 
 def test_coarse_copies_refuses_bad_input():

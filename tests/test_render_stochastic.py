@@ -200,29 +200,35 @@ def fitted():
     return fit(skimage.data.gravel()[:64, :64], pixel_size=0.06, iterations=1)
 
 
+@pytest.mark.slow
 @pytest.mark.gl
 def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
-    # issue 22's targets on a fitted texture: GL = CPU >= 40 dB; alias-free against 8 x 8
-    # supersampled renders without mip-maps: >= 38 dB, or, on the views where the legacy fit of the
-    # same crop does not reach 38 either (aerial and high since main's composite: 36.1 and 37.4 dB;
-    # the gravel tile's own sharp detail), within 0.7 dB of it; the control (no mip-maps) is worse
-    import skimage.data
+    """Issue 22's targets on a fitted texture: GL = CPU >= 40 dB, and alias-free >= 38 dB on every
+    view, CPU and GL, against 16 x 16 supersampled renders without mip-maps.
 
-    from spectex.fitting import fit
+    Why 16 x 16 and not 8 x 8: the fitted gravel tile is nearly white (as much power in its finest
+    octave as in its coarsest), and on the aerial and high views a pixel covers up to 150 x 150
+    texels of the finest layer, so 64 point samples do not average it: the 8 x 8 reference is itself
+    aliased, 36.5-36.7 dB from the 16 x 16 one there (asserted below), and the mip-mapped renders
+    scored 36.3 and 37.3 dB against it (the same with the finest layer periodic, 36.6 and 37.5: not
+    the stochastic weights). Against 16 x 16 they score 39.5 and 44.7 dB; the 16 x 16 reference
+    agrees with an independent one (8 x 8 mip-mapped samples) to 45 dB. The controls: a single
+    sample per pixel without mip-maps is far worse (17-26 dB), and so is the 8 x 8 reference on the
+    high view."""
     from spectex.render.gl import GLRenderer
 
-    legacy = fit(skimage.data.gravel()[:64, :64], pixel_size=0.06, iterations=1, method="legacy")
     assert fitted.layers[0].tiling == "stochastic" and len(fitted.tiles) == 2
-    mip, plain, old = [], [], []
+    mip, gl_mip, plain = {}, {}, {}
     with GLRenderer(fitted, ctx=gl) as r:
-        for cam in VIEWS.values():
+        for name, cam in VIEWS.items():
             c = render_cpu(fitted, cam, SIZE)
-            assert psnr(r.render(cam, SIZE), c) >= 40.0
-            ref = render_cpu(fitted, cam, SIZE, filter="linear", supersample=8)
-            mip.append(psnr(c, ref))
-            plain.append(psnr(render_cpu(fitted, cam, SIZE, filter="linear"), ref))
-            old.append(psnr(render_cpu(legacy, cam, SIZE),
-                            render_cpu(legacy, cam, SIZE, filter="linear", supersample=8)))
-    assert all(m >= min(38.0, o) - 0.7 for m, o in zip(mip, old)), (mip, old)
-    assert sum(m >= 38.0 for m in mip) >= 3, mip
-    assert np.mean(plain) <= np.mean(mip) - 3.0, (mip, plain)
+            g = r.render(cam, SIZE)
+            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+            ref = render_cpu(fitted, cam, SIZE, filter="linear", supersample=16)
+            mip[name], gl_mip[name] = psnr(c, ref), psnr(g, ref)
+            plain[name] = psnr(render_cpu(fitted, cam, SIZE, filter="linear"), ref)
+            if name == "high":
+                ref8 = render_cpu(fitted, cam, SIZE, filter="linear", supersample=8)
+                assert psnr(ref8, ref) < 38.0, psnr(ref8, ref)  # the 8 x 8 reference aliases here
+    assert min(mip.values()) >= 38.0 and min(gl_mip.values()) >= 38.0, (mip, gl_mip)
+    assert all(plain[k] <= mip[k] - 3.0 for k in VIEWS if k != "close"), (mip, plain)

@@ -105,7 +105,10 @@ def test_generated_shaders_compile_with_glslang(tmp_path, target, anisotropic):
         proc = subprocess.run([exe, str(path)], capture_output=True, text=True)
         assert proc.returncode == 0, proc.stdout + proc.stderr
     broken = tmp_path / "broken.frag"  # the control: the validator does reject a bad shader
-    broken.write_text(glsl.fragment_source(tables, 1, target=target).replace("c = spectex_blend(", "c = spectex_blnd("))
+    good = glsl.fragment_source(tables, 1, target=target)
+    text = good.replace("return spectex_blend(", "return spectex_blnd(")  # in the library's layer step
+    assert text != good
+    broken.write_text(text)
     assert subprocess.run([exe, str(broken)], capture_output=True, text=True).returncode != 0
 
 

@@ -725,6 +725,10 @@ def _random_phase(x: np.ndarray) -> np.ndarray:
 #: across): the finer sees edges, the coarser the shapes of stones and bricks, away from the view's
 #: own fine layer.
 _SEARCH_SCALES = (2.0, 4.0)
+#: ... and at its full resolution for the magnifications neither of those can hold a piece of: the
+#: largest a view shows (the legacy fit's layer at 64 times, 8 times in a view at zoom 8, was missed,
+#: 0.01 for a copy at 30 %); there a piece is the photo's 48 pixels, a stone or two.
+_FULL_SCALE = 1.0
 
 
 def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, angles: int, pieces: int):
@@ -732,17 +736,22 @@ def _search(view: np.ndarray, photo: np.ndarray, zoom: float, magnifications, an
     as if they were the photo magnified that much, the median over pieces of how much better their best
     match anywhere in the photo, at any angle, is than their best match in the photo with random phases
     (the same spectrum, no shapes: the search's chance level for these very pieces); nan where the view
-    is too small to hold a piece."""
-    out = np.full((len(_SEARCH_SCALES), len(magnifications)), np.nan)
-    for i, scale in enumerate(_SEARCH_SCALES):
+    is too small to hold a piece. The last row is the photo's full resolution (:data:`_FULL_SCALE`),
+    searched only for the magnifications the rows before leave at nan."""
+    scales = (*_SEARCH_SCALES, _FULL_SCALE)
+    out = np.full((len(scales), len(magnifications)), np.nan)
+    for i, scale in enumerate(scales):
         if min(photo.shape) / scale < 2 * _TEMPLATE:
             continue  # too few places in the photo for a best match to mean anything
-        small = _resample(photo, 1.0 / scale)
+        todo = [j for j in range(len(magnifications))
+                if min(view.shape) * zoom / (magnifications[j] * scale) >= _TEMPLATE + 2
+                and (scale != _FULL_SCALE or not np.any(np.isfinite(out[:i, j])))]
+        if not todo:
+            continue
+        small = _resample(photo, 1.0 / scale) if scale != 1.0 else photo
         targets = [_bandpass(small), _bandpass(_random_phase(small))]
-        for j, m in enumerate(magnifications):
-            factor = zoom / (m * scale)
-            if min(view.shape) * factor < _TEMPLATE + 2:
-                continue
+        for j in todo:
+            factor = zoom / (magnifications[j] * scale)
             work = _bandpass(_resample(view, factor))
             groups, mask = _pieces(work, pieces, angles)
             gains = []
@@ -803,7 +812,9 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     searches for them directly. For each of ``magnifications`` (relative to
     the photo), the view is resampled as if it were the photo magnified that
     much, brought back to the photo's scale (at a half and at a quarter of
-    the photo's resolution: edges, and the shapes of stones), band-passed
+    the photo's resolution: edges, and the shapes of stones; at its full
+    resolution for the largest magnifications, which the view is too small
+    to show at the others), band-passed
     (luma, a difference of Gaussians of 1 and 3 pixels); ``pieces`` discs of
     48 pixels from a grid over it, each at ``angles`` rotations over the
     full turn (layers are rotated by any angle), are matched everywhere in

@@ -58,7 +58,7 @@ def gauss_levels(texture) -> list[list[np.ndarray]]:
 def lut_planar(texture) -> np.ndarray:
     """The table texture, ``(4 rows, LUT_SIZE)`` float16: channel ``c``'s rows in the ``c``-th quarter.
 
-    ``rows`` is every tile's expanded table (``spectex.shading.resources.stochastic_store``),
+    ``rows`` is every tile's expanded table (``SpectralTexture.stochastic_store``),
     one after the other; this is the array ``render.gl`` uploads.
     """
     _, lut, _ = stochastic_store(texture)
@@ -71,7 +71,7 @@ def lut_planar(texture) -> np.ndarray:
 
 def table_info(texture) -> dict | None:
     """What the shader takes about the table texture as a whole (``None`` without stochastic layers):
-    ``lut_rows`` (its rows per channel, ``u_lut_rows``), ``lut_q`` (the last mip level, ``u_lut_q``),
+    ``lut_rows`` (its rows per channel), ``lut_q`` (the last mip level),
     ``lut_size``, ``level_shapes`` (height, width of each mip level, as in the raw files)."""
     if not any(getattr(layer, "tiling", "periodic") == "stochastic" for layer in texture.layers):
         return None
@@ -88,7 +88,7 @@ def layer_entries(texture) -> list[dict]:
     ``grid`` (m00, m01, m10, m11: tile -> skewed grid coordinates), ``key``
     (the hash key of its seed, a uint32), ``snap`` (its snap counts along s
     and t, whole numbers: ``Layer.snap``'s structure periods per tile, or
-    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``lut_row`` (its tile's first
+    the tile's width and height where that is 0; ``shading.tables.snap_counts``), ``lut_row`` (its tile's first
     table row), ``basis`` (3 x 3, row-major: RGB = origin + basis v; GLSL's
     ``mat3`` takes the transpose, column after column), ``origin``; and
     ``patch``, ``seed`` and ``snap_periods`` (``Layer.snap`` itself) for people.
@@ -143,37 +143,3 @@ def read_raw(path, shape_levels, channels: int) -> list[np.ndarray]:
     if pos != data.size:
         raise ValueError(f"{path}: {data.size} halves, expected {pos}")
     return out
-
-
-def constant_lines(texture, anchors, *, declare: str, types: dict, number, vector, uvector) -> list[str]:
-    """The stochastic layers' per-layer constants as shader declarations (zeros for periodic layers).
-
-    One text for the Godot and the HLSL generators, which differ only in
-    words: ``declare`` (``"const"``, ``"static const"``), ``types`` (the
-    target's names for ``vec2``, ``vec3``, ``vec4``, ``uvec2``) and the
-    literal writers ``number``, ``vector`` and ``uvector``. ``anchors`` is
-    ``anchor_coords(texture.layers, 0, 0)``: the grid position of ground (0, 0).
-    """
-    n = len(texture.layers)
-    info = table_info(texture)
-    entries = layer_entries(texture)
-
-    def per_layer(name, zero):
-        return [e.get(name, zero) for e in entries]
-
-    def array(kind, name, values):
-        return f"{declare} {types.get(kind, kind)} {name}[{n}] = {{{', '.join(values)}}};"
-
-    basis = [np.reshape(b, (3, 3)) for b in per_layer("basis", [0.0] * 9)]
-    return [
-        array("vec4", "SPECTEX_GRID", [vector(g) for g in per_layer("grid", [0.0] * 4)]),
-        array("uint", "SPECTEX_KEY", [f"{int(v)}u" for v in per_layer("key", 0)]),
-        array("vec2", "SPECTEX_SNAP", [vector(v) for v in per_layer("snap", [1.0, 1.0])]),
-        array("float", "SPECTEX_LUT_ROW", [number(v) for v in per_layer("lut_row", 0)]),
-        *(array("vec3", f"SPECTEX_B{j}", [vector(b[:, j]) for b in basis]) for j in range(3)),
-        array("vec3", "SPECTEX_ORIGIN_RGB", [vector(o) for o in per_layer("origin", [0.0] * 3)]),
-        array("vec2", "SPECTEX_ORIGIN_GANCHOR", [vector(a[2:4]) for a in anchors]),
-        array("uvec2", "SPECTEX_ORIGIN_GBASE", [uvector(a[4:6]) for a in anchors]),
-        f"{declare} float SPECTEX_LUT_ROWS = {number(info['lut_rows'])};",
-        f"{declare} float SPECTEX_LUT_Q = {number(info['lut_q'])};",
-    ]

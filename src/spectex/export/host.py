@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render._defaults import DEFAULT_ANISOTROPY
+
 __all__ = ["read_table", "texture_uniforms", "frame_uniforms", "upload_textures", "draw_glsl_export"]
 
 
@@ -55,7 +57,7 @@ def _tile_names(folder: Path) -> list[str]:
     return sorted({p.name.split(".level")[0] for p in (folder / "mips").glob("*.level0.png")})
 
 
-def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = 8.0) -> dict:
+def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = DEFAULT_ANISOTROPY) -> dict:
     """The uniforms that depend only on the texture, and the texture units (README, "Uniforms").
 
     Parameters
@@ -65,32 +67,13 @@ def texture_uniforms(table: dict, n_tiles: int, *, anisotropy: float = 8.0) -> d
     n_tiles : int
         How many tiles the texture has (units ``0 .. n_tiles - 1``).
     anisotropy : float
-        ``u_max_aniso``: spectex's anisotropic filter, at most this many
-        samples per pixel (1: trilinear alone).
+        spectex's anisotropic filter, at most this many samples per pixel
+        (1: trilinear alone).
     """
-    layers = table["layers"]
+    from ..shading import interface
 
-    def pick(layer, name, zero):
-        return layer[name] if layer["tiling"] == "stochastic" else zero
-
-    out = {"u_tile": list(range(n_tiles)), "u_tex_size": tuple(table["tile_shape"][::-1]),
-           "u_mat": [tuple(layer["matrix"]) for layer in layers],
-           "u_opacity": [layer["opacity"] for layer in layers],
-           "u_lod_off": [layer["lod_offset"] for layer in layers],
-           "u_mean": [tuple(layer["mean"]) for layer in layers],
-           "u_max_aniso": float(anisotropy)}
-    if table["stochastic"] is not None:
-        out.update({
-            "u_gauss": [n_tiles + i for i in range(n_tiles)], "u_lut": 2 * n_tiles,
-            "u_lut_rows": float(table["stochastic"]["lut_rows"]), "u_lut_q": float(table["stochastic"]["lut_q"]),
-            "u_grid": [tuple(pick(layer, "grid", [0.0] * 4)) for layer in layers],
-            "u_key": [pick(layer, "key", 0) for layer in layers],
-            "u_snap": [tuple(pick(layer, "snap", [1.0, 1.0])) for layer in layers],
-            "u_lut_row": [float(pick(layer, "lut_row", 0)) for layer in layers],
-            # mat3 is column-major: the transpose of the row-major basis
-            "u_basis": [tuple(np.reshape(pick(layer, "basis", [0.0] * 9), (3, 3)).T.reshape(-1)) for layer in layers],
-            "u_origin": [tuple(pick(layer, "origin", [0.0] * 3)) for layer in layers]})
-    return out
+    frame = interface.HostFrame(table, int(n_tiles), anisotropy=float(anisotropy))
+    return interface.host_values(frame, "unit", "texture", "sampler", stochastic=table["stochastic"] is not None)
 
 
 def frame_uniforms(table: dict, camera, shape) -> dict:
@@ -98,12 +81,16 @@ def frame_uniforms(table: dict, camera, shape) -> dict:
 
     Everything is computed in float64: the camera basis (yaw 0 looks along
     +y, z up), the per-pixel ray steps, and per layer ``k`` the anchor
-    ``u_anchor[k] = M_k (camera - offset_k) mod 2``; for a stochastic layer
-    also the triangle-grid position ``g = G_k M_k (camera - offset_k)`` of
-    the *unreduced* tile coordinates, split into ``u_ganchor[k] = g -
-    floor(g)`` and ``u_gbase[k] = floor(g) mod 2^32`` (the grid's vertices
-    are hashed by their index, which must be exact).
+    ``M_k (camera - offset_k) mod 2``; for a stochastic layer also the
+    triangle-grid position ``g = G_k M_k (camera - offset_k)`` of the
+    *unreduced* tile coordinates, split into ``g - floor(g)`` and
+    ``floor(g) mod 2^32`` (the grid's vertices are hashed by their index,
+    which must be exact). The uniforms' names and which value goes where:
+    :mod:`spectex.shading.interface`.
     """
+    from ..shading import interface
+    from ..shading.constants import ANCHOR_PERIOD
+
     h, w = int(shape[0]), int(shape[1])
     x, y, z = (float(v) for v in camera.position)
     yaw, pitch = math.radians(camera.yaw), math.radians(camera.pitch)
@@ -117,16 +104,14 @@ def frame_uniforms(table: dict, camera, shape) -> dict:
         m = layer["matrix"]
         dx, dy = x - layer["offset"][0], y - layer["offset"][1]
         s, t = m[0] * dx + m[1] * dy, m[2] * dx + m[3] * dy
-        anchor.append((s % 2.0, t % 2.0))
+        anchor.append((s % ANCHOR_PERIOD, t % ANCHOR_PERIOD))
         g = layer.get("grid", [0.0] * 4)
         kx, ky = g[0] * s + g[1] * t, g[2] * s + g[3] * t
         ganchor.append((kx - math.floor(kx), ky - math.floor(ky)))
         gbase.append((math.floor(kx) % 2 ** 32, math.floor(ky) % 2 ** 32))
-    atm = table["atmosphere"]
-    return {"u_size": (w, h), "u_height": z, "u_fwd": tuple(fwd), "u_right": tuple(right), "u_up": tuple(up),
-            "u_tan": (tan_x, tan_y), "u_ddx": tuple(right * 2 * tan_x / w), "u_ddy": tuple(-up * 2 * tan_y / h),
-            "u_horizon": tuple(atm["horizon"]), "u_zenith": tuple(atm["zenith"]), "u_haze": atm["haze_distance"],
-            "u_far": 50 * atm["haze_distance"], "u_anchor": anchor, "u_ganchor": ganchor, "u_gbase": gbase}
+    frame = interface.HostFrame(table, 0, shape=(h, w), z=z, fwd=fwd, right=right, up=up, tan_x=tan_x, tan_y=tan_y,
+                                anchor=anchor, ganchor=ganchor, gbase=gbase)
+    return interface.host_values(frame, "frame")
 
 
 def _set_levels(tex, raw, min_filter, repeat):
@@ -187,7 +172,8 @@ def upload_textures(ctx, folder, table: dict) -> list:
     return out
 
 
-def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = 8.0, override=None) -> np.ndarray:
+def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = DEFAULT_ANISOTROPY,
+                     override=None) -> np.ndarray:
     """Draw an exported ``glsl/`` folder with OpenGL 3.3 from its files alone.
 
     Parameters
@@ -202,7 +188,7 @@ def draw_glsl_export(folder, camera, shape, *, ctx=None, anisotropy: float = 8.0
         A current context to draw in (its objects made here are released
         afterwards); by default a headless EGL context of its own.
     anisotropy : float
-        ``u_max_aniso`` (1: trilinear alone).
+        spectex's anisotropic filter's limit (1: trilinear alone).
     override : dict, optional
         Uniform values that replace the computed ones (for experiments and
         the tests' controls).

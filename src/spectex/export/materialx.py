@@ -29,8 +29,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..shading.resources import mean_colours
-
 __all__ = ["write_materialx", "materialx_document", "MATERIALX_VERSION", "GROUND_AXES"]
 
 #: The MaterialX version the document declares.
@@ -115,7 +113,12 @@ def _srgb_decode(g: _Graph, colour: _Ref) -> _Ref:
 
 def materialx_document(texture, tile_files) -> str:
     """The ``.mtlx`` text for ``texture``; ``tile_files``: per tile, its file name (beside the document)."""
-    means = mean_colours(texture)
+    from spectex.shading import interface
+    from spectex.shading.tables import pack
+
+    # the layers' mean colours and opacities as the shader's inputs take them (shading.interface)
+    frame = interface.GLFrame(pack(texture), len(texture.tiles))
+    means, opacities = interface.MEAN.gl(frame), interface.OPACITY.gl(frame)
     root = ET.Element("materialx", version=MATERIALX_VERSION, colorspace="lin_rec709")
     root.append(ET.Comment(
         " spectex spectral texture: layers of one tile at different scales, blended by the tile's alpha "
@@ -171,7 +174,7 @@ def materialx_document(texture, tile_files) -> str:
             colour, first = x, False
             continue
         alpha = g.node("extract", "float", f"layer{k}_tile_alpha", in_=img, index=("integer", "3"))
-        a = g.node("multiply", "float", f"layer{k}_alpha", in1=alpha, in2=("float", _num(layer.opacity)))
+        a = g.node("multiply", "float", f"layer{k}_alpha", in1=alpha, in2=("float", _num(opacities[k])))
         if layer.blend == "alpha":  # c = a x + (1 - a) c
             colour = g.node("mix", "color3", f"layer{k}_over", fg=x, bg=colour, mix=a)
         elif layer.blend == "detail":  # c = 2 x c
@@ -187,7 +190,7 @@ def materialx_document(texture, tile_files) -> str:
                           "grows, so that the finer layers' repeats fade out where they would be small on "
                           "screen; standard nodes cannot see the footprint: here it is the variance blend at "
                           "its own alpha, and the finer layers repeat in the distance.")
-            mu = _vec(means[layer.tile])
+            mu = _vec(means[k])
             dx = g.node("subtract", "color3", f"layer{k}_x_dev", in1=x, in2=("color3", mu))
             dc = g.node("subtract", "color3", f"layer{k}_c_dev", in1=colour, in2=("color3", mu))
             num = g.node("mix", "color3", f"layer{k}_dev", fg=dx, bg=dc, mix=a)

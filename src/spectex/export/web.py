@@ -3,7 +3,7 @@
 ``index.html`` holds everything: the viewer's script (written for spectex,
 no libraries), the renderer's own shaders as GLSL ES 3.00
 (:mod:`spectex.export._shader`), the layer table, and every mip level of
-every tile exactly as spectex samples it (:func:`spectex.shading.resources.mip_levels`),
+every tile exactly as spectex samples it (:meth:`SpectralTexture.mip_levels`),
 as ``data:`` URIs of deflate-compressed raw RGBA bytes that the page inflates
 with the browser's ``DecompressionStream`` and uploads level by level. A
 texture with stochastic layers also carries their tables
@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render._defaults import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
 from ..shading.resources import mean_colours, mip_levels
 from ._shader import ground_template, vertex_source
 from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info
@@ -39,8 +40,8 @@ __all__ = ["write_web", "viewer_html", "viewer_data", "layer_table", "uniforms_j
 
 #: The view the page opens at without a fragment: (x, y, z, yaw, pitch, fov), as ``spectex view``.
 DEFAULT_CAMERA = (0.0, 0.0, 2.0, 0.0, -10.0, 60.0)
-#: Maximum anisotropy while the viewer's anisotropy is on (``spectex view``'s N key).
-DEFAULT_ANISOTROPY = 8.0
+#: Maximum anisotropy while the viewer's anisotropy is on (``spectex view``'s N key): the renderers'.
+DEFAULT_ANISOTROPY = _DEFAULT_ANISOTROPY
 
 
 def _level_uri(level: np.ndarray, bits) -> str:
@@ -119,15 +120,42 @@ def viewer_html(texture, *, atmosphere=None) -> str:
     data = json.dumps(viewer_data(texture, atmosphere=atmosphere), separators=(",", ":"), allow_nan=False)
     # Inside <script>, "</" could close the element; "<\/" is the same JSON string.
     data = data.replace("</", "<\\/")
-    for marker in ("/*@SPECTEX_DATA@*/", "/*@SPECTEX_UNIFORMS_JS@*/"):
-        if template.count(marker) != 1:
-            raise RuntimeError(f"viewer template: {marker} must appear once")
-    return template.replace("/*@SPECTEX_UNIFORMS_JS@*/", uniforms_js()).replace("/*@SPECTEX_DATA@*/", data)
+    from spectex.shading import interface
+    from spectex.shading.constants import FILTER_LINEAR, FILTER_LINEAR_MIPMAP_LINEAR
+
+    template = _fill(template, "/*@SPECTEX_UNIFORM_KINDS@*/", interface.js_kinds(), "viewer template")
+    template = _fill(template, "/*@FILTER_LINEAR@*/", str(FILTER_LINEAR), "viewer template")
+    template = _fill(template, "/*@FILTER_LINEAR_MIPMAP_LINEAR@*/", str(FILTER_LINEAR_MIPMAP_LINEAR), "viewer template")
+    template = _fill(template, "/*@SPECTEX_UNIFORMS_JS@*/", uniforms_js(), "viewer template")
+    return _fill(template, "/*@SPECTEX_DATA@*/", data, "viewer template")
 
 
 def uniforms_js() -> str:
-    """The shader's uniforms in JavaScript (``templates/uniforms.js``), shared by the viewer and the glsl export."""
-    return resources.files("spectex.export").joinpath("templates", "uniforms.js").read_text(encoding="utf-8")
+    """The shader's uniforms in JavaScript, shared by the viewer and the glsl export: ``templates/uniforms.js``
+    with its entries from the table of :mod:`spectex.shading.interface` and its constants from
+    :mod:`spectex.shading.constants`."""
+    from spectex.shading import interface
+    from spectex.shading.constants import ANCHOR_PERIOD, HAZE_OFF
+
+    text = resources.files("spectex.export").joinpath("templates", "uniforms.js").read_text(encoding="utf-8")
+    fills = {"TEXTURE": interface.js_texture_entries(stochastic=False),
+             "TEXTURE_STOCHASTIC": interface.js_texture_entries(stochastic=True),
+             "UNIT": interface.js_unit_entries(stochastic=False),
+             "UNIT_STOCHASTIC": interface.js_unit_entries(stochastic=True),
+             "SAMPLER": interface.js_sampler_entries(),
+             "FRAME": interface.js_frame_entries(stochastic=False),
+             "FRAME_STOCHASTIC": interface.js_frame_entries(stochastic=True)}
+    for name, entries in fills.items():
+        text = _fill(text, f"/*@{name}@*/", entries, "uniforms.js")
+    text = text.replace("/*@ANCHOR_PERIOD@*/", repr(float(ANCHOR_PERIOD)))
+    return _fill(text, "/*@HAZE_OFF@*/", repr(float(HAZE_OFF)), "uniforms.js")
+
+
+def _fill(text: str, marker: str, value: str, what: str) -> str:
+    """``text`` with its one ``marker`` replaced by ``value``."""
+    if text.count(marker) != 1:
+        raise RuntimeError(f"{what}: {marker} must appear once")
+    return text.replace(marker, value)
 
 
 def write_web(texture, folder: Path) -> list[Path]:

@@ -54,8 +54,8 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     images). The coarser layers draw a second tile, random-phase noise that
     continues the photo's spectrum below its lowest frequency, on the main
     axis of its low-passed colours (never the photo magnified), alpha-blended
-    at a low opacity (0.1). The tile's colours end with the exact
-    histogram step, inside the photo's range. Scale: ``pixel_size``, or
+    at a low opacity (0.1). The tile's colours end with the bakes' means
+    shifted to the photo's, inside the photo's range per channel. Scale: ``pixel_size``, or
     ``photo_size`` (metres across the photo's longer side), or, with
     neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
     result's notes).

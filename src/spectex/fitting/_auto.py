@@ -3,18 +3,25 @@
 What each layer carries, and why (``docs/fitting.md``):
 
 * **Layer 0** shows the photo's own detail at its own scale: a seamless
-  tile made from the photo (a tile cut at the structure's period for a
-  structured photo, drawn periodic; otherwise the photo's crop, or a
-  tileable quilt of it with a reuse penalty, drawn stochastic with the
-  sharpened blend weights of ``spectex.shading.stochastic``).
+  tile made from the photo (the photo's crop, or a tileable quilt of it
+  with a reuse penalty), drawn stochastic with the sharpened blend weights
+  of ``spectex.shading.stochastic``. A structured photo gets a tile cut at
+  whole periods of its structure instead, drawn stochastic with its patch
+  offsets snapped to whole periods (``Layer.snap``: the grid stays, the
+  bricks in it change) or periodic, whichever way trial bakes measure best
+  (:func:`_trial`, :func:`_choose`: structural distance, and the repeat of
+  the content beyond the structure's lattice).
 * **Layers 1 ..** carry only what the photo says about larger scales: a
   second tile of random-phase noise (Galerne et al. 2011) whose spectrum
   continues the photo's below its lowest frequency (the slope of its three
   coarsest octaves, at most ``AUTO_MAX_SLOPE``) and holds nothing above
   about two cycles across the photo, coloured along the main axis of the
   photo's low-passed colours. The photo itself is never magnified.
-* **Colours** end with the exact histogram step (the bake's histograms
-  mapped to the photo's), so the tile stays inside the photo's range.
+* **Colours** end with the rounds' shift of the means (the bakes' means
+  to the photo's) and the tile clipped to the photo's range per channel; not the exact
+  histogram step, which fitted a few bake regions' pooled histogram and
+  stretched a non-stationary photo's flat parts (see the last step in
+  :func:`fit_auto`).
 """
 
 from __future__ import annotations
@@ -51,10 +58,18 @@ PERIOD_MIN_CORRELATION = 0.15
 AUTO_MAX_SLOPE = -3.0
 #: The drift across the axis :func:`structure_period` allows per pixel of lag (about 6 degrees).
 TILT = 0.1
-#: A structured photo's finest layer is the period-cut periodic tile unless the trial bake of the
-#: stochastic one is closer by more than this fraction of the structural distance (the measure's
-#: spread between windows of one photo is about this large; structure kept when in doubt).
+#: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
+#: snapped to whole periods unless another way is closer by more than this fraction of the
+#: structural distance (the measure's spread between windows of one photo is about this large;
+#: structure kept when in doubt).
 TRIAL_MARGIN = 0.1
+#: A way of drawing the finest layer repeats when its content (the structure's lattice removed,
+#: ``repeat_peak(..., period=)``) correlates with itself by more than this at some lag, or by more
+#: than the photo's own plus ``REPEAT_MARGIN``: such a way is chosen only if every way repeats.
+REPEAT_LIMIT = 0.1
+REPEAT_MARGIN = 0.05
+#: Side of the trial's far bake (pixels, at twice the photo's pixel size).
+TRIAL_FAR = 512
 #: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
 #: the photo's detail little (0.25 over four layers took 5 dB of its power, which the band step put
 #: back by raising the tile's contrast into clipping).
@@ -180,7 +195,11 @@ def _coarse_tile(exemplar, n, ratio, slope_db, rng):
 
     h, w = exemplar.shape[:2]
     sigma = max(2.0, min(h, w) / 16.0)
-    low = np.stack([ndimage.gaussian_filter(exemplar[:, :, c].astype(np.float64), sigma, mode="reflect")
+    # the low-pass on the photo averaged in blocks of a quarter of sigma (the same colours to within
+    # the block mean's own blur, 16 times fewer pixels: 0.3 s of a 3 s fit on a 512 x 512 photo)
+    k = max(1, int(sigma // 4))
+    small = exemplar[: h // k * k, : w // k * k].astype(np.float64).reshape(h // k, k, w // k, k, 3).mean(axis=(1, 3))
+    low = np.stack([ndimage.gaussian_filter(small[:, :, c], sigma / k, mode="reflect")
                     for c in range(3)], axis=2).reshape(-1, 3)
     mean = exemplar.reshape(-1, 3).astype(np.float64).mean(axis=0)
     cov = np.cov((low - low.mean(axis=0)).T, bias=True)
@@ -202,11 +221,18 @@ def _coarse_tile(exemplar, n, ratio, slope_db, rng):
     return mean, axis * spread, noise
 
 
-def _trial(exemplar, pixel_size, candidates, patch):
-    """Structural distance / floor (:func:`spectex.metrics.structural_distance`) of the finest layer
-    alone, for each ``(tiling, tile)``: a bake of the photo's size (at most 256) at its pixel size,
-    against the photo's central crop of that size (4 windows each)."""
-    from ..metrics import reference_statistics, structural_distance
+def _trial(exemplar, pixel_size, candidates, patch, period):
+    """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
+
+    ``candidates``: ``(label, tiling, tile, snap)``. ``structure``:
+    structural distance / floor (:func:`spectex.metrics.structural_distance`)
+    of a bake of the photo's size (at most 256) at its pixel size, against
+    the photo's central crop of that size (4 windows each). ``repeat``:
+    :func:`spectex.metrics.repeat_peak` with the structure's lattice removed
+    (``period``, pixels; the content's repeat beyond the structure's own) of
+    a 512 x 512 bake at twice the pixel size (at least two tiles across).
+    """
+    from ..metrics import reference_statistics, repeat_peak, structural_distance
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
@@ -214,14 +240,31 @@ def _trial(exemplar, pixel_size, candidates, patch):
     y0, x0 = (h - m) // 2, (w - m) // 2
     reference = exemplar[y0:y0 + m, x0:x0 + m]
     prepared = reference_statistics(reference, max_windows=4)
+    half = tuple(None if p is None else p / 2.0 for p in period)
     out = {}
-    for tiling, tile in candidates:
+    for label, tiling, tile, snap in candidates:
         rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
         rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
-        layer = Layer(size=tile.shape[0] * pixel_size, tiling=tiling, patch=patch)
-        baked = bake(SpectralTexture(rgba, [layer]), (m, m), pixel_size=pixel_size)
-        out[tiling] = structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio
+        layer = Layer(size=tile.shape[0] * pixel_size, tiling=tiling, patch=patch, snap=snap)
+        texture = SpectralTexture(rgba, [layer])
+        baked = bake(texture, (m, m), pixel_size=pixel_size)
+        far = bake(texture, (TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
+        out[label] = {"structure": structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio,
+                      "repeat": repeat_peak(far, period=half)}
     return out
+
+
+def _choose(trial, own_repeat):
+    """The finest layer's way from :func:`_trial`: the closest structure among the ways that do not
+    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``, all of them
+    if none), the snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in
+    doubt)."""
+    limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
+    allowed = [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
+    best = min(allowed, key=lambda k: trial[k]["structure"])
+    if "snapped" in allowed and trial["snapped"]["structure"] <= (1.0 + TRIAL_MARGIN) * trial[best]["structure"]:
+        return "snapped"
+    return best
 
 
 class _TwoTiles(_Problem):
@@ -326,19 +369,37 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=1.0).astype(np.float64)
         tile_method = f"tileable quilt (block {block}, reuse penalty 1)"
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
+    snap0 = (0, 0)
     trial = None
     if cut is not None:
         crop, side, counts = cut
-        cut_tile = make_seamless(crop.astype(np.float32))[:, :, :3].astype(np.float64)
+        # the crop as it is: cut where its wrap edges differ least, at whole periods, it is seamless as a
+        # structure; make_seamless's smooth correction takes up every brick's colour step along the wrap
+        # edges and spreads them into blotches (up to 0.66 on a 240-pixel wall tile; its structural
+        # distance 1.98 against 0.86 for the crop itself)
+        cut_tile = np.clip(crop, 0.0, 1.0).astype(np.float64)
         cut_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
                       f"{counts[0]} periods, 0 where none) where its wrap edges show least")
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
             tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
         else:
-            # the trial bake: the finest layer alone, each way, measured by the structural distance
-            trial = _trial(exemplar, pixel_size, [("periodic", cut_tile), ("stochastic", tile0)], patch)
-            if trial["stochastic"] >= (1.0 - TRIAL_MARGIN) * trial["periodic"]:
+            # the trial bakes: the finest layer alone, each way, measured by the structural distance
+            # and by the repeat of its content beyond the structure's lattice
+            snap = (counts[1], counts[0])
+            trial = _trial(exemplar, pixel_size, [("periodic", "periodic", cut_tile, (0, 0)),
+                                                  ("snapped", "stochastic", cut_tile, snap),
+                                                  ("stochastic", "stochastic", tile0, (0, 0))], patch, period)
+            from ..metrics import repeat_peak
+
+            own = repeat_peak(exemplar, period=period)
+            trial["photo_repeat"] = own
+            choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
+            trial["choice"] = choice
+            if choice == "periodic":
                 tile0, n, tile_method, tilings0 = cut_tile, side, cut_method, "periodic"
+            elif choice == "snapped":
+                tile0, n, tilings0, snap0 = cut_tile, side, "stochastic", snap
+                tile_method = cut_method + f", drawn stochastically with offsets snapped to whole periods (snap {snap})"
     tick()
     # --- the coarse layers' own tile
     region = (min(h, 256), min(w, 256))
@@ -354,7 +415,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
 
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
     finest = n * pixel_size
-    layer_list = [Layer(size=finest, tile=0, tiling=tilings0, patch=patch)]
+    layer_list = [Layer(size=finest, tile=0, tiling=tilings0, patch=patch, snap=snap0)]
     for k in range(1, layers):
         size = finest * ratio ** k
         offset, rotation = layer_placement(k, size, decimals=9)
@@ -384,14 +445,22 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             gain = float(np.clip(gain * 10.0 ** (float(np.mean(err[-n_cont:])) / 20.0), 0.1, 8.0))
             problem.coarse_tile = coarse(gain)
         tick()
-    # the exact histograms last: the tile's values are the photo's (no band step after, no clipping)
-    colour = problem.histogram_step(colour, problem.bakes(colour, alpha, extra=False))
+    # the tile inside the photo's range per channel (no colour the photo lacks); the means are the
+    # rounds' (a further shift on fresh bakes moved them by 0.01-0.17 of an 8-bit step on gravel, moon,
+    # tissue and deep field: not worth a third set of bakes and stochastic tables, a third of the time).
+    # Not the exact histogram step (the bakes' histograms mapped to the photo's) that was here: a few
+    # bake regions of a non-stationary photo (moon's flat maria beside its craters) pool local contrasts
+    # 10 dB apart, and the quantile map fitted to that sample stretched the tile's flat parts, raising
+    # moon's finest bands by 3 dB with a speckle of grain (structural distance 1.15 against 1.04 without
+    # it; tissue 0.88 against 0.81; within 0.03 on the others, docs/fitting.md)
+    colour = np.clip(colour, exemplar.reshape(-1, 3).min(axis=0), exemplar.reshape(-1, 3).max(axis=0))
     tick()
     texture = problem.texture(colour, alpha)
     params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0,
               "band_error_history_db": history, "tilings": [lay.tiling for lay in layer_list],
-              "structure_peak": structure, "period_px": period, "trial": trial, "patch": patch, "scale": scale}
+              "structure_peak": structure, "period_px": period, "trial": trial, "snap": snap0, "patch": patch,
+              "scale": scale}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)

@@ -26,7 +26,8 @@ import numpy as np
 
 from .constants import BLEND_FIRST, BLENDS, TILING_STOCHASTIC, glsl_defines
 
-__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file"]
+__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file", "texture_macros",
+           "blend_name", "layer_call"]
 
 #: Targets: desktop OpenGL 3.3 core, and WebGL2 / OpenGL ES 3.0.
 TARGETS = ("330", "es300")
@@ -36,6 +37,12 @@ _TEXTURE_MACROS = """#define SPX_TEX_ARG(name) sampler2D name
 #define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
 #define SPX_UINT uint
 """
+
+
+def texture_macros() -> str:
+    """The texture macros of GLSL (``SPX_TEX_ARG``, ``SPX_TEX``, ``SPX_LOD``) and ``SPX_UINT``, as the
+    layer library takes them; the prelude of GLSL-like targets (Godot) too."""
+    return _TEXTURE_MACROS
 
 
 def shader_file(name: str) -> str:
@@ -64,75 +71,32 @@ def layer_library(*, anisotropic: bool = False) -> str:
     (``SPX_ANISO``): even untaken, its loop costs llvmpipe about a third of
     a frame.
     """
-    return (glsl_defines() + f"#define SPX_ANISO {1 if anisotropic else 0}\n"
-            + shader_file("spectex_layers.glsl"))
+    return _library(1 if anisotropic else 0)
 
 
-def _blend_name(code: int) -> str:
+def _library(aniso) -> str:
+    return glsl_defines() + f"#define SPX_ANISO {aniso}\n" + shader_file("spectex_layers.glsl")
+
+
+def blend_name(code: int) -> str:
+    """The layer library's name of a blend code (``SPX_BLEND_FIRST`` for ``BLEND_FIRST``)."""
     return "SPX_BLEND_FIRST" if code == BLEND_FIRST else f"SPX_BLEND_{BLENDS[code].upper()}"
 
 
-def _float(value) -> str:
-    """A float32 value as a GLSL literal that parses back to exactly that float32."""
-    v = float(np.float32(value))
-    if not np.isfinite(v):
-        raise ValueError(f"a shader constant must be finite, got {v!r}")
-    return repr(v)
+def layer_call(k: int, tile: int, tiling: int, blend: int) -> str:
+    """The ground shader's call of drawn layer ``k`` (its tile, ``constants.TILING_*`` and
+    ``constants.BLEND_*`` codes written in), one line of ``main()``."""
+    from . import interface
 
-
-def _vec(values) -> str:
-    flat = [_float(v) for v in np.asarray(values, dtype=np.float64).reshape(-1)]
-    return flat[0] if len(flat) == 1 else f"vec{len(flat)}({', '.join(flat)})"
-
-
-def _static_values(tables) -> tuple[dict, dict]:
-    """The values of the uniforms that depend on the texture only, as GLSL constant expressions.
-
-    Per-layer arrays: name -> (element type, one expression per layer);
-    scalars: name -> (type, expression). The same numbers ``render.gl``
-    would set (float32), column-major for the decorrelation's ``mat3``.
-    """
-    n = len(tables.tile)
-    per_layer = {
-        "u_mat": ("vec4", [_vec(tables.mats[k]) for k in range(n)]),
-        "u_mean": ("vec3", [_vec(tables.mean[k]) for k in range(n)]),
-        "u_opacity": ("float", [_float(tables.opacity[k]) for k in range(n)]),
-        "u_lod_off": ("float", [_float(tables.lod_off[k]) for k in range(n)]),
-        "u_grid": ("vec4", [_vec(tables.grid[k]) for k in range(n)]),
-        "u_key": ("uint", [f"{int(tables.key[k]) & 0xFFFFFFFF}u" for k in range(n)]),
-        "u_snap": ("vec2", [_vec(tables.snap[k]) for k in range(n)]),
-        "u_lut_row": ("float", [_float(int(tables.tile[k]) * int(tables.lut_rows)) for k in range(n)]),
-        "u_basis": ("mat3", ["mat3(" + ", ".join(_float(v) for v in np.asarray(tables.basis[k]).T.reshape(-1)) + ")"
-                             for k in range(n)]),
-        "u_origin": ("vec3", [_vec(tables.origin[k]) for k in range(n)]),
-    }
-    scalars = {
-        "u_tex_size": ("vec2", _vec([tables.widths[0], tables.heights[0]])),
-        "u_max_aniso": ("float", _float(tables.max_aniso)),
-        "u_lut_rows": ("float", _float(tables.lut.shape[0])),
-        "u_lut_q": ("float", _float(len(tables.widths) - 1)),
-    }
-    return per_layer, scalars
-
-
-def _constants_for_uniforms(text: str, tables) -> str:
-    """``text`` with the texture's static uniforms declared as constants (``fragment_source``'s ``constants``)."""
-    per_layer, scalars = _static_values(tables)
-    for name, (kind, values) in per_layer.items():
-        old = f"uniform {kind} {name}[N_LAYERS];"
-        if text.count(old) != 1:
-            raise RuntimeError(f"ground shader: expected one {old!r}")
-        text = text.replace(old, f"const {kind} {name}[N_LAYERS] = {kind}[]({', '.join(values)});")
-    for name, (kind, value) in scalars.items():
-        old = f"uniform {kind} {name};"
-        if text.count(old) != 1:
-            raise RuntimeError(f"ground shader: expected one {old!r}")
-        text = text.replace(old, f"const {kind} {name} = {value};")
-    return text
+    if tiling == TILING_STOCHASTIC:
+        return (f"        shade_layer_stochastic({k}, {blend_name(blend)}, {interface.GAUSS.name}[{tile}], "
+                f"{interface.LUT.name}, c, p, jx, jy, lam_w);")
+    return f"        shade_layer({k}, {blend_name(blend)}, {interface.TILE.name}[{tile}], c, p, jx, jy, lam_w);"
 
 
 def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: bool = False,
-                    iso_lod: bool = False, sky_only: bool = False, constants: bool = False) -> str:
+                    iso_lod: bool = False, sky_only: bool = False, constants: bool = False,
+                    open_switches: bool = False) -> str:
     """The ground shader for a texture's :class:`~spectex.shading.tables.ShadingTables`.
 
     Sampler arrays may only be indexed by constants, so each drawn layer
@@ -159,28 +123,34 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     ones. The renderer compiles one program per texture and sampler state
     anyway; the exports keep the uniforms (``constants=False``), which a
     viewer sets at run time.
+
+    ``open_switches`` leaves the switches a viewer sets at run time open, as
+    ``@ANISO@``, ``@ISO_LOD@``, ``@STOCHASTIC@`` and ``@MIN_FILTER@``, and no
+    layer call but the marker ``//@LAYERS@`` where the drawn layers' calls
+    (:func:`layer_call`) go (the web viewer's template).
     """
-    calls = []
-    for k in range(len(tables.tile)):
-        if not tables.on[k]:
-            continue
-        tile = int(tables.tile[k])
-        if int(tables.tiling[k]) == TILING_STOCHASTIC:
-            calls.append(f"        shade_layer_stochastic({k}, {_blend_name(int(tables.blend[k]))}, u_gauss[{tile}], "
-                         "u_lut, c, p, jx, jy, lam_w);")
-        else:
-            calls.append(f"        shade_layer({k}, {_blend_name(int(tables.blend[k]))}, u_tile[{tile}], "
-                         "c, p, jx, jy, lam_w);")
+    from . import interface
+
+    calls = [layer_call(k, int(tables.tile[k]), int(tables.tiling[k]), int(tables.blend[k]))
+             for k in range(len(tables.tile)) if tables.on[k]]
     stochastic = bool(np.any(np.asarray(tables.tiling)[np.asarray(tables.on) != 0] == TILING_STOCHASTIC))
+    values = {"ISO_LOD": 1 if iso_lod and not anisotropic else 0, "STOCHASTIC": 1 if stochastic else 0,
+              "MIN_FILTER": int(tables.min_filter), "SPX_ANISO": 1 if anisotropic else 0}
+    if open_switches:  # left to the viewer: @NAME@ in their place, and the layer calls' marker kept
+        values = {name: f"@{name.removeprefix('SPX_')}@" for name in values}
+        calls = ["//@LAYERS@"]
     switches = (f"#define N_LAYERS {len(tables.tile)}\n#define N_TILES {int(n_tiles)}\n"
-                f"#define ISO_LOD {1 if iso_lod and not anisotropic else 0}\n"
+                f"#define ISO_LOD {values['ISO_LOD']}\n"
                 f"#define SKY_ONLY {1 if sky_only else 0}\n"
-                f"#define STOCHASTIC {1 if stochastic else 0}\n"
-                f"#define MIN_FILTER {int(tables.min_filter)}\n")
-    main = shader_file("ground.frag.glsl").replace("//@LAYERS@", "\n".join(calls))
-    if constants:
-        main = _constants_for_uniforms(main, tables)
-    return prelude(target) + layer_library(anisotropic=anisotropic) + switches + main
+                f"#define STOCHASTIC {values['STOCHASTIC']}\n"
+                f"#define MIN_FILTER {values['MIN_FILTER']}\n")
+    frame = interface.GLFrame(tables, int(n_tiles)) if constants else None
+    main = shader_file("ground.frag.glsl")
+    for marker, text in (("//@INPUTS@\n", interface.glsl_declarations(frame)), ("//@LAYERS@", "\n".join(calls))):
+        if main.count(marker) != 1:
+            raise RuntimeError(f"ground shader: expected one {marker.strip()!r}")
+        main = main.replace(marker, text)
+    return prelude(target) + _library(values["SPX_ANISO"]) + switches + main
 
 
 def vertex_source(target: str = "330") -> str:

@@ -250,6 +250,49 @@ vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float la
     return mean + (a * (x.rgb - mean) + (1.0 - a) * (c - mean)) / sqrt(a * a + (1.0 - a) * (1.0 - a));
 }
 
+// Section 6, the layer step: a periodic layer over c at ground point p (metres
+// from the anchor point) with footprint jx, jy (its derivatives along the
+// picture's x and y): the layer's coordinates (anchor: its tile coordinates
+// of the anchor point; m: its map), the sample at the footprint's level of
+// detail (a fine layer isotropic: it fades out before anisotropy would matter),
+// the blend (fade_bias: added to the fade's lambda, log2 of the supersampling
+// factor when supersampled). The renderer's main() and the engines' shaders
+// call this same step.
+vec3 spectex_layer(int blend, SPX_TEX_ARG(tile), vec3 c, vec2 anchor, vec4 m, float opacity, vec3 mean, vec2 p,
+                   vec2 jx, vec2 jy, vec2 tex_size, float max_aniso, float fade_bias) {
+    vec2 st = spectex_layer_coords(anchor, m, p);
+    vec2 dx = spectex_layer_deriv(m, jx);
+    vec2 dy = spectex_layer_deriv(m, jy);
+    vec4 x = spectex_sample_grad(SPX_TEX(tile), st, dx, dy, tex_size, (blend == SPX_BLEND_FINE) ? 1.0 : max_aniso);
+    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER) ? spectex_fade_lod(dx, dy, tex_size) : 0.0;
+    return spectex_blend(blend, c, x, opacity, mean, lam + fade_bias);
+}
+
+#ifdef SPX_UINT
+// Sections 6 and 6b, the layer step of a stochastic layer: as spectex_layer,
+// with the layer's grid position relative to the anchor's (ganchor: the
+// anchor's grid position minus its vertex (base_i, base_j); gm: the tile ->
+// grid map), its hash key, its snap counts (spectex_hash_offset), its first
+// table row and its decorrelation (b0, b1, b2 the basis's columns, origin), the
+// minification filter's code, the last mip level lut_q and the table's rows per
+// channel lut_rows.
+vec3 spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec3 c, vec2 anchor, vec2 ganchor,
+                              SPX_UINT base_i, SPX_UINT base_j, vec4 m, vec4 gm, SPX_UINT key, vec2 snap,
+                              float lut_row, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float opacity, vec3 mean,
+                              vec2 p, vec2 jx, vec2 jy, vec2 tex_size, float max_aniso, int min_filter, float lut_q,
+                              float lut_rows, float fade_bias) {
+    vec2 rel = spectex_layer_deriv(m, p);  // tile coordinates relative to the anchor
+    vec2 g = ganchor + vec2(gm.x * rel.x + gm.y * rel.y, gm.z * rel.x + gm.w * rel.y);
+    vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, base_i, base_j, key,
+                                            snap, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size,
+                                            (blend == SPX_BLEND_FINE) ? 1.0 : max_aniso, gm, min_filter, lut_q,
+                                            lut_row, lut_rows, b0, b1, b2, origin);
+    float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)
+        ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size) : 0.0;
+    return spectex_blend(blend, c, x, opacity, mean, lam + fade_bias);
+}
+#endif
+
 // Section 7: distance haze over the ground colour c at distance dist.
 vec3 spectex_haze(vec3 c, float dist, vec3 horizon, float haze_distance) {
     return horizon + exp(-dist / haze_distance) * (c - horizon);
