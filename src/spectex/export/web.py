@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..render._defaults import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
 from ..shading.resources import mean_colours, mip_levels
 from ._shader import ground_template, vertex_source
 from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info

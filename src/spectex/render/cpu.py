@@ -14,7 +14,7 @@ import numpy as np
 
 from .._validate import check_float, check_int, check_length, check_shape
 from ..shading.camera import check_size, view_params
-from ._defaults import DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY
 
 __all__ = ["MAX_BAKE_PIXELS", "bake", "bake_layers", "render_cpu"]
 

@@ -33,8 +33,8 @@ import numpy as np
 
 from .._gl import GLUnavailable, create_context
 from ..shading.camera import check_size, view_params
+from ..shading.constants import DEFAULT_ANISOTROPY
 from ..shading.resources import mip_levels, stochastic_store, stochastic_tables
-from ._defaults import DEFAULT_ANISOTROPY
 
 __all__ = ["GLRenderer", "GLUnavailable", "TextOverlay", "create_context", "gl_available"]
 
