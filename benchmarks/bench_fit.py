@@ -36,6 +36,8 @@ import platform
 import tempfile
 import time
 
+from spectex.render import bake
+
 
 def _cpu():
     try:
@@ -107,8 +109,8 @@ def main(argv=None) -> int:
         for name in ("brick", "grass", "gravel"):
             img = getattr(skimage.data, name)()[:size, :size]
             res, wall, _ = _cpu_wall(lambda: fit_result(img))
-            rep = repetition(res.texture.bake((2 * size, 2 * size)), (size, size))
-            rep_default = repetition(default.bake((2 * size, 2 * size)), (size, size))
+            rep = repetition(bake(res.texture, (2 * size, 2 * size)), (size, size))
+            rep_default = repetition(bake(default, (2 * size, 2 * size)), (size, size))
             for label, tex, secs, r in (("fitted", res.texture, f"{wall:7.2f}", rep),
                                         ("default", default, "", rep_default)):
                 for o in origins:
@@ -122,7 +124,7 @@ def main(argv=None) -> int:
                 ex_bands = band_power(res.exemplar)[1]
                 line = []
                 for factor in (4, 16):
-                    b = res.texture.bake((256, 256), pixel_size=float(factor))
+                    b = bake(res.texture, (256, 256), pixel_size=float(factor))
                     line.append(f"x{factor}: " + " ".join(f"{p:.1f}" for p in band_power(b)[1]))
                 print(f"    continuation ({name}): exemplar bands {' '.join(f'{p:.1f}' for p in ex_bands)} dB; "
                       f"{'; '.join(line)}")

@@ -56,6 +56,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from exemplars import exemplars
 from tiling_blending import tile_and_blend
 
+from spectex.render import bake
+
 METHODS = ("fit", "legacy", "t&b lin", "t&b hist", "quilt")
 
 
@@ -95,8 +97,8 @@ def _make(method, photo, near_shape, far_side, rng):
         result = fitting.fit_result(photo, rng=rng, **kwargs)
         seconds = time.perf_counter() - t0
         p = result.pixel_size
-        near = result.texture.bake(near_shape, pixel_size=p)
-        far = result.texture.bake((far_side, far_side), pixel_size=8.0 * p)
+        near = bake(result.texture, near_shape, pixel_size=p)
+        far = bake(result.texture, (far_side, far_side), pixel_size=8.0 * p)
         return near, far, seconds
     t0 = time.perf_counter()
     if method == "t&b lin":

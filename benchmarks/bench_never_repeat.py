@@ -65,6 +65,8 @@ import time
 
 import numpy as np
 
+from spectex.render import bake
+
 PHOTOS = ("brick", "grass", "gravel", "moon", "immunohistochemistry")
 
 
@@ -179,11 +181,11 @@ def main(argv=None) -> int:
         tile = make_seamless(photo)[:, :, :3]
         rows = []
         plain = SpectralTexture.plain(tile, float(w))
-        rows.append(("plain", plain.bake((2048, 2048)), plain.bake((1024, 1024), pixel_size=8.0), "", plain))
+        rows.append(("plain", bake(plain, (2048, 2048)), bake(plain, (1024, 1024), pixel_size=8.0), "", plain))
         rows.append(("t&b", tiling_and_blending(tile, (2048, 2048), patch=args.patch),
                      tiling_and_blending(tile, (1024, 1024), pixel_size=8.0, patch=args.patch), "", None))
         hp = SpectralTexture(tile, [Layer(size=float(w), tiling="stochastic")])
-        rows.append(("hp t&b", hp.bake((2048, 2048)), hp.bake((1024, 1024), pixel_size=8.0), "", hp))
+        rows.append(("hp t&b", bake(hp, (2048, 2048)), bake(hp, (1024, 1024), pixel_size=8.0), "", hp))
         for label, kwargs in (("fit periodic", {"tiling": "periodic", "method": "legacy"}),
                               ("fit legacy", {"method": "legacy"}), ("fit", {"pixel_size": 1.0})):
             try:
@@ -193,7 +195,7 @@ def main(argv=None) -> int:
             except TypeError as exc:  # a spectex without the tiling option
                 print(f"{name:<22}{label:<14}skipped: {exc}")
                 continue
-            rows.append((label, tex.bake((2048, 2048)), tex.bake((1024, 1024), pixel_size=8.0), secs, tex))
+            rows.append((label, bake(tex, (2048, 2048)), bake(tex, (1024, 1024), pixel_size=8.0), secs, tex))
         timed = {label: tex for label, _, _, _, tex in rows if tex is not None}
         frames = _gl_frames(timed, args.repeats) if gl else {}
         for label, near, far, secs, _tex in rows:

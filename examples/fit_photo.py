@@ -22,6 +22,7 @@ import numpy as np
 
 import spectex
 from spectex import io
+from spectex.render import bake
 
 try:
     from _gallery import parser
@@ -46,9 +47,9 @@ def picture(size: int = 256, seed: int = 0) -> np.ndarray:
     for method in ("auto", "legacy"):
         texture = spectex.fit(photo, pixel_size=0.01, rng=seed, method=method)
         if method == "auto":
-            images.append(texture.bake((size, size), pixel_size=0.01))
+            images.append(bake(texture, (size, size), pixel_size=0.01))
             labels.append("fit, at the photo scale")
-        far = texture.bake((side, side), pixel_size=0.01)
+        far = bake(texture, (side, side), pixel_size=0.01)
         peak = repeat_peak(far, min_lag=min(24, side // 2))
         images.append(far[idx][:, idx])  # nearest, so that no detail is smoothed away
         name = "fit" if method == "auto" else "old fit (legacy)"

@@ -11,18 +11,14 @@ from helpers import make_test_tile
 
 @pytest.fixture(scope="session")
 def _gl_context():
+    from spectex._gl import GLUnavailable, create_context
+
     try:
-        import moderngl
-    except ImportError:
+        ctx = create_context(what="the GL tests")  # the library's one way to make a context
+    except GLUnavailable as exc:  # no moderngl, no EGL or no GL 3.3 here: skip the GL tests only
         if os.environ.get("CI"):
-            pytest.fail("moderngl is required in CI (the GL tests never skip there)")
-        pytest.skip("moderngl is not installed")
-    try:
-        ctx = moderngl.create_standalone_context(backend="egl", require=330)
-    except Exception as exc:  # no EGL / no GL 3.3 here: skip the GL tests only
-        if os.environ.get("CI"):
-            pytest.fail(f"no headless EGL OpenGL 3.3 context in CI: {exc}")
-        pytest.skip(f"no headless EGL OpenGL 3.3 context: {exc}")
+            pytest.fail(f"the GL tests never skip in CI: {exc}")
+        pytest.skip(str(exc))
     yield ctx
     ctx.release()
 
@@ -46,3 +42,48 @@ def tile():
 @pytest.fixture(scope="session")
 def tile_maker():
     return make_test_tile
+
+
+# --- Spreading the cold compile of the shading kernels over the xdist workers -----------------
+# On a clean clone every numba kernel compiles on first use (cache=True keeps it on disk after);
+# the five kernels of the shading core take 30-60 s each on one core and are used by many test
+# files, so two workers that reach one of them at the same time both compile it. Under xdist
+# (the README's ``-n 2``), each worker compiles its share of them first, one after the other,
+# and finds the other worker's share in numba's disk cache when its tests need it. Tiny inputs,
+# the same argument types as every other call: one signature per kernel. Without xdist (a
+# targeted run) nothing is warmed: only the kernels the chosen tests use compile.
+# SPECTEX_TEST_WARMUP=0 turns it off.
+
+
+def _warm_jobs():
+    import numpy as np
+
+    from spectex.render import Camera, bake
+    from spectex.render.cpu import render_cpu
+    from spectex.shading.resources import mip_levels, stochastic_tables
+    from spectex.shading.sampler import MipTexture, sample
+    from spectex.shading.stochastic import sample_stochastic
+    from spectex.texture import Layer, SpectralTexture
+
+    tile = np.random.default_rng(0).random((16, 16, 4)).astype(np.float32)
+    tex = SpectralTexture(tile, [Layer(size=1.0), Layer(size=4.0, tiling="stochastic", blend="variance")])
+    cam = Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=-20.0)
+    st = np.linspace(0.0, 1.0, 8)
+    d = np.full(8, 0.01)
+    return [  # (an order that gives each worker about the same compile time)
+        lambda: bake(tex, (4, 4), pixel_size=0.1),                                           # bake_kernel
+        lambda: render_cpu(tex, cam, (8, 8)),                                                # render_kernel
+        lambda: sample_stochastic(stochastic_tables(tex)[0], st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0, dtdy=d),
+        lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),                                # render_kernel_fast
+        lambda: sample(MipTexture(mip_levels(tex)[0]), st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0, dtdy=d),
+    ]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _warm_the_shading_kernels():
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    if workers < 2 or os.environ.get("SPECTEX_TEST_WARMUP", "1") == "0":
+        return
+    worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
+    for job in _warm_jobs()[worker::workers]:
+        job()

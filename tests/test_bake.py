@@ -9,6 +9,7 @@ import pytest
 
 from spectex import texture_file
 from spectex.bake import bake_window, bake_zarr, level_shapes, to_dtype
+from spectex.render import bake
 from spectex.texture import SpectralTexture
 
 zarr = pytest.importorskip("zarr")
@@ -25,8 +26,8 @@ def texture(tile_maker):
 
 
 def reference(texture, shape=SHAPE, *, origin=ORIGIN, pixel_size=P, dtype="uint8"):
-    """The pixels a level must hold: texture.bake, converted, channels first."""
-    return np.moveaxis(to_dtype(texture.bake(shape, origin=origin, pixel_size=pixel_size), dtype), 2, 0)
+    """The pixels a level must hold: spectex.render.bake, converted, channels first."""
+    return np.moveaxis(to_dtype(bake(texture, shape, origin=origin, pixel_size=pixel_size), dtype), 2, 0)
 
 
 def read_ome(path):
@@ -50,7 +51,7 @@ def store_bytes(path):
 @pytest.mark.parametrize("blend", ["alpha", "variance", "detail"])
 def test_bake_window_is_the_window_of_the_whole_bake_to_the_bit(tile_maker, blend):
     tex = SpectralTexture.paper_preset(tile_maker(64, 1), blend=blend)
-    whole = tex.bake((300, 410), origin=ORIGIN, pixel_size=0.1)
+    whole = bake(tex, (300, 410), origin=ORIGIN, pixel_size=0.1)
     for r0, r1, c0, c1 in [(0, 300, 0, 410), (17, 170, 233, 410), (299, 300, 0, 1), (64, 128, 128, 256)]:
         window = bake_window(tex, (r0, r1, c0, c1), origin=ORIGIN, pixel_size=0.1)
         assert window.dtype == np.float32 and window.shape == (r1 - r0, c1 - c0, 3)
@@ -59,9 +60,9 @@ def test_bake_window_is_the_window_of_the_whole_bake_to_the_bit(tile_maker, blen
 
 def test_a_bake_at_a_shifted_origin_is_not_the_window(texture):
     """The control that bake_window exists for: a block baked on its own rounds its anchors elsewhere."""
-    whole = texture.bake((300, 410), origin=ORIGIN, pixel_size=0.1)
+    whole = bake(texture, (300, 410), origin=ORIGIN, pixel_size=0.1)
     r0, c0 = 100, 200
-    shifted = texture.bake((200, 210), origin=(ORIGIN[0] + c0 * 0.1, ORIGIN[1] + r0 * 0.1), pixel_size=0.1)
+    shifted = bake(texture, (200, 210), origin=(ORIGIN[0] + c0 * 0.1, ORIGIN[1] + r0 * 0.1), pixel_size=0.1)
     assert not np.array_equal(shifted, whole[r0:, c0:])
     assert np.abs(shifted - whole[r0:, c0:]).max() < 1e-5  # the same picture, other last bits
 

@@ -15,6 +15,8 @@ from helpers import glslang_validator, make_test_tile
 from spectex.export import export
 from spectex.export.hlsl import ENTRY_POINT
 from spectex.shading.glsl import shader_file
+from spectex.shading.resources import mip_levels
+from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 
 
@@ -221,7 +223,7 @@ def upload_tables(gl, texture, folder, *, flip_rows=False):
     from spectex.export._stochastic import LUT_FILE, gauss_name, read_raw
 
     n = len(texture.tiles)
-    shapes = [lv.shape[:2] for lv in texture.mip_levels()[0]]
+    shapes = [lv.shape[:2] for lv in mip_levels(texture)[0]]
     out = []
     for i in range(n):
         levels = read_raw(folder / gauss_name(texture, i), shapes, 4)
@@ -258,7 +260,7 @@ def draw_ground(gl, texture, camera, size, vert, frag, quad, world_to_spectex, *
     h, w = size
     program = gl.program(vertex_shader=vert, fragment_shader=frag)
     textures = []
-    for unit, levels in enumerate(texture.mip_levels()):
+    for unit, levels in enumerate(mip_levels(texture)):
         levels = [lv[::-1] for lv in levels] if flip_rows else levels  # as an engine with v = 0 at the bottom
         raw = [np.ascontiguousarray(np.floor(lv * 255 + 0.5).astype(np.uint8)).tobytes() for lv in levels]
         tex = gl.texture(levels[0].shape[1::-1], 4, raw[0], alignment=1)
@@ -371,7 +373,7 @@ def draw_godot(gl, texture, folder, camera, anchored, *, text=None, gbase=True):
         if anchored:  # what spectex_ground.gd sets: a point near the camera, snapped, and its anchors
             x0, y0, _ = camera.position
             ax, ay = round(x0 / 256.0) * 256.0, round(y0 / 256.0) * 256.0
-            coords = texture.anchor_coords(ax, ay)
+            coords = anchor_coords(texture.layers, ax, ay)
             program["spectex_anchored"].value = True
             program["spectex_anchor_point"].value = (ax, ay)
             set_if_used(program, "spectex_anchor", [tuple(a[:2]) for a in coords])
@@ -490,7 +492,7 @@ void main() {
         for unit, name in enumerate(names):
             set_if_used(program, name, unit)
         if anchored:
-            coords = texture.anchor_coords(ax, ay)
+            coords = anchor_coords(texture.layers, ax, ay)
             set_if_used(program, "SpectexAnchor", [tuple(a[:4]) for a in coords])
             halves = [(a[4] // 65536, a[4] % 65536, a[5] // 65536, a[5] % 65536) if gbase else (0.0,) * 4
                       for a in coords]

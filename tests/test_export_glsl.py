@@ -19,6 +19,7 @@ from spectex.export.host import draw_glsl_export, texture_uniforms
 from spectex.io import read_image
 from spectex.render import Camera
 from spectex.render.cpu import render_cpu
+from spectex.shading.resources import mip_levels, stochastic_store, stochastic_tables
 from spectex.texture import Layer, SpectralTexture
 
 SHADER_SUFFIXES = (".vert", ".frag", ".glsl")
@@ -81,7 +82,7 @@ def test_mip_pngs_are_the_levels_spectex_samples(exported):
     table = json.loads((folder / "spectex_texture.json").read_text())
     assert len(table["layers"]) == len(texture.layers)
     names = ["tile"] if len(texture.tiles) == 1 else [f"tile{i}" for i in range(len(texture.tiles))]
-    for name, levels in zip(names, texture.mip_levels()):
+    for name, levels in zip(names, mip_levels(texture)):
         for d, level in enumerate(levels):
             np.testing.assert_array_equal(read_image(folder / "mips" / f"{name}.level{d}.png"), level)
         np.testing.assert_array_equal(read_image(folder / f"{name}.png"), levels[0])
@@ -98,14 +99,14 @@ def test_stochastic_table_files_are_the_renderers_arrays(exported):
         assert table["stochastic"] is None and not list(folder.glob("*16f"))
         return
     names = ["gauss.rgba16f"] if len(texture.tiles) == 1 else [f"gauss{i}.rgba16f" for i in range(len(texture.tiles))]
-    for name, tables in zip(names, texture.stochastic_tables()):
+    for name, tables in zip(names, stochastic_tables(texture)):
         levels = read_raw(folder / name, [lv.shape[:2] for lv in tables.gaussian], 4)
         for got, want in zip(levels, tables.gaussian):
             np.testing.assert_array_equal(got, want)
-    _, lut, _ = texture.stochastic_store()
+    _, lut, _ = stochastic_store(texture)
     planar = read_raw(folder / "spectex_lut.r16f", [(4 * lut.shape[0], lut.shape[1])], 1)[0][:, :, 0]
     np.testing.assert_array_equal(planar, np.concatenate([lut[:, :, c] for c in range(4)]))
-    assert table["stochastic"]["level_shapes"] == [list(lv.shape[:2]) for lv in texture.stochastic_tables()[0].gaussian]
+    assert table["stochastic"]["level_shapes"] == [list(lv.shape[:2]) for lv in stochastic_tables(texture)[0].gaussian]
 
 
 @pytest.mark.gl

@@ -16,6 +16,7 @@ import pytest
 from helpers import make_test_tile
 from spectex.export import export
 from spectex.io import read_image
+from spectex.render import bake
 from spectex.sampling import MipTexture, sample
 from spectex.texture import Layer, SpectralTexture
 
@@ -237,7 +238,7 @@ def evaluate_graph(path: Path, x, y, *, v_up=True, output="stored"):
     return value_of(out.get("nodename"))
 
 def test_graph_computes_what_spectex_bakes(exported):
-    """Evaluated node by node, the graph gives SpectralTexture.bake's colours (level 0, bilinear)."""
+    """Evaluated node by node, the graph gives spectex.render.bake's colours (level 0, bilinear)."""
     texture, path = exported
     h, w, p = 24, 32, 3.7
     origin = (-300.0, 200.0)
@@ -247,7 +248,7 @@ def test_graph_computes_what_spectex_bakes(exported):
                                                 else layer for layer in texture.layers], bits=texture.bits)
     text = path.read_text()
     assert ("is a fine (detail) layer" in text and "is a cover layer" in text) or reference == texture
-    baked = reference.bake((h, w), origin=origin, pixel_size=p, filter="linear", mipmaps=False)
+    baked = bake(reference, (h, w), origin=origin, pixel_size=p, filter="linear", mipmaps=False)
     r, c = np.mgrid[0:h, 0:w]
     x = (origin[0] + (c + 0.5) * p).reshape(-1)
     y = (origin[1] + (r + 0.5) * p).reshape(-1)

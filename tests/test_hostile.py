@@ -653,6 +653,24 @@ CASES = [
 ]
 
 
+def _command(case: Case, argv: list) -> list:
+    """The spectex run of ``case``, with the signal dispositions the case is about.
+
+    SIGHUP's as the case says; SIGINT's the default a terminal gives, for a case that sends it (a
+    suite started as a background job, or under nohup, hands its children an ignored SIGINT). A
+    small Python sets them, then becomes the spectex run (exec keeps them).
+    """
+    dispositions = []
+    if case.hup is not None:
+        dispositions.append(f"signal.signal(signal.SIGHUP, signal.{'SIG_DFL' if case.hup == 'default' else 'SIG_IGN'})")
+    if case.signum == SIGINT:
+        dispositions.append("signal.signal(signal.SIGINT, signal.default_int_handler)")
+    if not dispositions:
+        return [sys.executable, "-m", "spectex", *argv]
+    return [sys.executable, "-c", f"import os, signal, sys; {'; '.join(dispositions)}; "
+            "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])", "-m", "spectex", *argv]
+
+
 def _run(case: Case, base: Path, work: Path) -> dict:
     folder = work / case.id
     shutil.copytree(base, folder, symlinks=True)
@@ -670,11 +688,7 @@ def _run(case: Case, base: Path, work: Path) -> dict:
     for name in case.unset:
         env.pop(name, None)
     start = time.perf_counter()
-    command = [sys.executable, "-m", "spectex", *argv]
-    if case.hup is not None:  # set SIGHUP's disposition, then become the spectex run (exec keeps it)
-        how = "SIG_DFL" if case.hup == "default" else "SIG_IGN"
-        command = [sys.executable, "-c", f"import os, signal, sys; signal.signal(signal.SIGHUP, signal.{how}); "
-                   "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])", "-m", "spectex", *argv]
+    command = _command(case, argv)
     if case.stdout == "closed":
         command = ["sh", "-c", 'exec "$0" "$@" >&-', *command]
     proc = subprocess.Popen(command, cwd=folder, env=env,

@@ -127,3 +127,21 @@ def test_the_checks_find_a_circle_and_an_upward_import(tmp_path):
     assert upward(graph) == ["fake.sub.m -> fake.sub"]
     (pkg / "b.py").write_text("")  # cut one circle: it is gone, the others stay
     assert circles(import_graph(pkg)) == [["fake.c", "fake.d", "fake.e"], ["fake.sub", "fake.sub.m"]]
+
+
+def below(graph: dict[str, set[str]], module: str, forbidden: tuple[str, ...], allowed: tuple[str, ...] = ()):
+    """The imports of ``module`` into the packages ``forbidden`` (each with its submodules), ``allowed`` excepted."""
+    return sorted(t for t in graph[module] if t not in allowed
+                  and any(t == f or t.startswith(f + ".") for f in forbidden))
+
+
+def test_the_texture_imports_nothing_from_the_shading_core_or_the_renderers():
+    # The texture is plain data (issue 25): its derived resources are spectex.shading.resources',
+    # its bake spectex.render's. Only the shading constants, a leaf of plain values, are shared.
+    graph = import_graph()
+    assert below(graph, "spectex.texture", ("spectex.shading", "spectex.render", "spectex.export"),
+                 allowed=("spectex.shading.constants",)) == []
+    assert graph["spectex.shading.constants"] == set()  # the leaf imports nothing of spectex
+    # the control: the check sees an import of the shading core inside a method
+    assert below(graph, "spectex.shading.tables", ("spectex.texture", "spectex.shading")) != []
+    assert below(graph, "spectex.render.cpu", ("spectex.shading",), allowed=("spectex.shading.camera",)) != []

@@ -14,7 +14,7 @@ from spectex.render import Camera
 from spectex.shading import interface
 from spectex.shading.camera import view_params
 from spectex.shading.glsl import shader_file
-from spectex.shading.tables import pack
+from spectex.shading.tables import anchor_coords, pack
 from spectex.texture import SpectralTexture
 
 SRC = Path(interface.__file__).resolve().parents[1]  # src/spectex
@@ -102,7 +102,7 @@ def test_gl_and_host_routes_give_the_same_values(texture, tmp_path):
     shape = (48, 80)
     tables = pack(texture, anisotropy=8.0)
     frame = interface.GLFrame(tables, len(texture.tiles), view=view_params(camera, shape), shape=shape,
-                              anchor=texture.anchor_coords(*camera.position[:2]))
+                              anchor=anchor_coords(texture.layers, *camera.position[:2]))
     gl = interface.gl_values(frame)
     host = {**texture_uniforms(table, len(texture.tiles)), **frame_uniforms(table, camera, shape)}
     assert set(host) == {row.name for row in interface.INPUTS if row.host is not None}

@@ -7,6 +7,7 @@ import pytest
 from helpers import SIZE, VIEWS, psnr
 from spectex.render import Atmosphere, Camera, check_size
 from spectex.render.cpu import render_cpu
+from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 from spectex.tiles import make_tile
 
@@ -211,7 +212,7 @@ def test_render_cpu_fast_path_matches_general(blend):  # each with the preset's 
         n = 1 + k % 2
         tables = pack(tex, enabled=rng.random(len(tex.layers)) < 0.8 if k >= 3 else None)
         view = view_params(cam, (24, 40), supersample=n)
-        anchor = tex.anchor_coords(*cam.position[:2])
+        anchor = anchor_coords(tex.layers, *cam.position[:2])
         fast = np.empty((24, 40, 3), np.float32)
         general = np.empty((24, 40, 3), np.float32)
         render_kernel_fast(tables, anchor, view, row_order(24), fast)

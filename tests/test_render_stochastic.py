@@ -6,8 +6,10 @@ import pytest
 
 from helpers import SIZE, VIEWS, psnr
 from spectex.metrics import repeat_peak
-from spectex.render import Camera
+from spectex.render import Camera, bake
 from spectex.render.cpu import render_cpu
+from spectex.shading.resources import stochastic_tables
+from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 from spectex.tiles import make_tile
 
@@ -117,16 +119,16 @@ def test_bake_stochastic_layer_agrees_with_the_sampler(stochastic):
     tex = SpectralTexture(stochastic.tiles, [layer])
     p = 0.05
     origin = (123456.0, -98765.0)
-    bake = tex.bake((64, 80), origin=origin, pixel_size=p)
+    baked = bake(tex, (64, 80), origin=origin, pixel_size=p)
     r, c = np.mgrid[0:64, 0:80]
     s, t = layer.coords(origin[0] + (c + 0.5) * p, origin[1] + (r + 0.5) * p)
     m = layer.matrix()
-    ref = sample_stochastic(tex.stochastic_tables()[0], s, t, patch=0.4, seed=9, dsdx=m[0, 0] * p,
+    ref = sample_stochastic(stochastic_tables(tex)[0], s, t, patch=0.4, seed=9, dsdx=m[0, 0] * p,
                             dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
-    assert np.max(np.abs(bake - ref[..., :3])) < 2e-3
+    assert np.max(np.abs(baked - ref[..., :3])) < 2e-3
     # blocks bake to the same bits as the whole region
-    block = tex.bake((32, 40), origin=origin, pixel_size=p, start=(32, 40))
-    assert np.array_equal(block, bake[32:, 40:])
+    block = bake(tex, (32, 40), origin=origin, pixel_size=p, start=(32, 40))
+    assert np.array_equal(block, baked[32:, 40:])
 
 
 def test_paper_preset_stochastic_never_repeats():
@@ -134,7 +136,7 @@ def test_paper_preset_stochastic_never_repeats():
         values = {}
         for tiling in ("periodic", "stochastic"):
             tex = SpectralTexture.paper_preset(rng=1, tiling=tiling)
-            values[tiling] = repeat_peak(tex.bake((1024, 1024), pixel_size=tex.layers[0].size / px))
+            values[tiling] = repeat_peak(bake(tex, (1024, 1024), pixel_size=tex.layers[0].size / px))
         assert values["stochastic"] <= 0.1, (px, values)
         assert values["periodic"] >= 0.7, (px, values)  # the control: the paper's method repeats
 
@@ -174,7 +176,7 @@ def test_render_cpu_fast_path_matches_general_stochastic(blend):
         n = 1 + k % 2
         tables = pack(tex, enabled=rng.random(len(tex.layers)) < 0.8 if k >= 3 else None)
         view = view_params(cam, (24, 40), supersample=n)
-        anchor = tex.anchor_coords(*cam.position[:2])
+        anchor = anchor_coords(tex.layers, *cam.position[:2])
         fast = np.empty((24, 40, 3), np.float32)
         general = np.empty((24, 40, 3), np.float32)
         render_kernel_fast(tables, anchor, view, row_order(24), fast)

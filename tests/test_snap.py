@@ -16,8 +16,10 @@ import tomli_w
 
 from helpers import SIZE, VIEWS, psnr
 from spectex import metrics
+from spectex.render import bake
 from spectex.render.cpu import render_cpu
 from spectex.shading.stochastic import layer_key, lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix
+from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 
 BRICK_W, BRICK_H = 16, 8
@@ -53,7 +55,7 @@ def brick_tile():
 
 def _bake(tile, **kw):
     tex = SpectralTexture(tile, [Layer(size=1.0, **kw)])
-    return tex.bake((512, 512), pixel_size=1.0 / tile.shape[1])
+    return bake(tex, (512, 512), pixel_size=1.0 / tile.shape[1])
 
 
 def test_snapped_offsets_are_whole_periods_rounded_down_to_texels():
@@ -90,12 +92,12 @@ def test_snap_keeps_the_brick_grid_and_does_not_repeat(brick_tile):
     got = {}
     for name, kw in (("snap", dict(tiling="stochastic", seed=3, snap=(8, 8))),
                      ("periodic", dict(tiling="periodic")), ("free", dict(tiling="stochastic", seed=3))):
-        bake = _bake(tile, **kw)
-        got[name] = dict(mortar=float(np.mean(bake[..., 0][on_mortar] < 0.2)),
-                         brick=float(np.mean(bake[..., 0][~on_mortar] < 0.2)),
-                         repeat=metrics.repeat_peak(bake, period=period),
-                         exact=metrics.repetition(bake, 128),
-                         structure=metrics.structural_distance(bake, wall).ratio)
+        baked = _bake(tile, **kw)
+        got[name] = dict(mortar=float(np.mean(baked[..., 0][on_mortar] < 0.2)),
+                         brick=float(np.mean(baked[..., 0][~on_mortar] < 0.2)),
+                         repeat=metrics.repeat_peak(baked, period=period),
+                         exact=metrics.repetition(baked, 128),
+                         structure=metrics.structural_distance(baked, wall).ratio)
     snap, periodic, free = got["snap"], got["periodic"], got["free"]
     # the grid: every mortar pixel of the lattice is mortar, no brick pixel is (measured 1.0 / 0.0)
     assert snap["mortar"] >= 0.99 and snap["brick"] <= 0.01, got
@@ -155,7 +157,7 @@ def test_snapped_cpu_fast_path_matches_the_general_sampler():
     assert tables.fast
     cam = Camera((3.0e4, -2.0e4, 2.0), yaw=40.0, pitch=-35.0, fov=60.0)
     view = view_params(cam, (24, 40), supersample=1)
-    anchor = tex.anchor_coords(*cam.position[:2])
+    anchor = anchor_coords(tex.layers, *cam.position[:2])
     fast = np.empty((24, 40, 3), np.float32)
     general = np.empty((24, 40, 3), np.float32)
     render_kernel_fast(tables, anchor, view, row_order(24), fast)
@@ -169,13 +171,13 @@ def test_snapped_cpu_fast_path_matches_the_general_sampler():
     # the bake (general kernel) agrees with the standalone sampler, snapped
     layer = tex.layers[0]
     p = layer.size / 128
-    bake = SpectralTexture(tex.tiles, [layer]).bake((64, 64), pixel_size=p)
+    baked = bake(SpectralTexture(tex.tiles, [layer]), (64, 64), pixel_size=p)
     r, c = np.mgrid[0:64, 0:64]
     s, t = layer.coords((c + 0.5) * p, (r + 0.5) * p)
     m = layer.matrix()
-    ref = sample_stochastic(tex.stochastic_tables()[0], s, t, patch=layer.patch, seed=layer.seed, snap=(8, 3),
+    ref = sample_stochastic(stochastic_tables(tex.tiles[0]), s, t, patch=layer.patch, seed=layer.seed, snap=(8, 3),
                             dsdx=m[0, 0] * p, dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
-    assert np.max(np.abs(bake - ref[..., :3])) < 2e-3
+    assert np.max(np.abs(baked - ref[..., :3])) < 2e-3
 
 
 def test_snap_is_saved_loaded_and_checked(tmp_path):
@@ -216,8 +218,8 @@ def test_fit_of_a_brick_wall_keeps_the_grid_without_repeating(wall_fits):
     assert auto.params["trial"]["choice"] == "snapped" and auto.texture.layers[0].snap == (15, 15)
     got = {}
     for name, result in fits.items():
-        near = result.texture.bake((512, 512), pixel_size=0.01)
-        far = result.texture.bake((512, 512), pixel_size=0.08)
+        near = bake(result.texture, (512, 512), pixel_size=0.01)
+        far = bake(result.texture, (512, 512), pixel_size=0.08)
         got[name] = dict(near=metrics.repeat_peak(near, period=(16, 16)), far=metrics.repeat_peak(far, period=(2, 2)),
                          structure=metrics.structural_distance(near[:256, :256], photo).ratio)
     own = metrics.repeat_peak(photo, period=(16, 16))

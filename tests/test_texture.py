@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from spectex.render import bake, bake_layers
 from spectex.shading.constants import FADE_END, FADE_START
+from spectex.shading.resources import mip_levels, texel_store
 from spectex.texture import Layer, SpectralTexture
 from spectex.texture_file import FORMAT
 from spectex.tiles import make_tile
@@ -70,25 +72,25 @@ def test_texture_paper_preset_numbers(paper_tile):
 
 def test_texture_bake_of_one_layer_is_the_tile(paper_tile):
     tex = SpectralTexture.plain(paper_tile, size=256 * 0.5)
-    baked = tex.bake((256, 256), pixel_size=0.5)
+    baked = bake(tex, (256, 256), pixel_size=0.5)
     np.testing.assert_allclose(baked, tex.tiles[0][..., :3], atol=1e-5)
     # shifted by a whole number of tiles: the same (REPEAT)
-    np.testing.assert_allclose(tex.bake((64, 64), origin=(128.0, -256.0), pixel_size=0.5),
+    np.testing.assert_allclose(bake(tex, (64, 64), origin=(128.0, -256.0), pixel_size=0.5),
                                baked[:64, :64], atol=1e-4)
 
 
 def test_texture_bake_is_filtered_for_its_footprint(paper_tile):
     tex = SpectralTexture.plain(paper_tile, size=10.0)
     # a pixel as large as the tile sees the tile's mean (its 1 x 1 mip level)
-    coarse = tex.bake((4, 4), pixel_size=10.0)
-    mean = tex.mip_levels()[0][-1][0, 0, :3]
+    coarse = bake(tex, (4, 4), pixel_size=10.0)
+    mean = mip_levels(tex)[0][-1][0, 0, :3]
     np.testing.assert_allclose(coarse, np.broadcast_to(mean, coarse.shape), atol=1e-5)
     # a mip-mapped bake at 8 texels per pixel is close to an 8 x 8 box over
     # level 0, and much closer than a point-sampled bake
     p = 8 * 10.0 / 256
-    ref = tex.bake((32, 32), pixel_size=p, filter="linear", supersample=8)
-    mip = tex.bake((32, 32), pixel_size=p)
-    point = tex.bake((32, 32), pixel_size=p, filter="linear")
+    ref = bake(tex, (32, 32), pixel_size=p, filter="linear", supersample=8)
+    mip = bake(tex, (32, 32), pixel_size=p)
+    point = bake(tex, (32, 32), pixel_size=p, filter="linear")
     assert np.abs(mip - ref).mean() < 0.5 * np.abs(point - ref).mean()
 
 
@@ -99,8 +101,8 @@ def test_texture_blends_detail_and_variance(paper_tile):
                                                              blend="variance")])
     kw = dict(shape=(256, 256), pixel_size=0.25)
     tile_std = paper_tile[..., :3].std(axis=(0, 1))
-    a = alpha.bake(**kw).std(axis=(0, 1))
-    v = variance.bake(**kw).std(axis=(0, 1))
+    a = bake(alpha, **kw).std(axis=(0, 1))
+    v = bake(variance, **kw).std(axis=(0, 1))
     # alpha blending two independent layers washes contrast out; the
     # variance-preserving blend keeps it
     assert np.all(a < 0.85 * tile_std)
@@ -108,11 +110,11 @@ def test_texture_blends_detail_and_variance(paper_tile):
     # detail texturing: 2 * c_layer * c, computed by hand at one point
     detail = SpectralTexture(paper_tile, [layers[0], Layer(size=16.0 * 7.3, rotation=31.0, offset=(3.0, 5.0),
                                                            blend="detail")])
-    got = detail.bake((3, 3), pixel_size=0.25)
-    parts = detail.bake_layers((3, 3), pixel_size=0.25)
+    got = bake(detail, (3, 3), pixel_size=0.25)
+    parts = bake_layers(detail, (3, 3), pixel_size=0.25)
     np.testing.assert_allclose(got, np.clip(2 * parts[0, ..., :3] * parts[1, ..., :3], 0, 1), atol=1e-5)
-    got = alpha.bake((3, 3), pixel_size=0.25)
-    parts = alpha.bake_layers((3, 3), pixel_size=0.25)
+    got = bake(alpha, (3, 3), pixel_size=0.25)
+    parts = bake_layers(alpha, (3, 3), pixel_size=0.25)
     a1 = parts[1, ..., 3:]
     np.testing.assert_allclose(got, a1 * parts[1, ..., :3] + (1 - a1) * parts[0, ..., :3], atol=1e-5)
 
@@ -129,7 +131,7 @@ def test_texture_is_not_repetitive(seed):
     peaks = {}
     for per in (32, 16):  # pixels per finest period (15.625 m)
         kw = dict(shape=(512, 512), origin=(1234.5, -987.25), pixel_size=15.625 / per)
-        peaks[per] = {name: repetition_peak(tex.bake(**kw), per) for name, tex in (
+        peaks[per] = {name: repetition_peak(bake(tex, **kw), per) for name, tex in (
             ("default", SpectralTexture.paper_preset(tile)),
             ("variance", SpectralTexture.paper_preset(tile, blend="variance")),
             ("paper", SpectralTexture.paper_preset(tile, blend="alpha", detail=False)),
@@ -147,22 +149,22 @@ def test_cover_blend_hides_the_layers_before_it_from_afar_only(paper_tile):
     changes nothing); where it covers <= 2**FADE_START, it is the variance
     blend exactly. The control: the variance blend depends on layer 0 at
     both scales."""
-    def bake(blend, offset0, pixel_size):
+    def baked(blend, offset0, pixel_size):
         layers = [Layer(size=16.0, offset=offset0), Layer(size=128.0, rotation=40.0, offset=(5.0, 9.0),
                                                           blend=blend, opacity=0.65)]
-        return SpectralTexture(paper_tile, layers).bake((64, 64), pixel_size=pixel_size, origin=(3.0, 7.0))
+        return bake(SpectralTexture(paper_tile, layers), (64, 64), pixel_size=pixel_size, origin=(3.0, 7.0))
 
     far = 128.0 / 256 * 2 ** (FADE_END + 0.5)  # metres per pixel: lambda of layer 1 = FADE_END + 0.5
     near = 128.0 / 256 * 2 ** (FADE_START - 0.5)
-    np.testing.assert_array_equal(bake("cover", (0.0, 0.0), far), bake("cover", (3.3, 1.7), far))
-    assert np.abs(bake("variance", (0.0, 0.0), far) - bake("variance", (3.3, 1.7), far)).mean() > 0.01
-    np.testing.assert_allclose(bake("cover", (0.0, 0.0), near), bake("variance", (0.0, 0.0), near), atol=1e-6)
-    assert np.abs(bake("cover", (0.0, 0.0), near) - bake("cover", (3.3, 1.7), near)).mean() > 0.01
+    np.testing.assert_array_equal(baked("cover", (0.0, 0.0), far), baked("cover", (3.3, 1.7), far))
+    assert np.abs(baked("variance", (0.0, 0.0), far) - baked("variance", (3.3, 1.7), far)).mean() > 0.01
+    np.testing.assert_allclose(baked("cover", (0.0, 0.0), near), baked("variance", (0.0, 0.0), near), atol=1e-6)
+    assert np.abs(baked("cover", (0.0, 0.0), near) - baked("cover", (3.3, 1.7), near)).mean() > 0.01
 
 
 def _coupling(tex, p=0.0625, n=384):
-    img = _lum(tex.bake((n, n), pixel_size=p, origin=(37.0, 11.0)))
-    alpha1 = tex.bake_layers((n, n), pixel_size=p, origin=(37.0, 11.0))[1, ..., 3]
+    img = _lum(bake(tex, (n, n), pixel_size=p, origin=(37.0, 11.0)))
+    alpha1 = bake_layers(tex, (n, n), pixel_size=p, origin=(37.0, 11.0))[1, ..., 3]
     fine = img - ndimage.gaussian_filter(img, 0.5 / p, mode="wrap")
     energy = ndimage.gaussian_filter(fine ** 2, 1.0 / p, mode="wrap")
     a = ndimage.gaussian_filter(alpha1, 1.0 / p, mode="wrap")
@@ -188,7 +190,7 @@ def test_texture_save_load_round_trip(tmp_path, paper_tile):
     assert FORMAT in text and "[[layers]]" in text and "version = 2" in text
     back = SpectralTexture.load(path)
     assert back == tex
-    np.testing.assert_array_equal(back.bake((16, 16), pixel_size=0.3), tex.bake((16, 16), pixel_size=0.3))
+    np.testing.assert_array_equal(bake(back, (16, 16), pixel_size=0.3), bake(tex, (16, 16), pixel_size=0.3))
 
 
 def test_texture_float_tiles_round_trip_as_16_bit(tmp_path, paper_tile):
@@ -271,7 +273,7 @@ def test_texture_save_failure_leaves_nothing(tmp_path, paper_tile):
 def test_texture_bake_bad_input(paper_tile, kwargs, match):
     tex = SpectralTexture.plain(paper_tile, 10.0)
     with pytest.raises((ValueError, TypeError), match=match):
-        tex.bake(**kwargs)
+        bake(tex, **kwargs)
 
 
 @pytest.mark.parametrize("tiles, layers, match", [
@@ -290,14 +292,14 @@ def test_texture_bad_construction(tiles, layers, match):
 
 def test_texel_store_is_made_once_and_matches_the_mip_levels():
     tex = SpectralTexture.paper_preset(make_tile(16, rng=2))
-    data, stride, offsets, widths, heights = tex.texel_store()
-    assert tex.texel_store()[0] is data  # kept: a render does not rebuild it
-    levels = tex.mip_levels()[0]
+    data, stride, offsets, widths, heights = texel_store(tex)
+    assert texel_store(tex)[0] is data  # kept: a render does not rebuild it
+    levels = mip_levels(tex)[0]
     assert stride == sum(lv.shape[0] * lv.shape[1] for lv in levels)
     for d, lv in enumerate(levels):
         got = data[offsets[d]:offsets[d] + widths[d] * heights[d]].reshape(heights[d], widths[d], 4)
         np.testing.assert_array_equal(got, lv)
-    base = tex.texel_store(mipmaps=False)
+    base = texel_store(tex, mipmaps=False)
     assert base[1] == 16 * 16 and len(base[2]) == 1
     from spectex.shading import pack
 
@@ -325,7 +327,7 @@ def test_texture_stochastic_round_trip_rebuilds_the_same_pictures(tmp_path, pape
     assert "version = 2" in text and "[stochastic]" in text and 'tiling = "stochastic"' in text
     back = SpectralTexture.load(path)
     assert back == tex and [lay.seed for lay in back.layers] == [0, 1, 2, 3, 4, 5]
-    np.testing.assert_array_equal(back.bake((24, 24), pixel_size=0.3), tex.bake((24, 24), pixel_size=0.3))
+    np.testing.assert_array_equal(bake(back, (24, 24), pixel_size=0.3), bake(tex, (24, 24), pixel_size=0.3))
     # a periodic texture writes no [stochastic] table; a version-1 file still loads, as periodic layers
     plain = SpectralTexture.paper_preset(paper_tile)
     assert "[stochastic]" not in plain.save(tmp_path / "p.toml").read_text()

@@ -30,6 +30,8 @@ from helpers import make_test_tile, psnr
 from spectex.export import export
 from spectex.export.web import viewer_data
 from spectex.render import Camera, render
+from spectex.shading.resources import mean_colours, mip_levels, stochastic_store, stochastic_tables
+from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 
 CHROMIUM_ARGS = ["--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
@@ -241,7 +243,7 @@ def test_uniforms_js_anchors_are_pythons_far_from_the_origin(browser):
         for x, y in ((0.0, 0.0), (3.0e6, -2.0e6), (-7.3e6, 5.1e6), (123456.789, -0.001)):
             got = page.evaluate("([js, table, x, y]) => (new Function(js + '; return spectexFrameUniforms;'))()"
                                 "(table, x, y, 2, 0, -10, 60, 320, 180)", [uniforms_js(), table, x, y])
-            want = texture.anchor_coords(x, y)
+            want = anchor_coords(texture.layers, x, y)
             np.testing.assert_array_equal(np.reshape(got["u_anchor"], (-1, 2)), want[:, :2])
             np.testing.assert_array_equal(np.reshape(got["u_ganchor"], (-1, 2)), want[:, 2:4])
             np.testing.assert_array_equal(np.reshape(got["u_gbase"], (-1, 2)), want[:, 4:])
@@ -381,11 +383,11 @@ def test_no_network_and_nothing_but_the_file(browser, exports):
 
 
 def test_embedded_levels_are_the_texels_spectex_samples():
-    """The page's data: URIs inflate to SpectralTexture.mip_levels(), level by level, bit for bit."""
+    """The page's data: URIs inflate to shading.resources.mip_levels, level by level, bit for bit."""
     for texture in (paper_texture(), mixed_texture()):
         data = viewer_data(texture)
         assert len(data["tiles"]) == len(texture.tiles)
-        for tile, levels in zip(data["tiles"], texture.mip_levels()):
+        for tile, levels in zip(data["tiles"], mip_levels(texture)):
             assert len(tile["levels"]) == len(levels) > 1
             for entry, level in zip(tile["levels"], levels):
                 assert entry["data"].startswith("data:application/octet-stream;base64,")
@@ -406,13 +408,13 @@ def test_embedded_stochastic_tables_are_what_the_renderer_uploads():
     for texture in (paper_stochastic_texture(), mixed_stochastic_texture()):
         data = viewer_data(texture)
         st = data["stochastic_textures"]
-        for entry, tables in zip(st["gauss"], texture.stochastic_tables()):
+        for entry, tables in zip(st["gauss"], stochastic_tables(texture)):
             assert len(entry["levels"]) == len(tables.gaussian) > 1
             for level, ref in zip(entry["levels"], tables.gaussian):
                 raw = zlib.decompress(base64.b64decode(level["data"].split(",", 1)[1]))
                 got = np.frombuffer(raw, "<f2").astype(np.float32).reshape(level["height"], level["width"], 4)
                 np.testing.assert_array_equal(got, ref)
-        _, lut, rows = texture.stochastic_store()
+        _, lut, rows = stochastic_store(texture)
         raw = zlib.decompress(base64.b64decode(st["lut"]["data"].split(",", 1)[1]))
         got = np.frombuffer(raw, "<f2").astype(np.float32).reshape(st["lut"]["height"], st["lut"]["width"])
         assert got.shape == (4 * lut.shape[0], lut.shape[1])
@@ -432,7 +434,7 @@ def test_embedded_stochastic_tables_are_what_the_renderer_uploads():
 def test_layer_table_is_the_textures():
     texture = mixed_texture()
     data = json.loads(json.dumps(viewer_data(texture)))  # what the page parses
-    means = texture.mean_colours()[[layer.tile for layer in texture.layers]]
+    means = mean_colours(texture)[[layer.tile for layer in texture.layers]]
     for entry, layer, mean in zip(data["layers"], texture.layers, means):
         np.testing.assert_array_equal(np.array(entry["matrix"]).reshape(2, 2), layer.matrix())
         assert tuple(entry["offset"]) == layer.offset and entry["opacity"] == layer.opacity

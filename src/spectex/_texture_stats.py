@@ -836,7 +836,7 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     ----------
     view : ndarray, shape (H, W) or (H, W, C)
         The texture rendered at ``zoom`` times the photo's pixel size (e.g.
-        ``texture.bake((512, 512), pixel_size=8 * p)``), at least 96 pixels a side.
+        ``bake(texture, (512, 512), pixel_size=8 * p)``), at least 96 pixels a side.
     reference : ndarray, shape (h, w) or (h, w, C)
         The photo, at least 192 pixels a side.
     zoom : float

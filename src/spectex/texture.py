@@ -25,10 +25,14 @@ Also here, for comparison and as options:
   fade out where their periods would be a few pixels on screen and their
   repeats a visible weave (``docs/rendering.md``).
 
-This module is the data model: layers, tiles, presets and derived data
-(mip levels, texel store). How a texture is sampled, composited and seen
-is the shading core's (``spectex.shading``, ``docs/sampling.md``), which
-:meth:`SpectralTexture.bake` and the renderers call; the file format is
+This module is the data model: layers, tiles and presets, plain data. It
+imports nothing from the shading core or the renderers (the shading
+constants excepted: ``shading.constants`` is a leaf of plain values, the
+vocabulary of blends and tilings). What is derived from the tiles (mip
+levels, texel stores, stochastic tables) is ``spectex.shading.resources``';
+how a texture is sampled, composited and seen is the shading core's
+(``spectex.shading``, ``docs/sampling.md``), called by the renderers
+(``spectex.render.bake`` for a top-down view); the file format is
 ``spectex.texture_file``.
 
 References
@@ -42,6 +46,7 @@ References
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,16 +59,12 @@ from ._validate import (
     check_int,
     check_length,
     check_rng,
-    check_shape,
     check_snap,
     check_tile_shape,
 )
 from .shading.constants import BLENDS, DEFAULT_PATCH, MAX_LAYERS, MAX_TILES, TILINGS
 
-__all__ = ["Layer", "SpectralTexture", "BLENDS", "MAX_BAKE_PIXELS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_placement"]
-
-#: Largest bake, in pixels (times supersample squared): 64 Mpx, about 1 GiB of float32 work arrays.
-MAX_BAKE_PIXELS = 1 << 26
+__all__ = ["Layer", "SpectralTexture", "BLENDS", "GOLDEN_ANGLE", "DETAIL_SIZE", "layer_matrix", "layer_placement"]
 
 
 #: Repetition size (metres) of :meth:`SpectralTexture.paper_preset`'s detail layer: the finest of
@@ -108,6 +109,16 @@ def layer_placement(k: int, size: float, *, decimals: int = 6) -> tuple[tuple[fl
     decimals = check_int("decimals", decimals, minimum=0, maximum=15)
     offset = (round((0.382 * k % 1.0) * size, decimals), round((0.618 * k % 1.0) * size, decimals))
     return offset, round((GOLDEN_ANGLE * k) % 360.0, 6)
+
+
+def layer_matrix(size: float, rotation: float) -> np.ndarray:
+    """The 2 x 2 map from world displacement (metres) to tile coordinates (s, t).
+
+    ``M = R(-rotation) / size`` (rotation in degrees, counter-clockwise).
+    """
+    th = math.radians(rotation)
+    c, s = math.cos(th), math.sin(th)
+    return np.array([[c, s], [-s, c]], dtype=np.float64) / size
 
 
 @dataclass(frozen=True)
@@ -197,8 +208,6 @@ class Layer:
 
         ``(s, t) = R(-rotation) (p - offset) / size``.
         """
-        from .shading.tables import layer_matrix
-
         return layer_matrix(self.size, self.rotation)
 
     def coords(self, x, y):
@@ -207,27 +216,6 @@ class Layer:
         dx = np.asarray(x, dtype=np.float64) - self.offset[0]
         dy = np.asarray(y, dtype=np.float64) - self.offset[1]
         return m[0, 0] * dx + m[0, 1] * dy, m[1, 0] * dx + m[1, 1] * dy
-
-
-#: The stochastic tables of the last few tiles, by content: a fit builds many textures that share a
-#: tile (its coarse layers' one), and the tables are a deterministic function of the texels.
-_TABLES = {}
-_TABLES_KEPT = 4
-
-
-def _cached_tables(tile):
-    import hashlib
-
-    from .shading.stochastic import stochastic_tables
-
-    key = (tile.shape, tile.dtype.str, hashlib.blake2b(np.ascontiguousarray(tile).data, digest_size=16).digest())
-    tables = _TABLES.pop(key, None)
-    if tables is None:
-        tables = stochastic_tables(tile)
-    _TABLES[key] = tables  # most recent last
-    while len(_TABLES) > _TABLES_KEPT:
-        del _TABLES[next(iter(_TABLES))]
-    return tables
 
 
 def _as_layer(i, value) -> Layer:
@@ -292,7 +280,7 @@ class SpectralTexture:
                                  "all tiles must have the same shape")
             if np.any(tile < 0) or np.any(tile > 1):
                 raise ValueError(f"tiles[{i}] values must be in [0, 1], got [{tile.min():g}, {tile.max():g}]")
-            from .shading.sampler import quantize
+            from .tiles.mipmap import quantize  # here: the package of tiles imports numba
 
             checked.append(np.ascontiguousarray(quantize(tile, bits)))
         layers = [_as_layer(i, layer) for i, layer in enumerate(layers)]
@@ -306,10 +294,6 @@ class SpectralTexture:
         self.tiles = checked
         self.layers = layers
         self.bits = bits
-        self._levels = None
-        self._stores = {}  # mipmaps -> texel store (texel_store); the tiles never change
-        self._stochastic = None  # per tile, its StochasticTables (made on first use)
-        self._stochastic_stores = {}  # mipmaps -> (gauss, lut, lut_levels)
 
     # ------------------------------------------------------------------ presets
     @classmethod
@@ -434,7 +418,7 @@ class SpectralTexture:
     @property
     def nbytes_mipmapped(self) -> int:
         """Bytes with all mip levels."""
-        from .shading.sampler import gl_level_shapes
+        from .tiles.mipmap import gl_level_shapes
 
         per = sum(h * w for h, w in gl_level_shapes(*self.tile_shape)) * 4 * (1 if self.bits == 8 else 4)
         return len(self.tiles) * per
@@ -443,23 +427,6 @@ class SpectralTexture:
     def nbytes_as_image(self) -> int:
         """Bytes the same texture would take as one RGB8 image of virtual_size squared."""
         return self.virtual_size ** 2 * 3
-
-    def mip_levels(self) -> list[list[np.ndarray]]:
-        """Per tile, its mip chain (``spectex.tiles.mip_chain``), quantised to ``bits``.
-
-        These exact arrays are what the CPU sampler holds and what the GL
-        renderer uploads.
-        """
-        if self._levels is None:
-            from .shading.sampler import default_mip_chain, quantize
-
-            self._levels = [[quantize(level, self.bits) for level in default_mip_chain(tile)]
-                            for tile in self.tiles]
-        return self._levels
-
-    def mean_colours(self) -> np.ndarray:
-        """Per tile, the mean RGB: its 1 x 1 mip level (the ``mu`` of the variance blend)."""
-        return np.array([levels[-1][0, 0, :3] for levels in self.mip_levels()], dtype=np.float64)
 
     def __repr__(self):
         h, w = self.tile_shape
@@ -472,158 +439,6 @@ class SpectralTexture:
         return (self.layers == other.layers and self.bits == other.bits and len(self.tiles) == len(other.tiles)
                 and all(np.array_equal(a, b) for a, b in zip(self.tiles, other.tiles)))
 
-    # ------------------------------------------------------------------- baking
-    def texel_store(self, *, mipmaps=True):
-        """All tiles' texels as one store, made once per texture and kept.
-
-        Returns ``(data, stride, offsets, widths, heights)``: ``data`` is
-        ``(N, 4)`` float32 RGBA; tile ``i``'s level ``d`` starts at row ``i *
-        stride + offsets[d]`` and is ``heights[d] x widths[d]``, row-major.
-        With ``mipmaps=False``, level 0 only.
-        """
-        key = bool(mipmaps)
-        if key not in self._stores:
-            from .shading.sampler import MipTexture
-
-            textures = [MipTexture(lv if mipmaps else lv[:1], bits=None) for lv in self.mip_levels()]
-            tex = textures[0]
-            data = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
-            self._stores[key] = (data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
-        return self._stores[key]
-
-    def stochastic_tables(self):
-        """Per tile, the tables of its stochastic tiling (``spectex.shading.stochastic``), made once and kept.
-
-        The Gaussianised tile's mip levels, the per-level inverse look-up
-        tables and the colour decorrelation: a deterministic function of the
-        tile's texels (what a file stores rebuilds them exactly).
-        """
-        if self._stochastic is None:
-            self._stochastic = [_cached_tables(tile) for tile in self.tiles]
-        return self._stochastic
-
-    def stochastic_store(self, *, mipmaps=True):
-        """The stochastic layers' texels as the kernels take them, made once per texture.
-
-        Returns ``(gauss, lut, lut_rows)``: ``gauss`` holds every tile's
-        Gaussianised levels laid out exactly as :meth:`texel_store`'s
-        ``data`` (level 0 only without ``mipmaps``); ``lut`` is ``(tiles *
-        lut_rows, LUT_SIZE, 4)`` float32, tile ``i``'s expanded table
-        (``spectex.shading.stochastic.expand_lut``) from row ``i * lut_rows``.
-        """
-        key = bool(mipmaps)
-        if key not in self._stochastic_stores:
-            from .shading.sampler import MipTexture
-
-            tables = self.stochastic_tables()
-            textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]
-            gauss = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
-            rows = [tb.expanded() for tb in tables]
-            lut = np.ascontiguousarray(np.concatenate(rows), dtype=np.float32)
-            self._stochastic_stores[key] = (gauss, lut, rows[0].shape[0])
-        return self._stochastic_stores[key]
-
-    def anchor_coords(self, x0: float, y0: float) -> np.ndarray:
-        """Per layer, the tile coordinates (s, t) of world point (x0, y0), reduced modulo 2, and
-        for stochastic layers its triangle-grid position (``spectex.shading.tables.anchor_coords``).
-
-        Computed in float64 on the host, so that the kernels and shaders work
-        with small coordinates relative to an anchor (the camera, a bake's
-        corner) and keep their precision far from the world origin.
-        """
-        from .shading.tables import anchor_coords
-
-        return anchor_coords(self.layers, x0, y0)
-
-    def bake(self, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="trilinear", anisotropy=1.0,
-             supersample=1, mipmaps=True, start=(0, 0)):
-        """Render a top-down orthographic view of a region, filtered for its footprint.
-
-        Pixel ``(r, c)`` covers the world square with corner ``origin +
-        (c, r) * pixel_size``; its sample is at the centre, ``x = origin[0] +
-        (c + 0.5) * pixel_size``, ``y = origin[1] + (r + 0.5) * pixel_size``
-        (rows go along +y, like a tile's rows: one layer of size ``tile_width
-        * pixel_size`` with no offset or rotation bakes to the tile itself).
-        Each layer is sampled with derivatives ``(pixel_size, 0)`` and ``(0,
-        pixel_size)`` pushed through its map, so the mip-map level follows
-        the footprint: a bake at a coarse ``pixel_size`` is the low-passed
-        texture, not an aliased one.
-
-        Parameters
-        ----------
-        shape : int or (int, int)
-            ``(height, width)`` in pixels; at most ``MAX_BAKE_PIXELS``
-            (times ``supersample**2``).
-        origin : (float, float)
-            World (x, y) of the top-left corner of pixel (0, 0), metres.
-        pixel_size : float
-            World size of one pixel, metres (> 0).
-        filter : str
-            Minification filter (``spectex.sampling.FILTERS`` or "trilinear").
-        anisotropy : float
-            Maximum anisotropy (1 = off; a top-down view is isotropic anyway).
-        supersample : int
-            ``n`` gives ``n x n`` box-filtered samples per pixel.
-        mipmaps : bool
-            With False, only level 0 is sampled (for aliasing comparisons).
-        start : (int, int)
-            Bake the block of the region's pixel grid whose first pixel is
-            ``(row, column) = start``: pixel ``(r, c)`` of the result is pixel
-            ``(start[0] + r, start[1] + c)`` of the grid anchored at
-            ``origin``, with the same bits as in a bake of the whole region
-            (for baking a large region in blocks).
-
-        Returns
-        -------
-        ndarray, shape (height, width, 3), float32
-            RGB in [0, 1].
-        """
-        n = check_int("supersample", supersample, minimum=1, maximum=16)
-        h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // (n * n))
-        ox, oy = _pair("origin", origin)
-        p = check_length("pixel_size", pixel_size)
-        if not isinstance(start, (tuple, list)) or len(start) != 2:
-            raise ValueError(f"start must be a pair (row, column) of integers, got {start!r}")
-        row0 = check_int("start[0]", start[0], minimum=0)
-        col0 = check_int("start[1]", start[1], minimum=0)
-        from .shading.tables import pack
-        from .shading.view import bake_kernel
-
-        tables = pack(self, filter=filter, anisotropy=anisotropy, mipmaps=mipmaps)
-        out = np.empty((h, w, 3), dtype=np.float32)
-        bake_kernel(tables, self.anchor_coords(ox, oy), p, n, row0, col0, out)
-        return out
-
-    def bake_layers(self, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="trilinear"):
-        """Each layer's own filtered RGBA over the region of :meth:`bake`, shape (L, H, W, 4).
-
-        For analysis: the alpha of layer ``k`` here is the ``a`` that layer
-        blends with at each pixel.
-        """
-        h, w = check_shape("shape", shape, maximum_pixels=MAX_BAKE_PIXELS // max(1, len(self.layers)))
-        ox, oy = _pair("origin", origin)
-        p = check_length("pixel_size", pixel_size)
-        from .shading.sampler import MipTexture, sample
-
-        r, c = np.mgrid[0:h, 0:w]
-        x = ox + (c + 0.5) * p
-        y = oy + (r + 0.5) * p
-        out = np.empty((len(self.layers), h, w, 4), dtype=np.float32)
-        levels = self.mip_levels()
-        for k, layer in enumerate(self.layers):
-            tex = MipTexture(levels[layer.tile], min_filter=filter, bits=None)
-            m = layer.matrix()
-            s, t = layer.coords(x, y)
-            derivs = dict(dsdx=m[0, 0] * p, dtdx=m[1, 0] * p, dsdy=m[0, 1] * p, dtdy=m[1, 1] * p)
-            if layer.tiling == "stochastic":
-                from .shading.stochastic import sample_stochastic
-
-                out[k] = sample_stochastic(self.stochastic_tables()[layer.tile], s, t, patch=layer.patch,
-                                           seed=layer.seed, snap=layer.snap, filter=filter, **derivs)
-            else:
-                out[k] = sample(tex, s, t, **derivs)
-        return out
-
     # ------------------------------------------------------------------- files
     def save(self, path):
         """Write the texture file (TOML) and its tile PNG(s) beside it (``spectex.texture_file.save``)."""
@@ -634,8 +449,3 @@ class SpectralTexture:
         """Read a texture file (``spectex.texture_file.load``); every field is checked."""
         return texture_file.load(path, texture_type=cls)
 
-
-def _pair(name, value) -> tuple[float, float]:
-    if not isinstance(value, (tuple, list, np.ndarray)) or len(value) != 2:
-        raise ValueError(f"{name} must be a pair (x, y) of numbers, got {value!r}")
-    return check_float(f"{name}[0]", value[0]), check_float(f"{name}[1]", value[1])

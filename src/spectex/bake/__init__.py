@@ -4,7 +4,7 @@
 texture's mip-mapped sampler at the level's pixel size, one Dask task per
 shard, on this machine's threads or on a ``dask.distributed`` cluster, and
 writes OME-NGFF 0.5 on Zarr v3 (sharding codec). :func:`bake_window` is the
-exact window of a larger ``SpectralTexture.bake``, and :func:`to_dtype` the
+exact window of a larger ``spectex.render.bake``, and :func:`to_dtype` the
 one conversion to the stored pixel types. :func:`bake_image` writes a region
 as one plain PNG (8 or 16 bits), for engines and tools that take images. See
 ``docs/bake.md``.

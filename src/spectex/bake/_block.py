@@ -16,7 +16,7 @@ def to_dtype(rgb, dtype="uint8") -> np.ndarray:
 
     ``uint8 = round(v * 255)`` and ``uint16 = round(v * 65535)``, the product
     taken in float32 and rounded half to even (``numpy.rint``); ``float32``
-    is the bake itself. ``SpectralTexture.bake`` clamps to [0, 1], so no
+    is the bake itself. ``spectex.render.bake`` clamps to [0, 1], so no
     clipping is needed; values outside are clipped all the same.
 
     Parameters
@@ -42,18 +42,18 @@ def window_packed(texture, origin, pixel_size):
     """The shading core's bake arguments for windows of the bake of ``texture`` at ``origin``, ``pixel_size``.
 
     ``(tables, anchor, pixel_size, supersample)``: the same tables and the
-    same per-layer anchor as ``SpectralTexture.bake`` builds for the whole
+    same per-layer anchor as ``spectex.render.bake`` builds for the whole
     region (default filter, mip-mapping on, one sample per pixel).
     """
-    from ..shading import pack
+    from ..shading.tables import anchor_coords, pack
 
-    return (pack(texture), texture.anchor_coords(*origin), float(pixel_size), 1)
+    return (pack(texture), anchor_coords(texture.layers, *origin), float(pixel_size), 1)
 
 
 def bake_window(texture, window, *, origin=(0.0, 0.0), pixel_size=1.0, out=None) -> np.ndarray:
-    """Rows ``r0:r1`` and columns ``c0:c1`` of ``texture.bake`` of a larger region, bit for bit.
+    """Rows ``r0:r1`` and columns ``c0:c1`` of ``spectex.render.bake`` of a larger region, bit for bit.
 
-    ``texture.bake((H, W), origin=origin, pixel_size=pixel_size)[r0:r1,
+    ``bake(texture, (H, W), origin=origin, pixel_size=pixel_size)[r0:r1,
     c0:c1]`` for any ``H >= r1`` and ``W >= c1``, without baking the rest.
     (A bake of the window alone, at the shifted origin ``origin + (c0, r0) *
     pixel_size``, differs in the last bits: its layer anchors are rounded at
@@ -101,7 +101,7 @@ def run_window(packed, row0, col0, out) -> None:
     """Rows ``row0 ..`` and columns ``col0 ..`` of the whole bake into ``out``, on prepared
     arguments (:func:`window_packed`); no checks.
 
-    The shading core's ``bake_kernel``, which ``SpectralTexture.bake`` runs
+    The shading core's ``bake_kernel``, which ``spectex.render.bake`` runs
     too (its ``start``): the same expression for every pixel, so a window
     has the bits of the whole bake. The kernel's rows run in ``prange`` even
     on one numba thread: the outlined parallel loop compiles to code about

@@ -18,7 +18,7 @@ def bake_image(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), bit_depth
     """Bake a region of ``texture`` into one RGB PNG, 8 or 16 bits per channel.
 
     The pixels are :func:`spectex.bake.bake_window` of the whole region, that is
-    ``texture.bake(shape, origin=origin, pixel_size=pixel_size)`` bit for bit,
+    ``bake(texture, shape, origin=origin, pixel_size=pixel_size)`` bit for bit,
     rounded to ``round(v * (2**bit_depth - 1))``: the same values as level 0 of
     :func:`spectex.bake.bake_zarr` with ``dtype="uint8"`` or ``"uint16"``. Row 0
     is the row at ``origin`` (rows go along +y). Written atomically.

@@ -128,10 +128,10 @@ def bake_zarr(texture, path, shape, *, pixel_size, origin=(0.0, 0.0), levels=Non
               dtype="uint8", scheduler=None, workers=None, progress=None, connect_timeout=10.0) -> BakeResult:
     """Bake a region of a spectral texture into a sharded OME-Zarr pyramid.
 
-    Level ``k`` is ``texture.bake`` of the same region at ``pixel_size *
+    Level ``k`` is ``spectex.render.bake`` of the same region at ``pixel_size *
     2**k`` (the sampler's mip-mapping filters it; no level is made from
     another), converted by :func:`to_dtype`. Level 0 equals
-    ``to_dtype(texture.bake(shape, origin=origin, pixel_size=pixel_size))``
+    ``to_dtype(bake(texture, shape, origin=origin, pixel_size=pixel_size))``
     bit for bit, whatever ``chunk``, ``shard``, ``workers`` or scheduler.
 
     Parameters

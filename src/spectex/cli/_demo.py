@@ -149,9 +149,11 @@ def run(args) -> int:
 
         side, per_tile = REPEAT_BAKE
         peaks = {}
+        from spectex.render import bake
+
         for tiling in ("periodic", "stochastic"):
             tex = SpectralTexture.paper_preset(tile, tiling=tiling, **style)
-            peaks[tiling] = repeat_peak(tex.bake((side, side), pixel_size=tex.layers[0].size / per_tile),
+            peaks[tiling] = repeat_peak(bake(tex, (side, side), pixel_size=tex.layers[0].size / per_tile),
                                         min_lag=min(24, side // 2))
         report(f"  repeat_peak (top-down {side}x{side} bake, {per_tile} px per finest tile; <= 0.1 does not "
                f"repeat): periodic layers {peaks['periodic']:.3f}, stochastic layers {peaks['stochastic']:.3f}")

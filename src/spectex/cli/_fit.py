@@ -115,9 +115,11 @@ def run(args) -> int | None:
     fit_seconds = time.perf_counter() - start
     texture = result.texture
     h, w = exemplar.shape[:2]
-    same = texture.bake((h, w), pixel_size=pixel_size)
+    from spectex.render import bake
+
+    same = bake(texture, (h, w), pixel_size=pixel_size)
     side = math.sqrt(8.0)
-    large = texture.bake((16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=pixel_size)
+    large = bake(texture, (16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=pixel_size)
     # the numbers, on the render of 8x the area that comparison.png shows
     from spectex.fitting import fit_report
 

@@ -41,8 +41,8 @@ def vertex_source(target: str) -> str:
 
 
 def _fragment(texture, target: str, *, anisotropic: bool, enabled=None) -> str:
-    from spectex.render._defaults import DEFAULT_ANISOTROPY
     from spectex.shading import glsl
+    from spectex.shading.constants import DEFAULT_ANISOTROPY
     from spectex.shading.tables import pack
 
     tables = pack(texture, anisotropy=DEFAULT_ANISOTROPY if anisotropic else 1.0, enabled=enabled)

@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..shading.resources import stochastic_store, stochastic_tables
+
 __all__ = ["LUT_FILE", "gauss_name", "gauss_levels", "lut_planar", "layer_entries", "table_info", "write_tables",
            "read_raw"]
 
@@ -44,7 +46,7 @@ def gauss_name(texture, i: int) -> str:
 def gauss_levels(texture) -> list[list[np.ndarray]]:
     """Per tile, its Gaussianised mip levels as float16 ``(h, w, 4)`` arrays (exact: they are halves)."""
     out = []
-    for tables in texture.stochastic_tables():
+    for tables in stochastic_tables(texture):
         levels = [np.ascontiguousarray(level, dtype=np.float16) for level in tables.gaussian]
         for level, ref in zip(levels, tables.gaussian):
             if not np.array_equal(level.astype(np.float32), ref):
@@ -59,7 +61,7 @@ def lut_planar(texture) -> np.ndarray:
     ``rows`` is every tile's expanded table (``SpectralTexture.stochastic_store``),
     one after the other; this is the array ``render.gl`` uploads.
     """
-    _, lut, _ = texture.stochastic_store()
+    _, lut, _ = stochastic_store(texture)
     planar = np.concatenate([lut[:, :, c] for c in range(4)], axis=0)
     half = np.ascontiguousarray(planar, dtype=np.float16)
     if not np.array_equal(half.astype(np.float32), planar):
@@ -75,8 +77,8 @@ def table_info(texture) -> dict | None:
         return None
     from spectex.shading.constants import LUT_SIZE
 
-    _, lut, _ = texture.stochastic_store()
-    shapes = [[int(v) for v in level.shape[:2]] for level in texture.stochastic_tables()[0].gaussian]
+    _, lut, _ = stochastic_store(texture)
+    shapes = [[int(v) for v in level.shape[:2]] for level in stochastic_tables(texture)[0].gaussian]
     return {"lut_rows": int(lut.shape[0]), "lut_q": len(shapes) - 1, "lut_size": LUT_SIZE, "level_shapes": shapes}
 
 

@@ -89,11 +89,11 @@ def bindings(texture, syntax: Syntax) -> dict:
     (0, 0), for engines that draw without the host's float64 anchors; and
     ``max_anisotropy``, the renderers' default limit.
     """
-    from spectex.render._defaults import DEFAULT_ANISOTROPY
     from spectex.shading import interface
-    from spectex.shading.tables import pack
+    from spectex.shading.constants import DEFAULT_ANISOTROPY
+    from spectex.shading.tables import anchor_coords, pack
 
-    frame = interface.GLFrame(pack(texture), len(texture.tiles), anchor=texture.anchor_coords(0.0, 0.0))
+    frame = interface.GLFrame(pack(texture), len(texture.tiles), anchor=anchor_coords(texture.layers, 0.0, 0.0))
     out = {"max_anisotropy": syntax.number(DEFAULT_ANISOTROPY)}
     for row in interface.inputs("texture"):
         value = row.gl(frame)

@@ -23,6 +23,8 @@ import json
 from importlib import resources
 from pathlib import Path
 
+from ..shading.resources import mean_colours
+
 __all__ = ["COVER_NOTE", "FINE_NOTE", "SNAP_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
 #: What the export says about a stochastic layer (the script prints its own line per layer).
@@ -47,7 +49,7 @@ def blender_script(texture, tile_files) -> str:
     """The script's text for ``texture``; ``tile_files``: per tile, its file name (beside the script)."""
     table = {
         "tiles": list(tile_files),
-        "means": [[float(v) for v in m] for m in texture.mean_colours()],
+        "means": [[float(v) for v in m] for m in mean_colours(texture)],
         "layers": [{"size": float(layer.size), "offset": [float(layer.offset[0]), float(layer.offset[1])],
                     "rotation": float(layer.rotation), "blend": layer.blend, "opacity": float(layer.opacity),
                     "tile": int(layer.tile), "tiling": getattr(layer, "tiling", "periodic")}

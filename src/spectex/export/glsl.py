@@ -29,6 +29,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..shading.resources import mip_levels
 from . import _template
 from ._shader import GLSL_TARGETS, ground_fragment, has_stochastic, layer_library, prelude, vertex_source
 
@@ -103,13 +104,13 @@ def write_glsl(texture, folder: Path) -> list[Path]:
     files.append(path)
     names = tile_names(texture)
     depth = 8 if texture.bits == 8 else 16
-    for name, tile, levels in zip(names, texture.tiles, texture.mip_levels()):
+    for name, tile, levels in zip(names, texture.tiles, mip_levels(texture)):
         files.append(write_image(out / name, tile, bit_depth=depth))
         stem = name.rsplit(".", 1)[0]
         for d, level in enumerate(levels):
             files.append(write_image(out / "mips" / f"{stem}.level{d}.png", level, bit_depth=depth))
     files += write_tables(texture, out)
     path = out / "README.md"
-    path.write_text(_readme(texture, names, len(texture.mip_levels()[0])), encoding="utf-8")
+    path.write_text(_readme(texture, names, len(mip_levels(texture)[0])), encoding="utf-8")
     files.append(path)
     return files

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..render._defaults import DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY
 
 __all__ = ["read_table", "texture_uniforms", "frame_uniforms", "upload_textures", "draw_glsl_export"]
 

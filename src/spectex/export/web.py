@@ -30,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..render._defaults import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY as _DEFAULT_ANISOTROPY
+from ..shading.resources import mean_colours, mip_levels
 from ._shader import ground_template, vertex_source
 from ._stochastic import gauss_levels, layer_entries, lut_planar, table_info
 
@@ -63,7 +64,7 @@ def layer_table(texture, *, atmosphere=None) -> dict:
 
     atmosphere = Atmosphere() if atmosphere is None else atmosphere
     h, w = texture.tile_shape
-    means = texture.mean_colours()
+    means = mean_colours(texture)
     layers = []
     for layer, extra in zip(texture.layers, layer_entries(texture)):
         layers.append({
@@ -92,7 +93,7 @@ def viewer_data(texture, *, atmosphere=None) -> dict:
     """Everything the page needs, as plain JSON values."""
     tiles = [{"levels": [{"width": int(lv.shape[1]), "height": int(lv.shape[0]), "data": _level_uri(lv, texture.bits)}
                          for lv in levels]}
-             for levels in texture.mip_levels()]
+             for levels in mip_levels(texture)]
     shader = ground_template(texture, "es300")
     stochastic = None
     if table_info(texture) is not None:

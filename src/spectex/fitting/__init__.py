@@ -133,7 +133,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         maximum); see :func:`prepare_exemplar` for the conversions (grey,
         alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
     pixel_size : float, optional
-        World size of one exemplar pixel (metres); ``texture.bake(shape,
+        World size of one exemplar pixel (metres); ``bake(texture, shape,
         pixel_size=pixel_size)`` then renders at the exemplar's scale.
         Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
     photo_size : float, optional

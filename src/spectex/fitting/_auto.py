@@ -36,6 +36,7 @@ import time
 import numpy as np
 
 from .._validate import check_choice, check_float, check_int, check_rng
+from ..render.cpu import bake
 from ._core import (
     FIT_TILINGS,
     MAX_ANALYSIS_SIZE,
@@ -458,9 +459,9 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
         rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
         layer = Layer(size=tile.shape[0] * pixel_size / scale, tiling=tiling, patch=patch, snap=snap)
         texture = SpectralTexture(rgba, [layer])
-        bake = texture.bake((m, m), pixel_size=pixel_size)
-        far = texture.bake((TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
-        out[label] = {"structure": structural_distance(bake, reference, prepared=prepared, max_windows=4).ratio,
+        baked = bake(texture, (m, m), pixel_size=pixel_size)
+        far = bake(texture, (TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
+        out[label] = {"structure": structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio,
                       "repeat": repeat_peak(far, period=half)}
     return out
 

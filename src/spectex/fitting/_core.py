@@ -10,6 +10,7 @@ from .._results import AsDict
 from .._validate import check_float, check_image, check_int
 from ..analysis import cross_scale
 from ..color import luma
+from ..render.cpu import bake
 
 #: Smallest exemplar side: two octave bands of 4 cycles and the cross-scale pairs need 32 pixels.
 MIN_SIZE = 32
@@ -267,13 +268,13 @@ class _Problem:
     def bakes(self, colour, alpha, *, extra=True):
         """Bakes of the regions at the pixel size, then (``extra``) the coarser ones for the bands."""
         tex = self.texture(colour, alpha)
-        out = [tex.bake(self.region, origin=o, pixel_size=self.p) for o in self.origins]
+        out = [bake(tex, self.region, origin=o, pixel_size=self.p) for o in self.origins]
         if not extra:
             return out
         if self.coarse is not None:
-            out.append(tex.bake(self.coarse[0], pixel_size=2.0 * self.p))
+            out.append(bake(tex, self.coarse[0], pixel_size=2.0 * self.p))
         if self.cont is not None:
-            out.append(tex.bake((128, 128), pixel_size=self.cont[0] * self.p))
+            out.append(bake(tex, (128, 128), pixel_size=self.cont[0] * self.p))
         return out
 
     def fine_bakes(self, bakes):
@@ -299,7 +300,7 @@ class _Problem:
     def bakes_first(self, colour, alpha):
         """The exemplar's own region only (for the alpha-gain search)."""
         tex = self.texture(colour, alpha)
-        return [tex.bake(self.region, origin=self.origins[0], pixel_size=self.p)]
+        return [bake(tex, self.region, origin=self.origins[0], pixel_size=self.p)]
 
     def cross(self, bakes):
         return float(np.mean([cross_scale(b, fine=self.fine).value for b in self.fine_bakes(bakes)]))
@@ -379,7 +380,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     :func:`prepare_exemplar`: grey becomes RGB, alpha is dropped, huge
     images are cropped).
 
-    With ``bake``, a bake of the texture already made (``texture.bake(...)``
+    With ``bake``, a bake of the texture already made (``bake(texture, ...)``
     at the exemplar's ``pixel_size``, at least the exemplar's size), that is
     compared instead, and ``origin`` and ``scale`` are not used: ``spectex
     fit`` reports on the render of 8x the area it shows this way.
@@ -418,7 +419,9 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     h, w = exemplar.shape[:2]
     if bake is None:
         scale = check_int("scale", scale, minimum=1, maximum=8)
-        bake = texture.bake((scale * h, scale * w), origin=origin, pixel_size=pixel_size)
+        from ..render.cpu import bake as bake_region
+
+        bake = bake_region(texture, (scale * h, scale * w), origin=origin, pixel_size=pixel_size)
     else:
         bake = check_image("bake", bake, channels=(3,))
         if bake.shape[0] < h or bake.shape[1] < w:
@@ -436,7 +439,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         structure = structure_far = None
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
-        view = texture.bake((h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
+        view = bake(texture, (h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
         try:
             coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
         except ValueError:  # a view too small to show any magnification: nothing measured

@@ -13,9 +13,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..shading.camera import Atmosphere, Camera, check_size
-from ._defaults import DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY
+from .cpu import MAX_BAKE_PIXELS, bake, bake_layers
 
-__all__ = ["Camera", "Atmosphere", "check_size", "render", "RenderResult", "DEFAULT_ANISOTROPY"]
+__all__ = ["Camera", "Atmosphere", "check_size", "render", "RenderResult", "DEFAULT_ANISOTROPY", "bake", "bake_layers",
+           "MAX_BAKE_PIXELS"]
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from ..shading.camera import Atmosphere, Camera
-from ._defaults import DEFAULT_ANISOTROPY
+from ..shading.constants import DEFAULT_ANISOTROPY
 
 __all__ = ["NoDisplay", "check_display", "run_viewer", "Flight"]
 

@@ -1,8 +1,10 @@
 """The shading core: how a spectral texture is sampled, composited and seen.
 
 One home for the shading specification (``docs/sampling.md``), below the
-data model (``spectex.texture``) and the renderers (``spectex.render``),
-which call down into it; nothing here imports anything above.
+renderers (``spectex.render``), which call down into it. It reads textures
+(``spectex.texture``: plain data, which imports nothing from here but the
+leaf ``shading.constants``) through their attributes and ``Layer.matrix``,
+without importing them; nothing here imports anything above.
 
 ========================  ================================================
 module                    what lives there
@@ -10,6 +12,8 @@ module                    what lives there
 ``shading.constants``     the one table of codes and constants (blends,
                           tilings, filters, wraps, sky and haze, limits)
 ``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
+``shading.resources``     derived data of a texture (mip levels, texel
+                          stores, stochastic tables), cached by content
 ``shading.tables``        a texture as one typed structure for the kernels
                           and the shader (:class:`ShadingTables`)
 ``shading._layers``       a layer's sample and blend, per point and per row (6)
@@ -31,9 +35,9 @@ from __future__ import annotations
 from . import constants
 
 __all__ = ["constants", "Camera", "Atmosphere", "ViewParams", "view_params", "check_size", "MAX_RENDER_PIXELS",
-           "ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+           "ShadingTables", "pack", "anchor_coords"]
 
-_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables", "layer_matrix": "tables",
+_LAZY = {"ShadingTables": "tables", "pack": "tables", "anchor_coords": "tables",
          "Camera": "camera", "Atmosphere": "camera", "ViewParams": "camera", "view_params": "camera",
          "check_size": "camera", "MAX_RENDER_PIXELS": "camera"}
 

@@ -48,6 +48,7 @@ import numba
 import numpy as np
 
 from .._validate import check_choice, check_float, check_image
+from ..tiles.mipmap import gl_level_shapes, quantize
 from .constants import (
     DEFAULT_MAX_LOD,
     DEFAULT_MIN_LOD,
@@ -93,31 +94,6 @@ def wrap_code(name: str, value) -> int:
     if isinstance(value, str):
         value = value.lower()
     return WRAP_MODES.index(check_choice(name, value, WRAP_MODES))
-
-
-def gl_level_shapes(height: int, width: int) -> list[tuple[int, int]]:
-    """The mip level shapes OpenGL allocates for a base level of ``height x width``.
-
-    Each level halves both sides, rounding down, never below 1, down to 1 x 1.
-    """
-    shapes = [(int(height), int(width))]
-    while shapes[-1] != (1, 1):
-        h, w = shapes[-1]
-        shapes.append((max(1, h // 2), max(1, w // 2)))
-    return shapes
-
-
-def quantize(image: np.ndarray, bits: int | None) -> np.ndarray:
-    """Quantise ``image`` in [0, 1] to ``bits`` per channel, as a UNORM texture stores it.
-
-    ``round(clip(v, 0, 1) * (2**bits - 1)) / (2**bits - 1)``; ``None`` returns
-    a float32 copy unchanged.
-    """
-    image = np.asarray(image, dtype=np.float32)
-    if bits is None:
-        return image.copy()
-    top = np.float32(2 ** bits - 1)
-    return (np.floor(np.clip(image, 0.0, 1.0) * top + np.float32(0.5)) / top).astype(np.float32)
 
 
 def default_mip_chain(image: np.ndarray) -> list[np.ndarray]:

@@ -71,6 +71,7 @@ __all__ = [
     "GAUSS_SCALE",
     "LUT_SIZE",
     "StochasticTables",
+    "snap_counts",
     "stochastic_tables",
     "gaussianize",
     "decorrelation",
@@ -78,7 +79,6 @@ __all__ = [
     "triangle_grid_matrix",
     "lowbias32",
     "layer_key",
-    "snap_counts",
     "expand_lut",
     "sample_stochastic_grad",
     "sample_stochastic_at_lod",
@@ -86,17 +86,6 @@ __all__ = [
 
 #: ``sqrt(3)``: the height of an equilateral triangle of side 2.
 _SQRT3 = math.sqrt(3.0)
-
-
-def snap_counts(snap, tile_shape) -> tuple[float, float]:
-    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
-
-    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
-    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
-    texels, as without snapping.
-    """
-    h, w = int(tile_shape[0]), int(tile_shape[1])
-    return float(snap[0] or w), float(snap[1] or h)
 
 
 def triangle_grid_matrix(patch: float) -> np.ndarray:
@@ -243,6 +232,17 @@ class StochasticTables:
         return MipTexture(self.gaussian, bits=None, **kwargs)
 
 
+def snap_counts(snap, tile_shape) -> tuple[float, float]:
+    """What a stochastic layer's patch offsets are snapped to, as counts per tile along s and t.
+
+    ``snap = (nx, ny)`` (``Layer.snap``); an axis with 0 gets the tile's
+    level-0 width or height (``tile_shape = (h, w)``): offsets in whole
+    texels, as without snapping.
+    """
+    h, w = int(tile_shape[0]), int(tile_shape[1])
+    return float(snap[0] or w), float(snap[1] or h)
+
+
 def expand_lut(lut: np.ndarray) -> np.ndarray:
     """Per-level tables ``(levels, LUT_SIZE, 4)`` with ``LUT_SUBROWS`` rows per level step, as sampled.
 
@@ -366,7 +366,7 @@ def vertex_offset(i, j, key, w0, h0, nx, ny):
     of the ``w0 x h0`` level 0 into the tile (integer division), so that a
     patch's texels fall where the un-offset tile's would: a bake on the
     texel grid samples texel centres, unblurred. ``nx, ny`` are the
-    layer's snap counts (``snap_counts``): ``Layer.snap``'s whole
+    layer's snap counts (:func:`snap_counts`): ``Layer.snap``'s whole
     structure periods, or ``w0, h0`` (every texel) without snapping. All in
     integers, so every renderer computes the same offsets exactly.
     """
@@ -605,7 +605,6 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="t
     if not isinstance(tables, StochasticTables):
         raise TypeError(f"tables must be StochasticTables, got {type(tables).__name__}")
     from .._validate import check_snap
-
     grid = triangle_grid_matrix(patch)
     key = layer_key(seed)
     nx, ny = snap_counts(check_snap("snap", snap), tables.gaussian[0].shape[:2])

@@ -32,9 +32,10 @@ from .constants import (
     TILINGS,
     WRAP_REPEAT,
 )
+from .resources import mean_colours, stochastic_store, stochastic_tables, texel_store
 from .sampler import filter_code
 
-__all__ = ["ShadingTables", "pack", "anchor_coords", "layer_matrix"]
+__all__ = ["ShadingTables", "pack", "anchor_coords"]
 
 
 class ShadingTables(NamedTuple):
@@ -43,7 +44,7 @@ class ShadingTables(NamedTuple):
     Per-layer arrays have one entry per layer ``k`` in drawing order.
     """
 
-    data: np.ndarray       #: (N, 4) float32: every tile's mip levels, RGBA (``SpectralTexture.texel_store``)
+    data: np.ndarray       #: (N, 4) float32: every tile's mip levels, RGBA (``spectex.shading.resources.texel_store``)
     flat: np.ndarray       #: (4 N,) float32: the same texels as one flat array (the fast path's view)
     stride: int            #: rows of ``data`` per tile
     offsets: np.ndarray    #: (levels,) int64: first row of each mip level within a tile
@@ -58,7 +59,7 @@ class ShadingTables(NamedTuple):
     min_lod: float
     max_lod: float
     tile: np.ndarray       #: (L,) int64: the layer's tile
-    mats: np.ndarray       #: (L, 2, 2) float64: world metres -> tile coordinates (``layer_matrix``)
+    mats: np.ndarray       #: (L, 2, 2) float64: world metres -> tile coordinates (each layer's ``matrix()``)
     blend: np.ndarray      #: (L,) int64: ``constants.BLEND_*``; ``BLEND_FIRST`` for the first enabled layer
     tiling: np.ndarray     #: (L,) int64: ``constants.TILING_*``
     mean: np.ndarray       #: (L, 3) float64: mean colour of the layer's tile (its 1 x 1 level)
@@ -81,16 +82,6 @@ class ShadingTables(NamedTuple):
     origin: np.ndarray     #: (L, 3) float64
 
 
-def layer_matrix(size: float, rotation: float) -> np.ndarray:
-    """The 2 x 2 map from world displacement (metres) to tile coordinates (s, t).
-
-    ``M = R(-rotation) / size`` (rotation in degrees, counter-clockwise).
-    """
-    th = math.radians(rotation)
-    c, s = math.cos(th), math.sin(th)
-    return np.array([[c, s], [-s, c]], dtype=np.float64) / size
-
-
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
     """Per layer, where world point ``(x0, y0)`` is in the layer's tile and grid, ``(L, 6)``.
 
@@ -106,7 +97,7 @@ def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
     """
     out = np.zeros((len(layers), 6), dtype=np.float64)
     for k, layer in enumerate(layers):
-        m = layer_matrix(layer.size, layer.rotation)
+        m = layer.matrix()
         dx = float(x0) - layer.offset[0]
         dy = float(y0) - layer.offset[1]
         s = m[0, 0] * dx + m[0, 1] * dy
@@ -149,7 +140,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     enabled = [bool(e) for e in enabled]
     if len(enabled) != n:
         raise ValueError(f"enabled must have one flag per layer ({n}), got {len(enabled)}")
-    data, stride, offsets, widths, heights = texture.texel_store(mipmaps=mipmaps)
+    data, stride, offsets, widths, heights = texel_store(texture, mipmaps=mipmaps)
     tile = np.array([layer.tile for layer in layers], dtype=np.int64)
     blend = np.array([BLENDS.index(layer.blend) for layer in layers], dtype=np.int64)
     if any(enabled):
@@ -168,8 +159,8 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     if np.any(tiling == TILING_STOCHASTIC):
         from .stochastic import layer_key, snap_counts, triangle_grid_matrix
 
-        gauss, lut, lut_rows = texture.stochastic_store(mipmaps=mipmaps)
-        stoch = texture.stochastic_tables()
+        gauss, lut, lut_rows = stochastic_store(texture, mipmaps=mipmaps)
+        stoch = stochastic_tables(texture)
         for k, layer in enumerate(layers):
             if tiling[k] == TILING_STOCHASTIC:
                 grid[k] = triangle_grid_matrix(layer.patch)
@@ -185,8 +176,8 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
         wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
         min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile,
-        mats=np.stack([layer_matrix(layer.size, layer.rotation) for layer in layers]).astype(np.float64),
-        blend=blend, tiling=tiling, mean=np.ascontiguousarray(texture.mean_colours()[tile], dtype=np.float64),
+        mats=np.stack([layer.matrix() for layer in layers]).astype(np.float64),
+        blend=blend, tiling=tiling, mean=np.ascontiguousarray(mean_colours(texture)[tile], dtype=np.float64),
         opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
         on=np.array(enabled, dtype=np.int64),
         lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),

@@ -5,7 +5,7 @@ the ground and the footprint there (:func:`_ground_footprint`), the haze and
 the sky (:func:`_haze`, :func:`_sky`), and the kernels that put a picture
 together from them and the layer compositing of ``shading._layers``:
 
-* :func:`bake_kernel`: a top-down orthographic view (``SpectralTexture.bake``);
+* :func:`bake_kernel`: a top-down orthographic view (``spectex.render.bake``);
 * :func:`render_kernel`: a perspective view, any sampler state;
 * :func:`render_kernel_fast`: the same for the fast path's sampler state
   (section 10), organised per row so that LLVM vectorises it.
@@ -25,7 +25,7 @@ import numpy as np
 from ._layers import shade_ground, shade_row
 from .constants import LOD_FLOOR, SKY_FALLOFF
 
-#: The renderers' entry points (``texture.bake``, ``bake``, ``render.cpu``); the per-pixel steps are private.
+#: The renderers' entry points (``spectex.render.bake``, ``bake``, ``render.cpu``); the per-pixel steps are private.
 __all__ = ["bake_kernel", "render_kernel", "render_kernel_fast", "row_order"]
 
 _jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")

@@ -127,19 +127,19 @@ def _new_side(diff, known):
             for j in range(path[i]):
                 new[i, j] = False
     if known[0, :].all():  # top
-        h = _side_width(known[:, mid])
+        h = _side_width(np.ascontiguousarray(known[:, mid]))
         path = min_cut_path(diff[:h, :].T.copy())
         for j in range(b):
             for i in range(path[j]):
                 new[i, j] = False
     if known[:, b - 1].all():  # right (tileable quilts)
-        w = _side_width(known[mid, ::-1])
+        w = _side_width(np.ascontiguousarray(known[mid, ::-1]))
         path = min_cut_path(diff[:, b - w:].copy())
         for i in range(b):
             for j in range(b - w + path[i] + 1, b):
                 new[i, j] = False
     if known[b - 1, :].all():  # bottom (tileable quilts)
-        h = _side_width(known[::-1, mid])
+        h = _side_width(np.ascontiguousarray(known[::-1, mid]))
         path = min_cut_path(diff[b - h:, :].T.copy())
         for j in range(b):
             for i in range(b - h + path[j] + 1, b):
@@ -176,10 +176,11 @@ def place_block(err, boxes, tolerance, u, view, known, ex):
         (its width measured along the middle of the edge); pixels on the new
         side of every cut, and all pixels not filled before, are pasted.
     """
-    # The kernel always sees a C-contiguous block: a slice of the canvas and a wrapped
-    # (copied) block would otherwise be two array layouts, two compilations of the kernel.
+    # The kernel always sees C-contiguous arrays: a slice of the canvas and a wrapped (copied)
+    # block, or a sliced and a whole error map, would otherwise be two array layouts, two
+    # compilations of the kernel (on a clean clone, each is seconds of the first run).
     block = np.ascontiguousarray(view)
-    sy, sx = _place_block(err, boxes, tolerance, u, block, known, ex)
+    sy, sx = _place_block(np.ascontiguousarray(err), boxes, tolerance, u, block, known, ex)
     if block is not view:
         view[...] = block
     return sy, sx

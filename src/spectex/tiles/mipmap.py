@@ -14,7 +14,7 @@ import numpy as np
 from .._validate import check_choice, check_image
 from ..color import linear_to_srgb, srgb_to_linear
 
-__all__ = ["mip_chain"]
+__all__ = ["gl_level_shapes", "mip_chain", "quantize"]
 
 
 def _reduce_matrix(n: int) -> np.ndarray:
@@ -112,3 +112,28 @@ def mip_chain(tile, *, space: str = "stored") -> list[np.ndarray]:
         chain.append(nxt)
         level = nxt
     return chain
+
+
+def gl_level_shapes(height: int, width: int) -> list[tuple[int, int]]:
+    """The mip level shapes OpenGL allocates for a base level of ``height x width``.
+
+    Each level halves both sides, rounding down, never below 1, down to 1 x 1.
+    """
+    shapes = [(int(height), int(width))]
+    while shapes[-1] != (1, 1):
+        h, w = shapes[-1]
+        shapes.append((max(1, h // 2), max(1, w // 2)))
+    return shapes
+
+
+def quantize(image: np.ndarray, bits: int | None) -> np.ndarray:
+    """Quantise ``image`` in [0, 1] to ``bits`` per channel, as a UNORM texture stores it.
+
+    ``round(clip(v, 0, 1) * (2**bits - 1)) / (2**bits - 1)``; ``None`` returns
+    a float32 copy unchanged.
+    """
+    image = np.asarray(image, dtype=np.float32)
+    if bits is None:
+        return image.copy()
+    top = np.float32(2 ** bits - 1)
+    return (np.floor(np.clip(image, 0.0, 1.0) * top + np.float32(0.5)) / top).astype(np.float32)

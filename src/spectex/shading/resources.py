@@ -1,0 +1,183 @@
+"""Derived data of a spectral texture, made once and kept for the renderers.
+
+A :class:`spectex.SpectralTexture` is plain data: tiles, layers, bits. What
+the samplers, the kernels and the shaders read is derived from its tiles and
+lives here, as plain functions of a texture:
+
+========================  ===============================================
+function                  what it gives
+========================  ===============================================
+:func:`mip_levels`        per tile, its mip chain quantised to the bits
+:func:`mean_colours`      per tile, the mean RGB (its 1 x 1 level)
+:func:`texel_store`       every tile's levels as one array (the kernels')
+:func:`stochastic_tables` per tile, its stochastic tiling's tables
+:func:`stochastic_store`  the Gaussianised levels and expanded look-up
+                          tables as one array each (the kernels')
+========================  ===============================================
+
+Caching. The results depend on the tiles' texels and the texture's bits
+only (not on the layers), so they are kept in one small least-recently-used
+cache of this module, keyed on content: a BLAKE2 digest of each tile's
+texels (taken once per tile array, remembered while the array lives) and
+the bits. Textures with the same tiles share their entries (a fit builds
+many textures over one tile), a texture that is dropped leaves at most the
+last :data:`KEPT` entries behind, and nothing is stored on the texture.
+The renderers (``render.cpu``, ``render.gl``, the bakes and the exports)
+read through this cache; :func:`clear_cache` empties it. Like the texture,
+the cache takes a texture's tile arrays as never changing once made; the
+returned arrays are shared between callers and must not be written to.
+The cache is guarded by a lock, for the threads of a Dask bake.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+import weakref
+from collections import OrderedDict
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["KEPT", "StochasticStore", "TexelStore", "clear_cache", "mean_colours", "mip_levels", "stochastic_store",
+           "stochastic_tables", "texel_store", "tile_digest"]
+
+#: Entries kept (a tile's levels, a tile's stochastic tables, a texture's store: one entry each).
+KEPT = 16
+
+_LOCK = threading.RLock()
+_CACHE: OrderedDict = OrderedDict()  # key -> value, most recently used last
+_DIGESTS: dict[int, tuple[weakref.ref, bytes]] = {}  # id(tile) -> (a weak reference to it, its digest)
+
+
+class TexelStore(NamedTuple):
+    """Every tile's levels as one array, as the kernels and the GL renderer read them."""
+
+    data: np.ndarray      #: (N, 4) float32 RGBA
+    stride: int           #: rows per tile: tile ``i``'s level ``d`` starts at row ``i * stride + offsets[d]``
+    offsets: np.ndarray   #: (levels,) int64
+    widths: np.ndarray    #: (levels,) int64
+    heights: np.ndarray   #: (levels,) int64
+
+
+class StochasticStore(NamedTuple):
+    """The stochastic layers' texels as the kernels take them."""
+
+    gauss: np.ndarray     #: every tile's Gaussianised levels, laid out as :attr:`TexelStore.data`
+    lut: np.ndarray       #: (tiles * lut_rows, LUT_SIZE, 4) float32, tile ``i``'s expanded table from ``i * lut_rows``
+    lut_rows: int
+
+
+def clear_cache() -> None:
+    """Drop every kept entry (the next call of each function rebuilds what it needs)."""
+    with _LOCK:
+        _CACHE.clear()
+
+
+def tile_digest(tile: np.ndarray) -> bytes:
+    """A 16-byte BLAKE2 digest of a tile's shape, dtype and texels, taken once per array object."""
+    with _LOCK:
+        entry = _DIGESTS.get(id(tile))
+        if entry is not None and entry[0]() is tile:
+            return entry[1]
+    digest = hashlib.blake2b(repr((tile.shape, tile.dtype.str)).encode(), digest_size=16)
+    digest.update(np.ascontiguousarray(tile).data)
+    value = digest.digest()
+    key = id(tile)
+
+    def forget(ref, key=key):
+        with _LOCK:
+            if _DIGESTS.get(key, (None,))[0] is ref:
+                del _DIGESTS[key]
+
+    with _LOCK:
+        _DIGESTS[key] = (weakref.ref(tile, forget), value)
+    return value
+
+
+def _kept(key, make):
+    """The cached value of ``key``, made by ``make()`` on a miss (under the lock: made once)."""
+    with _LOCK:
+        value = _CACHE.pop(key, None)
+        if value is None:
+            value = make()
+        _CACHE[key] = value
+        while len(_CACHE) > KEPT:
+            _CACHE.popitem(last=False)
+        return value
+
+
+def _tile_levels(tile: np.ndarray, bits) -> list[np.ndarray]:
+    from ..tiles.mipmap import quantize
+    from .sampler import default_mip_chain
+
+    return _kept(("levels", tile_digest(tile), bits),
+                 lambda: [quantize(level, bits) for level in default_mip_chain(tile)])
+
+
+def mip_levels(texture) -> list[list[np.ndarray]]:
+    """Per tile, its mip chain (``spectex.tiles.mip_chain``), quantised to the texture's bits.
+
+    These exact arrays are what the CPU sampler holds, what the GL renderer
+    uploads and what the exports write.
+    """
+    return [_tile_levels(tile, texture.bits) for tile in texture.tiles]
+
+
+def mean_colours(texture) -> np.ndarray:
+    """Per tile, the mean RGB, ``(tiles, 3)`` float64: its 1 x 1 mip level (the ``mu`` of the variance blend)."""
+    return np.array([levels[-1][0, 0, :3] for levels in mip_levels(texture)], dtype=np.float64)
+
+
+def _texture_key(texture) -> tuple:
+    return (texture.bits, tuple(tile_digest(tile) for tile in texture.tiles))
+
+
+def texel_store(texture, *, mipmaps=True) -> TexelStore:
+    """All tiles' texels as one :class:`TexelStore` (level 0 only with ``mipmaps=False``)."""
+    mipmaps = bool(mipmaps)
+
+    def make():
+        from .sampler import MipTexture
+
+        textures = [MipTexture(lv if mipmaps else lv[:1], bits=None) for lv in mip_levels(texture)]
+        tex = textures[0]
+        data = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
+        return TexelStore(data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
+
+    return _kept(("store", _texture_key(texture), mipmaps), make)
+
+
+def stochastic_tables(texture) -> list:
+    """Per tile, the :class:`~spectex.shading.stochastic.StochasticTables` of its stochastic tiling.
+
+    The Gaussianised tile's mip levels, the per-level inverse look-up tables
+    and the colour decorrelation: a deterministic function of the tile's
+    texels (what a file stores rebuilds them exactly).
+    """
+    from .stochastic import stochastic_tables as build
+
+    return [_kept(("tables", tile_digest(tile)), lambda tile=tile: build(tile)) for tile in texture.tiles]
+
+
+def stochastic_store(texture, *, mipmaps=True) -> StochasticStore:
+    """The stochastic layers' texels as one :class:`StochasticStore`.
+
+    ``gauss`` holds every tile's Gaussianised levels laid out exactly as
+    :func:`texel_store`'s ``data`` (level 0 only without ``mipmaps``);
+    ``lut`` every tile's expanded table
+    (``spectex.shading.stochastic.expand_lut``), ``lut_rows`` rows each.
+    """
+    mipmaps = bool(mipmaps)
+
+    def make():
+        from .sampler import MipTexture
+
+        tables = stochastic_tables(texture)
+        textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]
+        gauss = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
+        rows = [tb.expanded() for tb in tables]
+        lut = np.ascontiguousarray(np.concatenate(rows), dtype=np.float32)
+        return StochasticStore(gauss, lut, rows[0].shape[0])
+
+    return _kept(("stochastic_store", _texture_key(texture), mipmaps), make)
