@@ -302,9 +302,9 @@ def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
         assert side == kx * qx and qx == round(period[1]), (side, ky, kx, qy, qx)
         rgba = np.ones((side, side, 4), dtype=np.float32)
         rgba[:, :, :3] = tile
-        bake = SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(kx, ky))]).bake(
-            (512, 512), pixel_size=1.0 / side)
-        got[name] = _lattice_share(bake, (side / ky, side / kx))
+        baked = bake(SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(kx, ky))]),
+                     (512, 512), pixel_size=1.0 / side)
+        got[name] = _lattice_share(baked, (side / ky, side / kx))
     own = _lattice_share(photo, (30.6, 33.4))
     # the mortar stays on the lattice across patches as in the photo (measured 0.83, the photo 0.74)
     assert got["subpixel"] >= own, (own, got)
@@ -330,17 +330,17 @@ def test_fit_straightens_a_turned_wall_and_says_when_a_photo_is_in_perspective()
     side = tile.shape[0]
     qy, qx = result.params["tile_period_px"]
     kx, ky = side // qx, round(side / qy)
-    bake = SpectralTexture(tile, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(kx, ky))]).bake(
-        (512, 512), pixel_size=1.0 / side)
-    straight = _lattice_share(bake, (side / ky, side / kx))
+    baked = bake(SpectralTexture(tile, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(kx, ky))]),
+                 (512, 512), pixel_size=1.0 / side)
+    straight = _lattice_share(baked, (side / ky, side / kx))
     # control: the same wall cut without straightening (its lattice 1.7 px off per period; measured 0.02)
     period = structure_period(turned)
     crude, cside, (cky, ckx), _, _ = _period_tile(turned, period)
     rgba = np.ones((cside, cside, 4), dtype=np.float32)
     rgba[:, :, :3] = crude
-    bake = SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(ckx, cky))]).bake(
-        (512, 512), pixel_size=1.0 / cside)
-    unturned = _lattice_share(bake, (cside / cky, cside / ckx))
+    baked = bake(SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", seed=3, snap=(ckx, cky))]),
+                 (512, 512), pixel_size=1.0 / cside)
+    unturned = _lattice_share(baked, (cside / cky, cside / ckx))
     assert straight >= 0.55 and unturned <= 0.5 * straight, (straight, unturned)
     # a wall in perspective (bricks 25% longer at the bottom than the top) is said to be; a square-on
     # one is not

@@ -252,34 +252,35 @@ def _straightened(exemplar, angle):
 def _straighten_structure(exemplar, structure, notes):
     """A structured photo turned a few degrees off its lines straightened, and one in perspective noted.
 
-    Returns ``(exemplar, angle, drift)``: the photo (straightened by
-    :func:`_straightened` where ``STRAIGHTEN_MIN < |angle| <=
-    STRAIGHTEN_MAX``), its structure's angle and the largest difference of
-    its halves' angles (left and right, top and bottom; degrees, None where
-    the photo is not structured). The notes say what was done, and when the
-    drift is over ``PERSPECTIVE_DRIFT`` that the photo is in perspective
-    and its structure cannot be kept whole.
+    Returns ``(exemplar, angle, drift)``: the photo, its structure's angle
+    and the largest difference of its halves' angles (left and right, top
+    and bottom; degrees, None where the photo is not structured). Where the
+    drift is over ``PERSPECTIVE_DRIFT`` the notes say the photo is in
+    perspective and its structure cannot be kept whole (it is not turned);
+    else where ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` it is
+    straightened (:func:`_straightened`) and the notes say so.
     """
     h, w = exemplar.shape[:2]
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None
     angle = structure_orientation(exemplar)
-    if STRAIGHTEN_MIN < abs(angle) <= STRAIGHTEN_MAX:
+    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
+    drift = max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
+    if drift > PERSPECTIVE_DRIFT:
+        # lines that fan out are not made parallel by one turn: the photo is left as it is
+        notes.append(f"the photo looks to be in perspective (its structure's lines turn by {drift:.1f} degrees "
+                     "across it): patches cut from its sides meet at breaks, the structure is not kept whole; "
+                     "photograph it square-on")
+    elif STRAIGHTEN_MIN < abs(angle) <= STRAIGHTEN_MAX:
         # a photo of a wall taken a few degrees off its lines: the structure straightened first, so that
-        # its period is one along x and y and the tile's wrap meets itself
-        # the gradients' vote is biased towards the axes (the pixel grid's own edges): measured again on
-        # the straightened photo, the rest (2.6 then 0.3 of a 3-degree turn) added, from the original
+        # its period is one along x and y and the tile's wrap meets itself. The gradients' vote is biased
+        # towards the axes (the pixel grid's own edges): measured again on the straightened photo, the
+        # rest (2.6 then 0.3 of a 3-degree turn) added, from the original
         angle += structure_orientation(_straightened(exemplar, angle))
         exemplar = _straightened(exemplar, angle)
         h, w = exemplar.shape[:2]
         notes.append(f"turned the photo by {-angle:.1f} degrees to straighten its structure "
                      f"(cropped to {h} x {w} px)")
-    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
-    drift = max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
-    if drift > PERSPECTIVE_DRIFT:
-        notes.append(f"the photo looks to be in perspective (its structure's lines turn by {drift:.1f} degrees "
-                     "across it): patches cut from its sides meet at breaks, the structure is not kept whole; "
-                     "photograph it square-on")
     return exemplar, angle, drift
 
 
