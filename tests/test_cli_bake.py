@@ -49,10 +49,16 @@ def test_cli_bake_writes_the_pyramid_and_resumes_nothing_twice(texture_file, tmp
     assert snapshot(out) == before
 
 
+def _terminal_sigint():
+    """In the child: SIGINT's default, as a terminal gives it (a suite started as a background job
+    or under nohup hands its children an ignored SIGINT, and the bake would never see the signal)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _run_cli(args, **kw):
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1] / "src"))
     return subprocess.Popen([sys.executable, "-m", "spectex", "bake", *args], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, **kw)
+                            stderr=subprocess.PIPE, text=True, preexec_fn=_terminal_sigint, **kw)
 
 
 #: A bake of 400 shards on one thread: long enough (seconds) to be stopped in the middle.

@@ -417,10 +417,10 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 
     exemplar, _ = prepare_exemplar(image)
     h, w = exemplar.shape[:2]
+    from ..render.cpu import bake as bake_region  # the parameter ``bake`` hides the module's name
+
     if bake is None:
         scale = check_int("scale", scale, minimum=1, maximum=8)
-        from ..render.cpu import bake as bake_region
-
         bake = bake_region(texture, (scale * h, scale * w), origin=origin, pixel_size=pixel_size)
     else:
         bake = check_image("bake", bake, channels=(3,))
@@ -439,7 +439,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         structure = structure_far = None
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
-        view = bake(texture, (h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
+        view = bake_region(texture, (h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
         try:
             coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
         except ValueError:  # a view too small to show any magnification: nothing measured
