@@ -208,8 +208,6 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
     .. [1] A. A. Efros and W. T. Freeman, "Image quilting for texture
        synthesis and transfer", SIGGRAPH 2001, pp. 341-346.
     """
-    import scipy.fft as sfft
-
     from ._cut import place_block
 
     ex = check_image("exemplar", exemplar, unit=True)
@@ -222,94 +220,32 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                                                   channels=1 if ex.ndim == 2 else ex.shape[2])
     grey = ex.ndim == 2
     e3 = np.ascontiguousarray(ex[:, :, None] if grey else ex)
-    nch = e3.shape[2]
-
     ys, canvas_h = _layout(out_h, block, overlap, tileable, "height")
     xs, canvas_w = _layout(out_w, block, overlap, tileable, "width")
-
-    # Exemplar spectra, once: FFT size padded to a fast length.
-    fh = sfft.next_fast_len(eh, real=True)
-    fw = sfft.next_fast_len(ew, real=True)
-    e_chw = np.ascontiguousarray(np.moveaxis(e3, 2, 0), dtype=np.float32)
-    f_ex = sfft.rfft2(e_chw, s=(fh, fw), axes=(1, 2))
-    f_sq = sfft.rfft2(np.sum(e_chw.astype(np.float64) ** 2, axis=0).astype(np.float32), s=(fh, fw))
-    ph, pw = eh - block + 1, ew - block + 1  # candidate positions
-    mask_terms: dict[bytes, np.ndarray] = {}
-    radius = max(1, overlap // 2)
-
-    canvas = np.zeros((canvas_h, canvas_w, nch), dtype=np.float32)
+    spectra = _ExemplarSpectra(e3, block)
+    ph, pw = spectra.positions
+    canvas = np.zeros((canvas_h, canvas_w, e3.shape[2]), dtype=np.float32)
     filled = np.zeros((canvas_h, canvas_w), dtype=bool)
     sources = {}
     ny, nx = len(ys), len(xs)
     total = ny * nx
-    offsets = np.arange(block)
-    mask_pad = np.zeros((fh, fw), dtype=np.float32)
     first = (int(rng.integers(ph)), int(rng.integers(pw)))
     uniform = rng.random((ny, nx))  # one draw per block, whatever the order of work
     workers = _workers()
-
-    # Block (i, j) depends on its left, upper and upper-right neighbours (the
-    # last overlaps its top-right corner), so the blocks with the same
-    # 2 i + j are independent when overlap < block / 2: their errors are
-    # computed in one batch of transforms. Tileable quilts (whose last blocks
-    # depend on the first ones) and wide overlaps go block by block.
-    # Without batching, the same order one block at a time (the reuse penalty depends on the order).
-    if not tileable and 2 * overlap < block:
-        waves = [[(i, t - 2 * i) for i in range(ny) if 0 <= t - 2 * i < nx] for t in range(2 * (ny - 1) + nx)]
-        if not _BATCH:
-            waves = [[item] for wave in waves for item in wave]
-    else:
-        waves = [[(i, j)] for i in range(ny) for j in range(nx)]
     uses = np.zeros((ph, pw), dtype=np.float32) if reuse > 0 else None
     half = block // 2
     done = 0
-    for wave in waves:
-        items = []
-        for (i, j) in wave:
-            y0, x0 = int(ys[i]), int(xs[j])
-            if y0 + block > canvas_h or x0 + block > canvas_w:  # tileable: across the wrap edge
-                ix = np.ix_((y0 + offsets) % canvas_h, (x0 + offsets) % canvas_w)
-                view, fview = canvas[ix], filled[ix]
-            else:
-                ix = None
-                view = canvas[y0:y0 + block, x0:x0 + block]
-                fview = filled[y0:y0 + block, x0:x0 + block]
-            items.append((i, j, y0, x0, ix, view, fview, fview.copy()))
-        need = [it for it in items if it[7].any()]
-        errors = {}
-        if need:
-            terms = []
-            for it in need:
-                key = it[7].tobytes()
-                term = mask_terms.get(key)
-                if term is None:
-                    mask_pad[:block, :block] = it[7]
-                    term = f_sq * np.conj(sfft.rfft2(mask_pad))
-                    mask_terms[key] = term
-                terms.append(term)
-            masked = np.stack([it[5] * it[7][:, :, None] for it in need])
-            errs = _overlap_errors(f_ex, np.stack(terms), masked, (fh, fw), (ph, pw),
-                                   workers if len(need) > 1 else 1)
-            errors = {(it[0], it[1]): e for it, e in zip(need, errs)}
+    for wave in _waves(ny, nx, tileable, overlap, block):
+        items = [_block_view(i, j, ys, xs, canvas, filled, block) for (i, j) in wave]
+        errors = spectra.overlap_errors([it for it in items if it[7].any()], workers)
         for (i, j, y0, x0, ix, view, fview, known) in items:
             err = errors.get((i, j))
             if err is None:
                 sy, sx = first
                 view[...] = e3[sy:sy + block, sx:sx + block]
             else:
-                # boxes of candidates that continue a neighbour verbatim: left
-                # out of the best error, kept as candidates
-                neighbours = [(i, j - 1), (i - 1, j)]
-                if tileable:
-                    neighbours += [(i, (j + 1) % nx), ((i + 1) % ny, j)]
-                boxes = []
-                for (ni, nj) in neighbours:
-                    if (ni, nj) in sources and (ni, nj) != (i, j):
-                        box = _continuation_box(sources[(ni, nj)], (ys[ni], xs[nj]), (y0, x0),
-                                                canvas_h, canvas_w, radius, ph, pw)
-                        if box is not None:
-                            boxes.append(box)
-                boxes = np.array(boxes, dtype=np.int64).reshape(-1, 4)
+                boxes = _neighbour_boxes(i, j, y0, x0, ys, xs, sources, tileable, (canvas_h, canvas_w),
+                                         max(1, overlap // 2), (ph, pw))
                 if uses is not None and uses.any():
                     scale = float(np.percentile(err, 1.0))
                     err = err + np.float32(reuse * max(scale, 1e-12)) * uses
@@ -326,3 +262,102 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
                 progress(done, total)
     out = canvas[:out_h, :out_w]
     return np.ascontiguousarray(out[:, :, 0] if grey else out)
+
+
+class _ExemplarSpectra:
+    """The exemplar's transforms, made once per quilt, and the overlap errors of blocks against it.
+
+    The FFT size is padded to a fast length; the mask terms (``sum M E^2``
+    for each overlap mask ``M``) are kept per mask shape.
+    """
+
+    def __init__(self, e3, block):
+        import scipy.fft as sfft
+
+        eh, ew = e3.shape[:2]
+        self.block = block
+        self.size = (sfft.next_fast_len(eh, real=True), sfft.next_fast_len(ew, real=True))
+        e_chw = np.ascontiguousarray(np.moveaxis(e3, 2, 0), dtype=np.float32)
+        self.f_ex = sfft.rfft2(e_chw, s=self.size, axes=(1, 2))
+        self.f_sq = sfft.rfft2(np.sum(e_chw.astype(np.float64) ** 2, axis=0).astype(np.float32), s=self.size)
+        self.positions = (eh - block + 1, ew - block + 1)  # candidate positions
+        self.mask_terms: dict[bytes, np.ndarray] = {}
+        self.mask_pad = np.zeros(self.size, dtype=np.float32)
+
+    def overlap_errors(self, need, workers):
+        """``{(i, j): errors}`` for the blocks ``need`` (items of :func:`_block_view` with a known part)."""
+        import scipy.fft as sfft
+
+        if not need:
+            return {}
+        terms = []
+        for it in need:
+            key = it[7].tobytes()
+            term = self.mask_terms.get(key)
+            if term is None:
+                self.mask_pad[:self.block, :self.block] = it[7]
+                term = self.f_sq * np.conj(sfft.rfft2(self.mask_pad))
+                self.mask_terms[key] = term
+            terms.append(term)
+        masked = np.stack([it[5] * it[7][:, :, None] for it in need])
+        errs = _overlap_errors(self.f_ex, np.stack(terms), masked, self.size, self.positions,
+                               workers if len(need) > 1 else 1)
+        return {(it[0], it[1]): e for it, e in zip(need, errs)}
+
+
+def _waves(ny, nx, tileable, overlap, block):
+    """The blocks in groups that can be matched together, in order.
+
+    Block (i, j) depends on its left, upper and upper-right neighbours (the
+    last overlaps its top-right corner), so the blocks with the same
+    ``2 i + j`` are independent when overlap < block / 2: their errors are
+    computed in one batch of transforms. Tileable quilts (whose last blocks
+    depend on the first ones) and wide overlaps go block by block. Without
+    batching, the same order one block at a time (the reuse penalty depends
+    on the order).
+    """
+    if not tileable and 2 * overlap < block:
+        waves = [[(i, t - 2 * i) for i in range(ny) if 0 <= t - 2 * i < nx] for t in range(2 * (ny - 1) + nx)]
+        if not _BATCH:
+            waves = [[item] for wave in waves for item in wave]
+        return waves
+    return [[(i, j)] for i in range(ny) for j in range(nx)]
+
+
+def _block_view(i, j, ys, xs, canvas, filled, block):
+    """Block (i, j)'s place: ``(i, j, y0, x0, ix, view, filled view, known)``.
+
+    ``ix`` is the wrapped index (a tileable quilt's block across the wrap
+    edge; ``view`` is then a copy to write back) or None (``view`` is a view
+    of the canvas); ``known`` a copy of the filled mask before the block.
+    """
+    canvas_h, canvas_w = filled.shape
+    y0, x0 = int(ys[i]), int(xs[j])
+    if y0 + block > canvas_h or x0 + block > canvas_w:  # tileable: across the wrap edge
+        offsets = np.arange(block)
+        ix = np.ix_((y0 + offsets) % canvas_h, (x0 + offsets) % canvas_w)
+        view, fview = canvas[ix], filled[ix]
+    else:
+        ix = None
+        view = canvas[y0:y0 + block, x0:x0 + block]
+        fview = filled[y0:y0 + block, x0:x0 + block]
+    return (i, j, y0, x0, ix, view, fview, fview.copy())
+
+
+def _neighbour_boxes(i, j, y0, x0, ys, xs, sources, tileable, canvas_shape, radius, positions):
+    """Boxes of candidates that continue a placed neighbour verbatim, ``(n, 4)`` int64.
+
+    They are left out of the best error and kept as candidates (see :func:`quilt`).
+    """
+    ny, nx = len(ys), len(xs)
+    neighbours = [(i, j - 1), (i - 1, j)]
+    if tileable:
+        neighbours += [(i, (j + 1) % nx), ((i + 1) % ny, j)]
+    boxes = []
+    for (ni, nj) in neighbours:
+        if (ni, nj) in sources and (ni, nj) != (i, j):
+            box = _continuation_box(sources[(ni, nj)], (ys[ni], xs[nj]), (y0, x0), canvas_shape[0],
+                                    canvas_shape[1], radius, positions[0], positions[1])
+            if box is not None:
+                boxes.append(box)
+    return np.array(boxes, dtype=np.int64).reshape(-1, 4)
