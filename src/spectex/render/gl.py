@@ -110,6 +110,7 @@ class GLRenderer:
         self.program = self.vao = None
         self._fbos = {}
         self._filter = None
+        self._packed = {}  # pack()'s tables per (filter, anisotropy, enabled): the texture does not change
         self.gauss_textures = []
         self.lut_texture = None
         try:
@@ -297,7 +298,15 @@ class GLRenderer:
         from ..shading.tables import anchor_coords, pack
 
         view = view_params(camera, shape, atmosphere=atmosphere)
-        tables = pack(self.texture, filter=filter, anisotropy=anisotropy, enabled=enabled)
+        try:
+            key = (filter, float(anisotropy), None if enabled is None else tuple(bool(e) for e in enabled))
+        except (TypeError, ValueError):
+            key = None  # not a key: pack says what is wrong with it
+        tables = self._packed.get(key) if key is not None else None
+        if tables is None:
+            tables = pack(self.texture, filter=filter, anisotropy=anisotropy, enabled=enabled)
+            if key is not None:
+                self._packed[key] = tables
         name = FILTERS[tables.min_filter]
         if name != self._filter:
             min_f = getattr(self._mgl, _GL_FILTERS[name])
