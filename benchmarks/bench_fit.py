@@ -32,22 +32,12 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import tempfile
 import time
 
+from _machine import cpu_name
+
 from spectex.render import bake
-
-
-def _cpu():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 def _cpu_wall(fn):
@@ -70,7 +60,7 @@ def main(argv=None) -> int:
     from spectex.metrics import band_power, repetition
     from spectex.texture import SpectralTexture
 
-    print(f"machine: {_cpu()}, {os.cpu_count()} CPUs, "
+    print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, "
           f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
 
     # ------------------------------------------------------------------ time

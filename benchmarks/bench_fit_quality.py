@@ -44,7 +44,6 @@ from __future__ import annotations
 import argparse
 import inspect
 import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -53,23 +52,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from _machine import cpu_name
 from exemplars import exemplars
 from tiling_blending import tile_and_blend
 
 from spectex.render import bake
 
 METHODS = ("fit", "legacy", "t&b lin", "t&b hist", "quilt")
-
-
-def _cpu():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 def _down(image, f):
@@ -207,7 +196,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     methods = [m for m in args.methods.split(",") if m]
     load = os.getloadavg()
-    print(f"machine: {_cpu()}, {os.cpu_count()} CPUs, load average {load[0]:.1f}; "
+    print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, load average {load[0]:.1f}; "
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     sets = exemplars(quick=args.quick)
     if args.only:

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import statistics
 import sys
 from pathlib import Path
@@ -41,6 +40,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _machine import cpu_name  # noqa: E402
 
 
 def psnr(a, b):
@@ -100,7 +102,7 @@ def main(argv=None):
     try:
         info = next(iter(renderers.values())).ctx.info
         print(f"GL: {info['GL_RENDERER']} ({info['GL_VERSION']}); host CPU: "
-              f"{platform.processor() or platform.machine()}, {os.cpu_count()} logical cores")
+              f"{cpu_name()}, {os.cpu_count()} logical cores")
         cams = views()
         rounds = {(label, view, shape): [] for label in textures for view in cams for shape in shapes}
         for _ in range(args.repeats):
