@@ -46,6 +46,7 @@ from ._core import (
     _coarse_slope,
     _Problem,
     _shape_spectrum,
+    finest_tile,
     prepare_exemplar,
     structure_peak,
 )
@@ -548,7 +549,6 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         progress=progress)
     from ..metrics import band_power
     from ..texture import Layer, layer_placement
-    from ..tiles import make_seamless
 
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
@@ -573,18 +573,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     if period is not None and period == (None, None):
         period = None
     cut = _period_tile(exemplar, period) if period is not None and tiling != "stochastic" else None
-    if tile_size is None:
-        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
-    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
-    if n <= min(h, w):
-        tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
-        tile_method = "seamless crop"
-    else:
-        from ..synthesis import quilt
-
-        block = int(np.clip(min(h, w) // 4, 16, 64))
-        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=1.0).astype(np.float64)
-        tile_method = f"tileable quilt (block {block}, reuse penalty 1)"
+    tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0)
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
     scale0 = 1.0  # the finest tile's texels per photo pixel

@@ -39,6 +39,29 @@ FIT_TILINGS = ("auto", "stochastic", "periodic")
 FIT_METHODS = ("auto", "legacy")
 
 
+def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
+    """The photo's tile for the finest layer: ``(tile, n, how)``.
+
+    ``tile_size`` (None: the photo's shorter side, or four times it up to
+    512) is checked; a tile no larger than the photo is its seamless crop,
+    a larger one a tileable quilt (block a quarter of the photo, 16 to 64)
+    with the reuse penalty ``reuse``. ``how`` says which, for the report.
+    """
+    from ..tiles import make_seamless
+
+    h, w = exemplar.shape[:2]
+    if tile_size is None:
+        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
+    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
+    if n <= min(h, w):
+        return make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64), n, "seamless crop"
+    from ..synthesis import quilt
+
+    block = int(np.clip(min(h, w) // 4, 16, 64))
+    tile = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=reuse).astype(np.float64)
+    return tile, n, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
+
+
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     """The exemplar as the fit uses it: RGB float32 in [0, 1], at most ``max_size`` a side.
 

@@ -12,7 +12,6 @@ from ._core import (
     FIT_TILINGS,
     MAX_ANALYSIS_SIZE,
     MAX_COARSE_SLOPE,
-    MIN_SIZE,
     STOCHASTIC_REGIONS,
     STOCHASTIC_ROUNDS,
     STRUCTURED_PEAK,
@@ -25,6 +24,7 @@ from ._core import (
     _Problem,
     _shape_spectrum,
     _with_tilings,
+    finest_tile,
     prepare_exemplar,
     structure_peak,
 )
@@ -34,8 +34,6 @@ def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float
                 iterations: int = 3, tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0,
                 tiling: str = "auto", patch: float | None = None, progress=None) -> FitResult:
     """The fit before issue 22 (``method="legacy"``), kept only so that benchmarks can compare."""
-
-    from ..tiles import make_seamless
 
     start = time.perf_counter()
     pixel_size = check_float("pixel_size", pixel_size, minimum=0.0, exclusive_minimum=True)
@@ -70,18 +68,7 @@ def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float
         if progress is not None:
             progress(done, total)
 
-    if tile_size is None:
-        tile_size = max(min(h, w), min(512, 4 * min(h, w)))
-    n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
-    if n <= min(h, w):
-        tile0 = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
-        tile_method = "seamless crop"
-    else:
-        from ..synthesis import quilt
-
-        block = int(np.clip(min(h, w) // 4, 16, 64))
-        tile0 = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng).astype(np.float64)
-        tile_method = f"tileable quilt (block {block})"
+    tile0, n, tile_method = finest_tile(exemplar, tile_size, rng)
     tick()
     region = (min(h, 256), min(w, 256))
     from ..metrics import band_power
