@@ -87,3 +87,47 @@ def _warm_the_shading_kernels():
     worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
     for job in _warm_jobs()[worker::workers]:
         job()
+
+
+# --- Where the cold run's compile time goes ----------------------------------------------------
+# SPECTEX_TEST_COMPILE_LOG=FILE appends one line per numba compilation (not a load from numba's
+# disk cache) to FILE: worker, seconds, the kernel and its signature, the test that caused it.
+# Two workers compiling one kernel show up as two lines; a kernel compiled for several signatures
+# as several. Off by default.
+
+
+def _install_compile_log(path: str) -> None:
+    import threading
+    import time
+
+    from numba.core import event
+
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+    local = threading.local()
+
+    class _Log(event.Listener):
+        def on_start(self, ev):
+            local.depth = getattr(local, "depth", 0) + 1
+            if local.depth == 1:
+                local.start = time.perf_counter(), time.process_time()
+
+        def on_end(self, ev):
+            local.depth -= 1
+            if local.depth:
+                return  # a function compiled inside another's compilation: counted in the outer one
+            wall, cpu = time.perf_counter() - local.start[0], time.process_time() - local.start[1]
+            data = ev.data or {}
+            func = data["dispatcher"].py_func
+            name = f"{func.__module__}.{func.__qualname__}"
+            if func.__closure__:  # the noise kernels: one per combination of captured constants
+                name += repr(tuple(c.cell_contents for c in func.__closure__
+                                   if isinstance(c.cell_contents, (bool, int))))
+            test = os.environ.get("PYTEST_CURRENT_TEST", "(outside a test)").rsplit(" ", 1)[0]
+            with open(path, "a", encoding="utf-8") as fh:
+                fh.write(f"{worker}\t{wall:.2f}\t{cpu:.2f}\t{name}\t{data.get('args')}\t{test}\n")
+
+    event.register("numba:compile", _Log())
+
+
+if os.environ.get("SPECTEX_TEST_COMPILE_LOG"):
+    _install_compile_log(os.environ["SPECTEX_TEST_COMPILE_LOG"])
