@@ -56,6 +56,7 @@ from ._texture_stats import (  # structural measures (issue 22), in their own mo
     clipped_fraction,
     clipping,
     coarse_copies,
+    coarse_reference,
     reference_statistics,
     structural_distance,
     texture_statistics,
@@ -91,6 +92,7 @@ __all__ = [
     "clipping",
     "Clipping",
     "coarse_copies",
+    "coarse_reference",
     "CoarseCopies",
 ]
 
