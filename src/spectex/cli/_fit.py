@@ -105,26 +105,34 @@ def run(args) -> int | None:
     # The report's measures of the photo alone (its structural floor, its own range for magnified
     # copies: half the report's work) need no texture: made in a second thread while the fit runs
     # (a daemon: a failed fit or Ctrl-C does not wait for it).
-    reference = _Background(report_reference, exemplar)
+    magnifications = _layer_magnifications(args.ratio, args.layers)
+    reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications))
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed, progress=bar)
-    return _finish(args, outputs, exemplar, result, reference, start)
+    return _finish(args, outputs, exemplar, result, reference, magnifications, start)
+
+
+def _layer_magnifications(ratio, layers):
+    """The magnifications of the photo its coarse layers would show if they drew it (``ratio ** k``),
+    those :func:`spectex.metrics.coarse_copies` can search (>= 1.5); None (its default) if none."""
+    mags = tuple(ratio ** k for k in range(1, layers) if ratio ** k >= 1.5)
+    return mags or None
 
 
 class _Background:
-    """``function(*args)`` in a daemon thread; :meth:`result` waits for its value (or raises its error)."""
+    """``function()`` in a daemon thread; :meth:`result` waits for its value (or raises its error)."""
 
-    def __init__(self, function, *args):
+    def __init__(self, function):
         import threading
 
         self._value = self._error = None
-        self._thread = threading.Thread(target=self._run, args=(function, args), daemon=True)
+        self._thread = threading.Thread(target=self._run, args=(function,), daemon=True)
         self._thread.start()
 
-    def _run(self, function, args):
+    def _run(self, function):
         try:
-            self._value = function(*args)
+            self._value = function()
         except BaseException as error:  # handed to the caller of result()
             self._error = error
 
@@ -135,8 +143,8 @@ class _Background:
         return self._value
 
 
-def _finish(args, outputs, exemplar, result, reference, start) -> int:
-    """Bake, measure, write and report a finished fit (``reference``: the photo's measures, a future)."""
+def _finish(args, outputs, exemplar, result, reference, magnifications, start) -> int:
+    """Bake, measure, write and report a finished fit (``reference``: the photo's measures, in a thread)."""
     import math
     import time
     from pathlib import Path
@@ -157,8 +165,9 @@ def _finish(args, outputs, exemplar, result, reference, start) -> int:
     # the numbers, on the render of 8x the area that comparison.png shows
     from spectex.fitting import fit_report
 
-    numbers = fit_report(texture, exemplar, pixel_size=pixel_size, bake=large, prepared=reference.result())
-
+    # the report's measures in a second thread (it waits for the photo's half), the files meanwhile
+    numbers = _Background(lambda: fit_report(texture, exemplar, pixel_size=pixel_size, bake=large,
+                                             coarse_magnifications=magnifications, prepared=reference.result()))
     with outputs as stage:
         texture.save(stage / "texture.toml")
         # the scale the fit assumed or was given, as a comment in the texture file itself
@@ -166,6 +175,7 @@ def _finish(args, outputs, exemplar, result, reference, start) -> int:
             fh.write(f"\n# spectex fit of {Path(args.exemplar).name}: {result.params['scale']}\n")
         _write_fast_png(stage / "comparison.png", _comparison(exemplar, same, large))
         _plots(stage, exemplar, same, large)
+        numbers = numbers.result()  # a failure here leaves nothing written
     for note in result.notes:  # the conversions and the scale assumed
         _common.report(f"note: {note}")
     pr = result.params
@@ -202,6 +212,7 @@ def _structure_line(numbers) -> str:
                 "area (about 1: as close as the photo is to itself)")
     line += f"; clipped {100 * clip.image:.1f}% of values (photo {100 * clip.reference:.1f}%)"
     if coarse is not None:
+        mags = ", ".join(f"{m:g}" for m, v in zip(coarse.magnifications, coarse.per_magnification) if v == v)
         line += (f"; magnified copies {'none' if coarse.within else 'FOUND'} at {coarse.zoom:g}x zoomed out "
-                 f"({coarse.value:.2f}, photo's own {coarse.reference:.2f})")
+                 f"({coarse.value:.2f}, photo's own {coarse.reference:.2f}; searched {mags}x)")
     return line

@@ -402,9 +402,10 @@ class ReportReference:
     statistics: object            #: :func:`spectex.metrics.reference_statistics` (None: too small)
     coarse: object                #: :func:`spectex.metrics.coarse_reference` (None: not measured)
     coarse_zoom: float | None     #: the zoom ``coarse`` is for
+    coarse_magnifications: tuple | None  #: the magnifications it searches (None: the metric's default)
 
 
-def report_reference(image, *, coarse_zoom: float | None = 8.0) -> ReportReference:
+def report_reference(image, *, coarse_zoom: float | None = 8.0, coarse_magnifications=None) -> ReportReference:
     """The exemplar's half of :func:`fit_report`, which needs no texture.
 
     Its pyramid statistics (the structural distance's floor), cross-scale
@@ -413,7 +414,8 @@ def report_reference(image, *, coarse_zoom: float | None = 8.0) -> ReportReferen
     its own shape at ``coarse_zoom``) are most of the report's work on the
     photo; made before or while the texture is fitted (``spectex fit`` makes
     them in a second thread while it fits), and given to
-    ``fit_report(..., prepared=...)`` with the same image and ``coarse_zoom``.
+    ``fit_report(..., prepared=...)`` with the same image, ``coarse_zoom``
+    and ``coarse_magnifications``.
     """
     from ..metrics import band_power, coarse_reference, reference_statistics
 
@@ -427,14 +429,24 @@ def report_reference(image, *, coarse_zoom: float | None = 8.0) -> ReportReferen
         statistics = None
     coarse = None
     if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
-        coarse = coarse_reference(exemplar, view_shape=(h, w), zoom=coarse_zoom)
+        coarse = coarse_reference(exemplar, view_shape=(h, w), zoom=coarse_zoom,
+                                  **_search_kwargs(coarse_magnifications))
     return ReportReference(exemplar=exemplar, cross_scale=cross_scale(exemplar),
                            band_power_db=band_power(exemplar).power_db, statistics=statistics, coarse=coarse,
-                           coarse_zoom=coarse_zoom)
+                           coarse_zoom=coarse_zoom, coarse_magnifications=_magnifications(coarse_magnifications))
+
+
+def _magnifications(magnifications):
+    return None if magnifications is None else tuple(float(m) for m in magnifications)
+
+
+def _search_kwargs(magnifications):
+    return {} if magnifications is None else {"magnifications": _magnifications(magnifications)}
 
 
 def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
-               bake=None, coarse_zoom: float | None = 8.0, prepared: ReportReference | None = None) -> FitReport:
+               bake=None, coarse_zoom: float | None = 8.0, coarse_magnifications=None,
+               prepared: ReportReference | None = None) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -449,7 +461,11 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     compared instead, and ``origin`` and ``scale`` are not used: ``spectex
     fit`` reports on the render of 8x the area it shows this way. With
     ``prepared`` (:func:`report_reference` of the same image and
-    ``coarse_zoom``), the exemplar's half of the work is not done again.
+    ``coarse_zoom`` and ``coarse_magnifications``), the exemplar's half of
+    the work is not done again. ``coarse_magnifications``: those the search
+    for magnified copies tries (default: the metric's, 2 to 256 times);
+    ``spectex fit`` gives its layers' (4, 16, 64, ... for ``ratio`` 4: a
+    coarse layer that drew the photo would show it magnified that much).
 
     Returns
     -------
@@ -479,10 +495,12 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
     exemplar, _ = prepare_exemplar(image)
     if prepared is None:
-        prepared = report_reference(exemplar, coarse_zoom=coarse_zoom)
+        prepared = report_reference(exemplar, coarse_zoom=coarse_zoom, coarse_magnifications=coarse_magnifications)
     elif (not isinstance(prepared, ReportReference) or prepared.coarse_zoom != coarse_zoom
+          or prepared.coarse_magnifications != _magnifications(coarse_magnifications)
           or not np.array_equal(prepared.exemplar, exemplar)):
-        raise ValueError("prepared must be report_reference() of this image with the same coarse_zoom")
+        raise ValueError("prepared must be report_reference() of this image with the same coarse_zoom and "
+                         "coarse_magnifications")
     h, w = exemplar.shape[:2]
     from ..render.cpu import bake as bake_region  # the parameter ``bake`` hides the module's name
 
@@ -500,7 +518,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     # the search for magnified copies (the report's longest measure: FFTs, most of them without
     # the GIL) runs in a second thread while this one makes the others
     with ThreadPoolExecutor(max_workers=1) as pool:
-        coarse = None if view is None else pool.submit(_coarse, view, exemplar, coarse_zoom, prepared.coarse)
+        coarse = None if view is None else pool.submit(_coarse, view, exemplar, coarse_zoom, prepared.coarse,
+                                                       _search_kwargs(coarse_magnifications))
         ce = prepared.cross_scale
         cb = cross_scale(bake, fine=ce.fine)
         structure = structure_far = None
@@ -525,11 +544,11 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     )
 
 
-def _coarse(view, exemplar, zoom, prepared):
+def _coarse(view, exemplar, zoom, prepared, kwargs):
     """:func:`spectex.metrics.coarse_copies` of a view, None where it cannot show any magnification."""
     from ..metrics import coarse_copies
 
     try:
-        return coarse_copies(view, exemplar, zoom=zoom, prepared=prepared)
+        return coarse_copies(view, exemplar, zoom=zoom, prepared=prepared, **kwargs)
     except ValueError:  # a view too small to show any magnification: nothing measured
         return None
