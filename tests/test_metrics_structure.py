@@ -271,7 +271,7 @@ def test_best_match_is_the_exhaustive_normalised_correlation():
                 best = max(best, float(np.sum(tpl[mask] * zero) / norm))
     got = ts._best_match(ts._search_targets([target], mask), templates)[0]
     assert abs(got - best) < 1e-5, (got, best)
-    assert 0.2 < best < 0.9  # noise against noise: neither a match nor nothing
+    assert 0.1 < best < 0.9  # noise against noise: neither a match nor nothing
 
 
 def test_coarse_copies_refuses_bad_input():
