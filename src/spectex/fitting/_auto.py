@@ -265,13 +265,24 @@ def _straighten_structure(exemplar, structure, notes):
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None
     angle = structure_orientation(exemplar)
-    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
-    drift = max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
+    drift = _orientation_drift(exemplar)
     if drift > PERSPECTIVE_DRIFT:
-        # lines that fan out are not made parallel by one turn: the photo is left as it is
+        # lines that fan out are not made parallel by one turn: the photo is rectified (a homography from
+        # its two line families' vanishing points) and kept so where its lines then run parallel
+        from ._perspective import rectify
+
+        found = rectify(exemplar)
+        after = None if found is None else _orientation_drift(found.image)
+        if after is not None and after <= PERSPECTIVE_DRIFT:
+            rh, rw = found.image.shape[:2]
+            lo, hi = found.scale_range
+            notes.append(f"rectified the photo's perspective (its structure's lines turned by {drift:.1f} degrees "
+                         f"across it, {after:.1f} after; cropped to {rh} x {rw} px, resampled by {lo:.2f} to "
+                         f"{hi:.2f})")
+            return found.image, structure_orientation(found.image), drift
         notes.append(f"the photo looks to be in perspective (its structure's lines turn by {drift:.1f} degrees "
-                     "across it): patches cut from its sides meet at breaks, the structure is not kept whole; "
-                     "photograph it square-on")
+                     "across it) and could not be rectified: patches cut from its sides meet at breaks, the "
+                     "structure is not kept whole; photograph it square-on")
     elif STRAIGHTEN_MIN < abs(angle) <= STRAIGHTEN_MAX:
         # a photo of a wall taken a few degrees off its lines: the structure straightened first, so that
         # its period is one along x and y and the tile's wrap meets itself. The gradients' vote is biased
@@ -283,6 +294,14 @@ def _straighten_structure(exemplar, structure, notes):
         notes.append(f"turned the photo by {-angle:.1f} degrees to straighten its structure "
                      f"(cropped to {h} x {w} px)")
     return exemplar, angle, drift
+
+
+def _orientation_drift(exemplar):
+    """The largest difference (degrees) of :func:`structure_orientation` between the photo's halves
+    (left and right, top and bottom)."""
+    h, w = exemplar.shape[:2]
+    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
+    return max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
 
 
 def _best_cut(lines, span):
