@@ -19,7 +19,10 @@ families along the image axes):
    centre keeps one pixel per pixel along each family
    (:func:`rectifying_map`);
 4. the largest axis-aligned rectangle of the mapped photo resampled (cubic)
-   through the inverse map (:func:`rectify`).
+   through the inverse map (:func:`rectify`), read again and refined, then
+   the lines' spacing evened out across it (equally spaced lines on the
+   plane fix the vanishing line where the second family's vanishing point,
+   read from short joints, is poor: :func:`_spacing_map`).
 
 References
 ----------
@@ -39,6 +42,10 @@ LINE_WINDOW = 32
 #: Fewest windows a family needs for its vanishing point; with fewer its lines are taken as
 #: parallel to the image axis they are nearest.
 MIN_WINDOWS = 6
+#: Least and most relative change of a rectified crop's line spacing across it that :func:`_spacing_map`
+#: evens out: less is within the period's reading, more is not a residual of the vanishing line.
+SPACING_MIN = 0.01
+SPACING_MAX = 0.3
 #: Largest aspect ratio of the rectified crop (its longer side over its shorter).
 MAX_ASPECT = 1.5
 
@@ -202,38 +209,27 @@ def _largest_rectangle(valid):
     return int(i[k]), int(j[k]) + 1, int(x0[k]), int(x1[k])
 
 
-def rectify(image, *, window: int = LINE_WINDOW):
-    """``image`` made square-on: its two line families along the axes, parallel, the centre at its scale.
-
-    Parameters
-    ----------
-    image : ndarray, shape (H, W, C)
-        A photo of a plane structure with lines along two directions (a
-        brick wall, a tiled floor), float.
-    window : int
-        Side of the windows the line directions are read in (pixels).
-
-    Returns
-    -------
-    Rectification or None
-        None where no rectifying map exists (the vanishing line crosses the
-        photo, the families are nearly parallel) or its crop is under a
-        quarter of the photo's side.
-    """
-    from scipy import ndimage
-
+def _estimated_map(image, window):
+    """:func:`rectifying_map` of ``image`` from its own line field, or None."""
     from ._core import _luma
 
-    h, w = image.shape[:2]
     centres, fields = line_field(_luma(image), window=window)
     vanishing = (_family_point(centres, fields[0], 0), _family_point(centres, fields[1], 1))
-    hom = rectifying_map((h, w), vanishing)
-    if hom is None:
-        return None
+    return rectifying_map(image.shape[:2], vanishing)
+
+
+def _resampled(image, hom):
+    """The largest axis-aligned rectangle of ``image`` mapped by ``hom``, resampled (cubic): ``(crop, to_crop,
+    (least, most magnification))``, ``to_crop`` mapping photo pixels to the crop's; or None."""
+    from scipy import ndimage
+
+    h, w = image.shape[:2]
     # the photo's outline in the rectified plane, rasterised (a convex quadrilateral: the vanishing
     # line is outside the photo)
     corners = np.array([[-0.5, -0.5, 1.0], [w - 0.5, -0.5, 1.0], [w - 0.5, h - 0.5, 1.0], [-0.5, h - 0.5, 1.0]]).T
     mapped = hom @ corners
+    if np.any(mapped[2] <= 0):
+        return None
     mapped = mapped[:2] / mapped[2]
     lo = np.floor(mapped.min(axis=1)).astype(np.int64)
     hi = np.ceil(mapped.max(axis=1)).astype(np.int64)
@@ -252,9 +248,95 @@ def rectify(image, *, window: int = LINE_WINDOW):
     out = np.stack([ndimage.map_coordinates(image[:, :, c].astype(np.float64), [sy, sx], order=3, mode="nearest")
                     for c in range(image.shape[2])], axis=2)
     out = np.clip(out, image.min(axis=(0, 1)), image.max(axis=(0, 1))).astype(image.dtype)
-    to_crop = np.array([[1.0, 0.0, -(lo[0] + x0)], [0.0, 1.0, -(lo[1] + y0)], [0.0, 0.0, 1.0]]) @ hom
+    to_crop = np.array([[1.0, 0.0, -float(lo[0] + x0)], [0.0, 1.0, -float(lo[1] + y0)], [0.0, 0.0, 1.0]]) @ hom
     # magnification: the Jacobian's determinant of the crop-to-photo map, per crop pixel
     jac = np.abs(np.gradient(sx, axis=1) * np.gradient(sy, axis=0) - np.gradient(sx, axis=0) * np.gradient(sy, axis=1))
     scale = 1.0 / np.sqrt(np.maximum(jac, 1e-12))
-    return Rectification(image=out, homography=to_crop, vanishing=vanishing,
-                         scale_range=(float(scale.min()), float(scale.max())))
+    return out, to_crop, (float(scale.min()), float(scale.max()))
+
+
+def _spacing_map(crop):
+    """The homography (about the crop's centre) that evens out the spacing of a rectified crop's lines.
+
+    Parallel lines equally spaced on the plane are equally spaced in the
+    image only once the vanishing line is at infinity; a vanishing line
+    read a little off (the rows' vanishing point of short joints is read
+    poorly) leaves their spacing changing across the crop. The period
+    (:func:`spectex.fitting._auto.structure_period`) is read in each half
+    along an axis; spacing ``s(x) = s0 (1 + k x)`` is evened by
+    ``x' = x / (1 + e x)`` (local scale ``1 - 2 e x``), ``e = k / 2``, and
+    the same along y. Returns None where no axis changes by more than
+    ``SPACING_MIN`` across the crop.
+    """
+    from ._auto import structure_period
+
+    h, w = crop.shape[:2]
+    third = [0.0, 0.0]
+    for axis, (a, b), n in ((1, (crop[:, : w // 2], crop[:, w // 2:]), w), (0, (crop[: h // 2], crop[h // 2:]), h)):
+        pa, pb = structure_period(a)[axis], structure_period(b)[axis]
+        if pa is None or pb is None:
+            continue
+        k = (pb - pa) / (n / 2.0) / (0.5 * (pa + pb))
+        if SPACING_MIN < abs(k * n) <= SPACING_MAX:
+            third[1 - axis] = k / 2.0
+    if third == [0.0, 0.0]:
+        return None
+    c = ((w - 1) / 2.0, (h - 1) / 2.0)
+    shift = np.array([[1.0, 0.0, -c[0]], [0.0, 1.0, -c[1]], [0.0, 0.0, 1.0]])
+    back = np.array([[1.0, 0.0, c[0]], [0.0, 1.0, c[1]], [0.0, 0.0, 1.0]])
+    even = np.eye(3)
+    even[2, :2] = third
+    return back @ even @ shift
+
+
+def rectify(image, *, window: int = LINE_WINDOW, refine: int = 1):
+    """``image`` made square-on: its two line families along the axes, parallel, the centre at its scale.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C)
+        A photo of a plane structure with lines along two directions (a
+        brick wall, a tiled floor), float.
+    window : int
+        Side of the windows the line directions are read in (pixels).
+    refine : int
+        Times the map is refined: the lines' vanishing points read again
+        on the rectified crop and the two maps composed, the photo then
+        resampled once. The gradients' directions lean towards the pixel
+        grid's axes, so one reading takes a fanning line about 10% less
+        turned than it is; measured again, the rest is read (a synthetic
+        wall's vanishing point 38 px off in 400 before, 7 after). Last, the
+        spacing of the lines is evened out across the crop
+        (:func:`_spacing_map`: scikit-image's brick, its columns 36.6 px
+        apart on the left and 34.7 on the right once parallel).
+
+    Returns
+    -------
+    Rectification or None
+        None where no rectifying map exists (the vanishing line crosses the
+        photo, the families are nearly parallel) or its crop is under a
+        quarter of the photo's side.
+    """
+    hom = _estimated_map(image, window)
+    if hom is None:
+        return None
+    for _ in range(refine):
+        found = _resampled(image, hom)
+        if found is None:
+            return None
+        again = _estimated_map(found[0], window)
+        if again is None:
+            break
+        hom = again @ found[1]
+    found = _resampled(image, hom)
+    if found is None:
+        return None
+    even = _spacing_map(found[0])
+    if even is not None:
+        evened = _resampled(image, even @ found[1])
+        found = evened if evened is not None else found
+    out, to_crop, scale_range = found
+    inverse = np.linalg.inv(to_crop)
+    vanishing = tuple(v / np.linalg.norm(v) for v in (inverse @ np.array([0.0, 1.0, 0.0]),
+                                                      inverse @ np.array([1.0, 0.0, 0.0])))
+    return Rectification(image=out, homography=to_crop, vanishing=vanishing, scale_range=scale_range)
