@@ -46,6 +46,8 @@ MIN_WINDOWS = 6
 #: evens out: less is within the period's reading, more is not a residual of the vanishing line.
 SPACING_MIN = 0.01
 SPACING_MAX = 0.3
+#: Least side of the rectified crop (pixels; the fit's smallest photo), and at least half the photo's.
+MIN_CROP = 32
 #: Largest aspect ratio of the rectified crop (its longer side over its shorter).
 MAX_ASPECT = 1.5
 
@@ -241,7 +243,7 @@ def _resampled(image, hom):
     sx, sy = src[0] / src[2], src[1] / src[2]
     valid = (src[2] > 0) & (sx >= 0) & (sx <= w - 1) & (sy >= 0) & (sy <= h - 1)
     box = _largest_rectangle(valid)
-    if box is None or min(box[1] - box[0], box[3] - box[2]) < min(h, w) // 4:
+    if box is None or min(box[1] - box[0], box[3] - box[2]) < max(MIN_CROP, min(h, w) // 2):
         return None
     y0, y1, x0, x1 = box
     sx, sy = sx[y0:y1, x0:x1], sy[y0:y1, x0:x1]
@@ -314,27 +316,33 @@ def rectify(image, *, window: int = LINE_WINDOW, refine: int = 1):
     -------
     Rectification or None
         None where no rectifying map exists (the vanishing line crosses the
-        photo, the families are nearly parallel) or its crop is under a
-        quarter of the photo's side.
+        photo, the families are less than 30 degrees apart) or its crop is
+        under half the photo's shorter side (or ``MIN_CROP``).
     """
+    from ._core import _luma
+
     hom = _estimated_map(image, window)
     if hom is None:
         return None
+    # the map is read on the luma only (one channel resampled, not three); the photo resampled once
+    lum = _luma(image)[:, :, None]
     for _ in range(refine):
-        found = _resampled(image, hom)
+        found = _resampled(lum, hom)
         if found is None:
             return None
         again = _estimated_map(found[0], window)
         if again is None:
             break
         hom = again @ found[1]
-    found = _resampled(image, hom)
+    found = _resampled(lum, hom)
     if found is None:
         return None
     even = _spacing_map(found[0])
     if even is not None:
-        evened = _resampled(image, even @ found[1])
-        found = evened if evened is not None else found
+        hom = even @ found[1]
+    found = _resampled(image, hom)
+    if found is None:
+        return None
     out, to_crop, scale_range = found
     inverse = np.linalg.inv(to_crop)
     vanishing = tuple(v / np.linalg.norm(v) for v in (inverse @ np.array([0.0, 1.0, 0.0]),
