@@ -106,6 +106,31 @@ def test_rectify_makes_a_wall_seen_in_perspective_square_on(walls):
     assert np.abs(hom[:2, :2] - np.eye(2)).max() <= 0.02 and np.abs(hom[2, :2]).max() <= 1e-4, hom
 
 
+def test_rectify_makes_a_tiled_floor_seen_at_an_angle_square_on():
+    """Square tiles of 64 px in grout, both line families as strong, seen turned and tilted (the rows
+    converge as well as the columns): no period can be read on the photo, one of 64 px on its
+    rectification."""
+    from spectex.fitting._auto import _orientation_drift, structure_period
+    from spectex.fitting._perspective import rectify
+
+    rng = np.random.default_rng(2)
+    side, c, ss = 512, 256.0, 3  # drawn at 3 x 3 samples per pixel
+    hom = np.array([[1.0, 0.05, 0.0], [0.0, 1.0, 0.0], [0.3 / side, 0.6 / side, 1.0]])
+    yy, xx = (np.mgrid[0:side * ss, 0:side * ss] + 0.5) / ss
+    q = np.tensordot(np.linalg.inv(hom), np.stack([xx - c, yy - c, np.ones_like(xx)]), axes=1)
+    qx, qy = q[0] / q[2] + 1024.0, q[1] / q[2] + 1024.0  # the floor's plane, about its own middle
+    colours = np.array([0.72, 0.42, 0.30]) + rng.normal(0.0, 0.04, (40, 40, 3))
+    tile = colours[(qy // 64).astype(int) % 40, (qx // 64).astype(int) % 40]
+    grout = (np.mod(qx, 64.0) < 5.0) | (np.mod(qy, 64.0) < 5.0)
+    photo = np.where(grout[:, :, None], 0.8, tile).reshape(side, ss, side, ss, 3).mean(axis=(1, 3))
+    photo += 0.02 * rng.standard_normal((side, side, 1))
+    assert _orientation_drift(photo) > 5.0 and structure_period(photo) == (None, None)  # measured 7.6
+    found = rectify(photo)
+    assert _orientation_drift(found.image) <= 1.0  # measured 0.2
+    py, px = structure_period(found.image)
+    assert abs(py - 64.0) <= 1.5 and abs(px - 64.0) <= 1.5, (py, px)  # measured 63.8, 63.8
+
+
 def test_fit_rectifies_a_wall_in_perspective_so_its_lines_do_not_break(walls, monkeypatch):
     from spectex.fitting import _perspective, fit_result
 
