@@ -235,7 +235,9 @@ def main(argv=None) -> int:
             means[m].append(r["s 1x"])
             if first:
                 print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "
-                      f"rp own {metrics_rp(photo):.3f}, structure period {period}, rs own {r['rs photo']:.3f})")
+                      f"rp own {metrics_rp(photo):.3f}"
+                      + ("" if straight is photo else f" ({metrics_rp(straight):.3f} as the fit reads it)")
+                      + f", structure period {period}, rs own {r['rs photo']:.3f})")
                 first = False
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
