@@ -172,3 +172,17 @@ def test_fit_of_scikit_image_brick_keeps_its_columns_straight(monkeypatch):
     # brick's columns fan by 7.8 degrees; rectified, its fit's columns run straight across patches
     # (measured 0.93 of the photo's own kinks), where the unrectified fit's meet at V-shaped breaks (4.3)
     assert got["rectified"][1] <= 1.3 and got["not"][1] >= 2.5, got
+
+
+def test_repeat_peak_with_a_period_does_not_count_straight_lines_as_a_repeat():
+    # a wall square-on, bricks of random length: its rows repeat (15.3 px down), nothing across, and its
+    # joints between rows run straight the whole width; a row a pixel off the lattice's mean one is left
+    # by the lattice's removal as a line, which correlates with itself at every lag along it (measured
+    # 0.31 before its running mean along the row was removed as well, 0.05 now)
+    wall = subpixel_wall(320, random_length=True, rng=2)
+    period = (15.25, None)
+    assert metrics.repeat_peak(wall) > 0.5  # the straight joints: the plain measure sees them (0.65)
+    assert metrics.repeat_peak(wall, period=period) <= 0.1
+    # the control: the same wall's half tiled (its content repeats) is still a repeat
+    tiled = np.tile(wall[:160, :160], (2, 2, 1))
+    assert metrics.repeat_peak(tiled, period=period) >= 0.9
