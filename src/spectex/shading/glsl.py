@@ -144,13 +144,14 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
                 f"#define SKY_ONLY {1 if sky_only else 0}\n"
                 f"#define STOCHASTIC {values['STOCHASTIC']}\n"
                 f"#define MIN_FILTER {values['MIN_FILTER']}\n")
-    frame = interface.GLFrame(tables, int(n_tiles)) if constants else None
+    head = prelude(target) + _library(values["SPX_ANISO"]) + switches
     main = shader_file("ground.frag.glsl")
-    for marker, text in (("//@INPUTS@\n", interface.glsl_declarations(frame)), ("//@LAYERS@", "\n".join(calls))):
+    declarations = interface.glsl_declarations(interface.GLFrame(tables, int(n_tiles)) if constants else None)
+    for marker, text in (("//@INPUTS@\n", declarations), ("//@LAYERS@", "\n".join(calls))):
         if main.count(marker) != 1:
             raise RuntimeError(f"ground shader: expected one {marker.strip()!r}")
         main = main.replace(marker, text)
-    return prelude(target) + _library(values["SPX_ANISO"]) + switches + main
+    return head + main
 
 
 def vertex_source(target: str = "330") -> str:
