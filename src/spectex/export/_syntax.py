@@ -113,10 +113,9 @@ def bindings(texture, syntax: Syntax) -> dict:
 def layer_calls(texture) -> list[dict]:
     """Per layer, what a template's ``{{#each layers}}`` block takes: ``k``, ``tile``, ``blend`` (the
     library's code name; ``SPX_BLEND_FIRST`` for the first enabled layer, as ``pack`` decides it) and
-    ``stochastic``."""
-    from spectex.shading.glsl import blend_name
+    ``stochastic``: the items of the renderer's own ground shader (``shading.glsl.layer_item``)."""
+    from spectex.shading.glsl import layer_item
     from spectex.shading.tables import pack
 
     tables = pack(texture)
-    return [{"k": k, "tile": int(tables.tile[k]), "blend": blend_name(int(tables.blend[k])),
-             "stochastic": layer.tiling == "stochastic"} for k, layer in enumerate(texture.layers)]
+    return [layer_item(k, tables.tile[k], tables.tiling[k], tables.blend[k]) for k in range(len(tables.tile))]
