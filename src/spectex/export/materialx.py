@@ -4,8 +4,9 @@ The node graph ``NG_spectex_ground`` computes the texture's colour at a
 surface point from its world position, with the standard library's nodes
 only (``position``, ``dotproduct``, ``combine2``, ``subtract``, ``image``,
 ``convert``, ``extract``, ``multiply``, ``mix``, ``add``, ``divide``,
-``sqrt``, ``clamp``): per layer, ``(s, t) = R(-rotation_k) (p - offset_k) /
-size_k`` as two dot products and a divide, the tile through ``image`` (periodic, linear), and the blends of
+``sqrt``, ``clamp``): per layer, ``(s, t) = anchor_k + M_k p`` (the shader's
+inputs of ``shading.interface``: the layer's map and the tile coordinates of
+the world origin) as two dot products and an add, the tile through ``image`` (periodic, linear), and the blends of
 ``docs/sampling.md``, section 6, written out node by node (alpha as ``mix``;
 not ``over``, which assumes premultiplied colour). Two materials use it:
 ``spectex_ground`` (``standard_surface``, the texture as base colour) and
@@ -26,8 +27,6 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from pathlib import Path
-
-import numpy as np
 
 __all__ = ["write_materialx", "materialx_document", "MATERIALX_VERSION", "GROUND_AXES"]
 
@@ -113,12 +112,10 @@ def _srgb_decode(g: _Graph, colour: _Ref) -> _Ref:
 
 def materialx_document(texture, tile_files) -> str:
     """The ``.mtlx`` text for ``texture``; ``tile_files``: per tile, its file name (beside the document)."""
-    from spectex.shading import interface
-    from spectex.shading.tables import pack
+    from ._syntax import layer_values
 
-    # the layers' mean colours and opacities as the shader's inputs take them (shading.interface)
-    frame = interface.GLFrame(pack(texture), len(texture.tiles))
-    means, opacities = interface.MEAN.gl(frame), interface.OPACITY.gl(frame)
+    # each layer's map, anchor, mean colour and opacity as the shader's inputs take them (shading.interface)
+    values = layer_values(texture)
     root = ET.Element("materialx", version=MATERIALX_VERSION, colorspace="lin_rec709")
     root.append(ET.Comment(
         " spectex spectral texture: layers of one tile at different scales, blended by the tile's alpha "
@@ -138,22 +135,21 @@ def materialx_document(texture, tile_files) -> str:
     ground = g.node("combine2", "vector2", "ground_xy", in1=px, in2=py)
     colour = None
     first = True
-    for k, layer in enumerate(texture.layers):
+    for k, (layer, value) in enumerate(zip(texture.layers, values)):
         tiling = getattr(layer, "tiling", "periodic")
-        th = np.radians(layer.rotation)
-        c, sn = float(np.cos(th)), float(np.sin(th))
+        m00, m01, m10, m11 = value["MAT"]
+        anchor_s, anchor_t = value["ORIGIN_ANCHOR"]
         g.comment(f"layer {k}: size {layer.size:g} m, offset ({layer.offset[0]:g}, {layer.offset[1]:g}) m, "
                   f"rotation {layer.rotation:g} deg, blend {layer.blend}, opacity {layer.opacity:g}, "
                   f"tile {tile_files[layer.tile]}")
-        # (s, t) = R(-rotation) (p - offset) / size, as rotation rows then one divide
-        # (constants of order 1 keep their digits in generators that print 6 decimals).
-        rel = g.node("subtract", "vector2", f"layer{k}_rel", in1=ground, in2=("vector2", _vec(layer.offset)))
-        s_ = g.node("dotproduct", "float", f"layer{k}_s", in1=rel, in2=("vector2", _vec((c, sn))))
+        # (s, t) = anchor + M p: the layer's map and the tile coordinates of the world origin, the shader's
+        # inputs (shading.interface: MAT, and ANCHOR at ground point (0, 0), a whole number of tiles off).
+        s_ = g.node("dotproduct", "float", f"layer{k}_s", in1=ground, in2=("vector2", _vec((m00, m01))))
         # image's texcoord has v = 0 at the bottom row of the file; spectex's t = 0
         # is the top row (row 0), so v = 1 - t, which is -t for a periodic image.
-        v = g.node("dotproduct", "float", f"layer{k}_v", in1=rel, in2=("vector2", _vec((sn, -c))))
-        sv = g.node("combine2", "vector2", f"layer{k}_rotated", in1=s_, in2=v)
-        uv = g.node("divide", "vector2", f"layer{k}_uv", in1=sv, in2=("float", _num(layer.size)))
+        v = g.node("dotproduct", "float", f"layer{k}_v", in1=ground, in2=("vector2", _vec((-m10, -m11))))
+        sv = g.node("combine2", "vector2", f"layer{k}_mapped", in1=s_, in2=v)
+        uv = g.node("add", "vector2", f"layer{k}_uv", in1=sv, in2=("vector2", _vec((anchor_s, -anchor_t))))
         file = ("filename", tile_files[layer.tile], {"colorspace": "lin_rec709"})
         if tiling == "periodic":
             img = g.node("image", "color4", f"layer{k}_texel", file=file, texcoord=uv,
@@ -174,7 +170,7 @@ def materialx_document(texture, tile_files) -> str:
             colour, first = x, False
             continue
         alpha = g.node("extract", "float", f"layer{k}_tile_alpha", in_=img, index=("integer", "3"))
-        a = g.node("multiply", "float", f"layer{k}_alpha", in1=alpha, in2=("float", _num(opacities[k])))
+        a = g.node("multiply", "float", f"layer{k}_alpha", in1=alpha, in2=("float", _num(value["OPACITY"])))
         if layer.blend == "alpha":  # c = a x + (1 - a) c
             colour = g.node("mix", "color3", f"layer{k}_over", fg=x, bg=colour, mix=a)
         elif layer.blend == "detail":  # c = 2 x c
@@ -190,7 +186,7 @@ def materialx_document(texture, tile_files) -> str:
                           "grows, so that the finer layers' repeats fade out where they would be small on "
                           "screen; standard nodes cannot see the footprint: here it is the variance blend at "
                           "its own alpha, and the finer layers repeat in the distance.")
-            mu = _vec(means[k])
+            mu = _vec(value["MEAN"])
             dx = g.node("subtract", "color3", f"layer{k}_x_dev", in1=x, in2=("color3", mu))
             dc = g.node("subtract", "color3", f"layer{k}_c_dev", in1=colour, in2=("color3", mu))
             num = g.node("mix", "color3", f"layer{k}_dev", fg=dx, bg=dc, mix=a)
