@@ -163,13 +163,12 @@ class GLRenderer:
         key = (anisotropic, sky_only, int(tables.min_filter), float(tables.max_aniso),
                () if sky_only else tuple(int(v) for v in tables.on))
         if key not in self._programs:
-            from ..shading.glsl import fragment_source, vertex_source
+            from ..shading.glsl import program_sources
 
-            program = self.ctx.program(
-                vertex_shader=vertex_source("330"),
-                fragment_shader=fragment_source(tables, len(self.textures), target="330", anisotropic=anisotropic,
-                                                iso_lod=int(tables.widths[0]) == int(tables.heights[0]),
-                                                sky_only=sky_only, constants=self.constants))
+            vertex, fragment = program_sources(tables, len(self.textures), target="330", anisotropic=anisotropic,
+                                               iso_lod=int(tables.widths[0]) == int(tables.heights[0]),
+                                               sky_only=sky_only, constants=self.constants)
+            program = self.ctx.program(vertex_shader=vertex, fragment_shader=fragment)
             self._programs[key] = [program, self.ctx.vertex_array(program, []), True]
         return self._programs[key]
 

@@ -29,8 +29,8 @@ import numpy as np
 from .._template import each_block, render_text
 from .constants import BLEND_FIRST, BLENDS, TILING_STOCHASTIC, glsl_defines
 
-__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file", "texture_macros",
-           "blend_name", "layer_item", "layer_call"]
+__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "program_sources", "shader_file",
+           "texture_macros", "blend_name", "layer_item", "layer_call"]
 
 #: Targets: desktop OpenGL 3.3 core, and WebGL2 / OpenGL ES 3.0.
 TARGETS = ("330", "es300")
@@ -52,10 +52,13 @@ def _check_target(target):
     return target
 
 
+def _prelude_context(target) -> dict:
+    return {"desktop": _check_target(target) == "330", "macros": texture_macros().removesuffix("\n")}
+
+
 def prelude(target: str = "330") -> str:
     """``#version`` (and, for ``"es300"``, precision) lines and the texture macros (``shaders/prelude.glsl``)."""
-    return render_text(shader_file("prelude.glsl"), {"desktop": _check_target(target) == "330",
-                                                     "macros": texture_macros().removesuffix("\n")})
+    return render_text(shader_file("prelude.glsl"), _prelude_context(target))
 
 
 def layer_library(*, anisotropic: bool = False) -> str:
@@ -65,14 +68,13 @@ def layer_library(*, anisotropic: bool = False) -> str:
     (``SPX_ANISO``): even untaken, its loop costs llvmpipe about a third of
     a frame.
     """
-    return _library(1 if anisotropic else 0)
+    return render_text(shader_file("library.glsl"), _library_context(1 if anisotropic else 0))
 
 
-def _library(aniso) -> str:
-    """``shaders/library.glsl``: the constants, ``SPX_ANISO`` and the layer library."""
-    return render_text(shader_file("library.glsl"), {
-        "defines": glsl_defines().removesuffix("\n"), "aniso": aniso,
-        "library": shader_file("spectex_layers.glsl").removesuffix("\n")})
+def _library_context(aniso) -> dict:
+    """``shaders/library.glsl``'s values: the constants, ``SPX_ANISO`` and the layer library."""
+    return {"defines": glsl_defines().removesuffix("\n"), "aniso": aniso,
+            "library": shader_file("spectex_layers.glsl").removesuffix("\n")}
 
 
 def blend_name(code: int) -> str:
@@ -133,6 +135,13 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     layer call but the marker ``//@LAYERS@`` where the drawn layers' calls
     (:func:`layer_call`) go (the web viewer's template).
     """
+    return render_text(*_fragment(tables, n_tiles, target=target, anisotropic=anisotropic, iso_lod=iso_lod,
+                                  sky_only=sky_only, constants=constants, open_switches=open_switches))
+
+
+def _fragment(tables, n_tiles, *, target, anisotropic, iso_lod, sky_only, constants, open_switches):
+    """:func:`fragment_source`'s template (``prelude.glsl``, ``library.glsl`` and ``ground.frag.glsl``, one
+    after the other) and its values."""
     from . import interface
 
     layers = [layer_item(k, tables.tile[k], tables.tiling[k], tables.blend[k])
@@ -143,15 +152,29 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     if open_switches:  # left to the viewer: @NAME@ in their place, and the layer calls' marker kept
         values = {name: f"@{name.removeprefix('SPX_')}@" for name in values}
         layers = []
-    context = {"n_layers": len(tables.tile), "n_tiles": int(n_tiles), "iso_lod": values["ISO_LOD"],
+    text = shader_file("prelude.glsl") + shader_file("library.glsl") + shader_file("ground.frag.glsl")
+    context = {**_prelude_context(target), **_library_context(values["SPX_ANISO"]),
+               "n_layers": len(tables.tile), "n_tiles": int(n_tiles), "iso_lod": values["ISO_LOD"],
                "sky_only": 1 if sky_only else 0, "any_stochastic": values["STOCHASTIC"],
                "min_filter": values["MIN_FILTER"], "open_layers": open_switches, "layers": layers}
-    head = prelude(target) + _library(values["SPX_ANISO"])
-    main = shader_file("ground.frag.glsl")
     declarations = interface.glsl_declarations(interface.GLFrame(tables, int(n_tiles)) if constants else None)
-    return head + render_text(main, {**context, "inputs": declarations.removesuffix("\n")})
+    return text, {**context, "inputs": declarations.removesuffix("\n")}
+
+
+def _vertex(target) -> tuple[str, dict]:
+    return shader_file("fullscreen.vert.glsl"), {"desktop": _check_target(target) == "330"}
 
 
 def vertex_source(target: str = "330") -> str:
     """The full-screen triangle's vertex shader (``shaders/fullscreen.vert.glsl``)."""
-    return render_text(shader_file("fullscreen.vert.glsl"), {"desktop": _check_target(target) == "330"})
+    return render_text(*_vertex(target))
+
+
+def program_sources(tables, n_tiles: int, *, target: str = "330", **switches) -> tuple[str, str]:
+    """The renderer's program: :func:`vertex_source` and :func:`fragment_source` (its keywords), both
+    templates filled in after everything they hold is known."""
+    switches = {"anisotropic": False, "iso_lod": False, "sky_only": False, "constants": False,
+                "open_switches": False, **switches}
+    vertex = _vertex(target)
+    fragment = _fragment(tables, n_tiles, target=target, **switches)
+    return render_text(*vertex), render_text(*fragment)
