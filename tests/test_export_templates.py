@@ -90,7 +90,7 @@ def test_control_prose_and_docstrings_are_not_statements():
 def test_every_export_template_is_used():
     used = set()
     for p in EXPORT.glob("*.py"):
-        used.update(re.findall(r"""["']((?:godot|hlsl|glsl)/[\w.]+)["']""", p.read_text(encoding="utf-8")))
+        used.update(re.findall(r"""["']((?:godot|hlsl|glsl|materialx)/[\w.]+)["']""", p.read_text(encoding="utf-8")))
     files = {p.relative_to(EXPORT / "templates").as_posix() for p in (EXPORT / "templates").rglob("*")
              if p.is_file() and p.parent != EXPORT / "templates"}
     assert files == used
