@@ -224,6 +224,37 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name, monkeypat
     assert blind.within and not np.isfinite(blind.per_magnification[2]), blind.per_magnification
 
 
+@pytest.mark.slow
+def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeypatch):
+    """Moon's craters look alike at every size: the photo's own score is high and scatters between
+    offsets of its zoom-out (0.15 to 0.28 at 4 times). The default fit's far view was flagged (0.25
+    against 0.18) and so was the photo's own zoom-out at another offset: the measure's reference was
+    one sample. Against the range over four offsets neither is; a magnified copy still is."""
+    import spectex._texture_stats as ts
+    from spectex.fitting import fit_result
+    from spectex.render import bake
+
+    photo = _photo("moon")
+    small = ts._resample(photo.astype(np.float64), 1.0 / 8.0)
+    # the photo's own zoom-out (its 64-pixel reduction repeated) at an offset none of the four takes
+    rolled = np.tile(small, (9, 9))[25:25 + 512, 6:6 + 512]
+    own = metrics.coarse_copies(rolled, photo, zoom=8)
+    assert own.within, own
+    px = 1.5 / 512
+    view = bake(fit_result(photo, pixel_size=px).texture, (512, 512), pixel_size=8 * px)
+    fit = metrics.coarse_copies(view, photo, zoom=8)
+    assert fit.within, fit  # measured 0.05 against its range's 0.02 at that magnification
+    # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
+    big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
+    copied = metrics.coarse_copies(0.7 * view[:, :, 0] + 0.3 * big, photo, zoom=8)
+    assert not copied.within and copied.value >= fit.value + 0.2, (copied, fit)
+    assert int(np.nanargmax(copied.per_magnification)) == copied.magnifications.index(16.0)
+    # the control: with one offset as the reference (the measure as it was), the photo's own
+    # zoom-out is flagged (measured 0.27 against 0.18)
+    monkeypatch.setattr(ts, "_OWN_ROLLS", ts._OWN_ROLLS[:1])
+    assert not metrics.coarse_copies(rolled, photo, zoom=8).within
+
+
 def test_coarse_copies_refuses_bad_input():
     photo = _photo("gravel")[:256, :256]
     view = np.random.default_rng(0).random((128, 128)).astype(np.float32)

@@ -13,8 +13,11 @@ What each layer carries, and why (``docs/fitting.md``):
   the content beyond the structure's lattice). The period is read to a
   fraction of a pixel and the tile resampled to whole-texel periods (the
   snapped offsets are whole texels); a photo a few degrees off its lines is
-  straightened first, and one in perspective is said to be in the notes
-  (:func:`_straighten_structure`).
+  straightened first, and one in perspective (its lines fanning out) is
+  rectified by a homography from its lines' vanishing points, so that
+  patches from its left and right carry the same lattice and meet without
+  V-shaped breaks (:func:`_straighten_structure`; the trial leaves out a way
+  whose bake's lines break, :func:`spectex.metrics.line_breaks`).
 * **Layers 1 ..** carry only what the photo says about larger scales: a
   second tile of random-phase noise (Galerne et al. 2011) whose spectrum
   continues the photo's below its lowest frequency (the slope of its three
@@ -88,6 +91,11 @@ TRIAL_MARGIN = 0.1
 #: than the photo's own plus ``REPEAT_MARGIN``: such a way is chosen only if every way repeats.
 REPEAT_LIMIT = 0.1
 REPEAT_MARGIN = 0.05
+#: A way of drawing the finest layer breaks the structure's lines when its trial bake's kinks
+#: (:func:`spectex.metrics.line_breaks`, windows of ``BREAK_WINDOW`` pixels) exceed the photo's by this
+#: factor: such a way is chosen only if every way breaks them.
+BREAK_LIMIT = 1.5
+BREAK_WINDOW = 64
 #: Side of the trial's far bake (pixels, at twice the photo's pixel size).
 TRIAL_FAR = 512
 #: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
@@ -251,27 +259,42 @@ def _straightened(exemplar, angle):
 
 
 def _straighten_structure(exemplar, structure, notes):
-    """A structured photo turned a few degrees off its lines straightened, and one in perspective noted.
+    """A structured photo in perspective rectified, or one turned a few degrees off its lines straightened.
 
     Returns ``(exemplar, angle, drift)``: the photo, its structure's angle
     and the largest difference of its halves' angles (left and right, top
-    and bottom; degrees, None where the photo is not structured). Where the
-    drift is over ``PERSPECTIVE_DRIFT`` the notes say the photo is in
-    perspective and its structure cannot be kept whole (it is not turned);
-    else where ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` it is
-    straightened (:func:`_straightened`) and the notes say so.
+    and bottom; degrees, None where the photo is not structured; the angle
+    is the rectified photo's where it was rectified). Where the drift is
+    over ``PERSPECTIVE_DRIFT`` the photo is in perspective: it is rectified
+    (:func:`spectex.fitting._perspective.rectify`, a homography from its
+    two line families' vanishing points) and the rectified crop kept where
+    its own drift is at most ``PERSPECTIVE_DRIFT`` (its lines now run
+    parallel); else the notes say the structure is not kept whole. Where
+    ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` (and no perspective) it
+    is straightened (:func:`_straightened`). The notes say what was done.
     """
     h, w = exemplar.shape[:2]
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None
     angle = structure_orientation(exemplar)
-    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
-    drift = max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
+    drift = _orientation_drift(exemplar)
     if drift > PERSPECTIVE_DRIFT:
-        # lines that fan out are not made parallel by one turn: the photo is left as it is
+        # lines that fan out are not made parallel by one turn: the photo is rectified (a homography from
+        # its two line families' vanishing points) and kept so where its lines then run parallel
+        from ._perspective import rectify
+
+        found = rectify(exemplar)
+        after = None if found is None else _orientation_drift(found.image)
+        if after is not None and after <= PERSPECTIVE_DRIFT:
+            rh, rw = found.image.shape[:2]
+            lo, hi = found.scale_range
+            notes.append(f"rectified the photo's perspective (its structure's lines turned by {drift:.1f} degrees "
+                         f"across it, {after:.1f} after; cropped to {rh} x {rw} px, resampled by {lo:.2f} to "
+                         f"{hi:.2f})")
+            return found.image, structure_orientation(found.image), drift
         notes.append(f"the photo looks to be in perspective (its structure's lines turn by {drift:.1f} degrees "
-                     "across it): patches cut from its sides meet at breaks, the structure is not kept whole; "
-                     "photograph it square-on")
+                     "across it) and could not be rectified: patches cut from its sides meet at breaks, the "
+                     "structure is not kept whole; photograph it square-on")
     elif STRAIGHTEN_MIN < abs(angle) <= STRAIGHTEN_MAX:
         # a photo of a wall taken a few degrees off its lines: the structure straightened first, so that
         # its period is one along x and y and the tile's wrap meets itself. The gradients' vote is biased
@@ -283,6 +306,14 @@ def _straighten_structure(exemplar, structure, notes):
         notes.append(f"turned the photo by {-angle:.1f} degrees to straighten its structure "
                      f"(cropped to {h} x {w} px)")
     return exemplar, angle, drift
+
+
+def _orientation_drift(exemplar):
+    """The largest difference (degrees) of :func:`structure_orientation` between the photo's halves
+    (left and right, top and bottom)."""
+    h, w = exemplar.shape[:2]
+    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
+    return max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
 
 
 def _best_cut(lines, span):
@@ -446,7 +477,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     (``period``, pixels; the content's repeat beyond the structure's own) of
     a 512 x 512 bake at twice the pixel size (at least two tiles across).
     """
-    from ..metrics import reference_statistics, repeat_peak, structural_distance
+    from ..metrics import line_breaks, reference_statistics, repeat_peak, structural_distance
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
@@ -464,17 +495,20 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
         baked = bake(texture, (m, m), pixel_size=pixel_size)
         far = bake(texture, (TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
         out[label] = {"structure": structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio,
-                      "repeat": repeat_peak(far, period=half)}
+                      "repeat": repeat_peak(far, period=half),
+                      "breaks": line_breaks(baked, reference, window=BREAK_WINDOW).ratio if m >= 3 * BREAK_WINDOW
+                      else 1.0}
     return out
 
 
 def _choose(trial, own_repeat):
     """The finest layer's way from :func:`_trial`: the closest structure among the ways that do not
-    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``, all of them
-    if none), the snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in
-    doubt)."""
+    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``) and do not break
+    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's), all of them if none, the
+    snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in doubt)."""
     limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
-    allowed = [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
+    allowed = [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT]
+    allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
     best = min(allowed, key=lambda k: trial[k]["structure"])
     if "snapped" in allowed and trial["snapped"]["structure"] <= (1.0 + TRIAL_MARGIN) * trial[best]["structure"]:
         return "snapped"
