@@ -135,15 +135,24 @@ def _content_repeat(image, period, zoom=1):
     return metrics.repeat_peak(image, period=scaled, min_lag=min(24, min(image.shape[:2]) // 2))
 
 
-def _measure(photo, near, far, period=None, straight=None):
+def _measure(photo, near, far, period=None, straight=None, prepared=None):
+    """The columns for one method's renders; ``prepared``: a dict kept per photo for what is
+    measured of the photo alone (its structural floor, its own range per far-view shape)."""
     from spectex import metrics
 
+    prepared = {} if prepared is None else prepared
     h, w = photo.shape[:2]
-    prepared = metrics.reference_statistics(photo)
-    s1 = metrics.structural_distance(near[:h, :w], photo, prepared=prepared)
-    sn = metrics.structural_distance(near, photo, prepared=prepared)
+    if "statistics" not in prepared:
+        prepared["statistics"] = metrics.reference_statistics(photo)
+    s1 = metrics.structural_distance(near[:h, :w], photo, prepared=prepared["statistics"])
+    sn = metrics.structural_distance(near, photo, prepared=prepared["statistics"])
     clip = metrics.clipping(near, photo)
-    copies = metrics.coarse_copies(far, photo, zoom=8) if min(far.shape[:2]) >= 96 else None
+    copies = None
+    if min(far.shape[:2]) >= 96:
+        shape = far.shape[:2]
+        if shape not in prepared:
+            prepared[shape] = metrics.coarse_reference(photo, view_shape=shape, zoom=8)
+        copies = metrics.coarse_copies(far, photo, zoom=8, prepared=prepared[shape])
     return {"s 1x": s1.ratio, "s near": sn.ratio, "clip": 100 * clip.image, "clip photo": 100 * clip.reference,
             "rp near": metrics.repeat_peak(near),
             "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
@@ -166,7 +175,7 @@ def _grid(rows, path):
     """Photo | each method's near render (photo-sized corner) | far views, one row per photo."""
     from PIL import Image, ImageDraw
 
-    cell = 192
+    cell = 128
     names = ["photo"] + [f"{m} near" for m in METHODS] + ["fit far", "legacy far"]
     pics = []
     for name, photo, made in rows:
@@ -192,7 +201,7 @@ def _grid(rows, path):
                                                                                          Image.LANCZOS)
             canvas.paste(im, (j * cell + 2, y + 12))
     path.parent.mkdir(parents=True, exist_ok=True)
-    canvas.save(path, quality=88)
+    canvas.save(path, quality=75)  # about 280 KB for 8 photos (busy textures compress poorly)
 
 
 def main(argv=None) -> int:
@@ -225,13 +234,14 @@ def main(argv=None) -> int:
         made = {}
         first = True
         period, straight = _period(photo)
+        prepared = {}
         for m in methods:
             out = _make(m, photo, near_shape, far_side, args.rng)
             if out is None:
                 continue
             near, far, seconds = out
             made[m] = (near, far)
-            r = _measure(photo, near, far, period, straight)
+            r = _measure(photo, near, far, period, straight, prepared)
             means[m].append(r["s 1x"])
             if first:
                 print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "

@@ -295,3 +295,24 @@ def test_fit_report_on_a_given_bake_is_the_same_report(fitted, reports):
     assert given.cross_scale_texture == own.cross_scale_texture
     with pytest.raises(ValueError, match="bake must be at least the exemplar's size 128x128, got 64x64"):
         fit_report(tex, _crop("gravel"), bake=bake(tex, (64, 64)))
+
+
+def test_fit_report_with_the_photos_half_made_beforehand_is_the_same_report(fitted, reports):
+    """report_reference (what spectex fit makes while it fits) gives fit_report the same numbers;
+    one of another photo or zoom is refused."""
+    from spectex.fitting import report_reference
+
+    tex = fitted["gravel"].texture
+    own = reports["gravel", (0.0, 0.0)]
+    prepared = report_reference(_crop("gravel"))
+    given = fit_report(tex, _crop("gravel"), pixel_size=fitted["gravel"].pixel_size, prepared=prepared)
+    assert given.band_power_distance_db == own.band_power_distance_db
+    np.testing.assert_array_equal(given.histogram_w1, own.histogram_w1)
+    assert given.cross_scale_texture == own.cross_scale_texture
+    assert given.clipping.image == own.clipping.image and given.coarse is own.coarse is None  # a 128-pixel photo
+    assert given.structure.ratio == own.structure.ratio and given.structure_far.ratio == own.structure_far.ratio
+    assert given.cross_scale_exemplar == own.cross_scale_exemplar
+    with pytest.raises(ValueError, match="prepared"):
+        fit_report(tex, _crop("grass"), prepared=prepared)
+    with pytest.raises(ValueError, match="prepared"):
+        fit_report(tex, _crop("gravel"), coarse_zoom=4, prepared=prepared)

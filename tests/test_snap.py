@@ -297,6 +297,38 @@ def test_structure_period_is_subpixel_and_refuses_a_period_the_bricks_do_not_hav
     assert px is None and py is not None and abs(py - 15.3) <= 0.1, (py, px)
 
 
+def _tile_grid(side, *, period=64, grout=5, rng=11):
+    """Square tiles of slightly different colours in light grout, every ``period`` pixels, RGB."""
+    rng = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side]
+    cells = (yy // period) * (side // period + 1) + xx // period
+    img = (np.array([0.7, 0.42, 0.3]) + rng.normal(0.0, 0.03, (cells.max() + 1, 3)))[cells]
+    img *= 1.0 + 0.04 * rng.standard_normal((side, side, 1))
+    fy, fx = yy % period, xx % period
+    line = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
+    img[line] = 0.78
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+@pytest.mark.parametrize("origin", [(0, 0), (100, 37), (21, 50)])
+def test_structure_period_refuses_a_period_the_crop_shows_too_few_times(origin):
+    from spectex.fitting import _auto
+    from spectex.fitting._auto import structure_period
+
+    grid = _tile_grid(512)
+    y, x = origin
+    # 96 pixels hold 1.5 tiles: the circular autocorrelation has a false peak at the gap its
+    # wrap-around leaves (34.6 px at the corner, 32 px here and there); nothing confirms it
+    assert structure_period(grid[y:y + 96, x:x + 96]) == (None, None)
+    # the control: 256 pixels hold four tiles, found on both axes
+    py, px = structure_period(grid[y:y + 256, x:x + 256])
+    assert abs(py - 64.0) <= 0.5 and abs(px - 64.0) <= 0.5, (py, px)
+    # at least PERIOD_MIN_REPEATS periods across: 192 pixels (3 tiles) are enough, 160 (2.5) are not
+    assert structure_period(grid[y:y + 192, x:x + 192]) != (None, None)
+    assert structure_period(grid[y:y + 160, x:x + 160]) == (None, None)
+    assert _auto.PERIOD_MIN_REPEATS == 3.0
+
+
 def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
     from spectex.fitting._auto import _period_tile
 

@@ -68,6 +68,10 @@ AUTO_MAX_SLOPE = -3.0
 PERIOD_MIN_PROMINENCE = 0.1
 #: Least height of the autocorrelation's peak at twice a period, as a fraction of the period's own.
 PERIOD_MULTIPLE = 0.4
+#: Fewest times a period must fit across the photo along its axis to be believed: the autocorrelation
+#: is circular, so a crop of 1.5 periods of 64-pixel tiles showed a false 34.6-pixel period (the gap
+#: its wrap-around leaves), which no second or third repeat confirmed.
+PERIOD_MIN_REPEATS = 3.0
 #: Most stretch of the photo's period to the tile's whole-texel period (:func:`_tile_counts`).
 PERIOD_STRETCH = 0.12
 #: A structured photo turned by more than this (degrees, :func:`structure_orientation`) is straightened first.
@@ -125,8 +129,11 @@ def structure_period(exemplar, *, min_lag: int = 8):
     maximum wins, unless a shorter lag reaches 90% of it (a multiple of the
     true period is as high as the period itself).
 
-    A period is accepted only if it stands above the autocorrelation's own
-    floor: correlation :data:`PERIOD_MIN_CORRELATION` or more, and a peak
+    A period is accepted only if it fits :data:`PERIOD_MIN_REPEATS` times
+    (3) across the photo along its axis (fewer repeats cannot confirm it,
+    and the circular autocorrelation of a crop of one or two periods has
+    false peaks at the gap its wrap-around leaves), and if it stands above
+    the autocorrelation's own floor: correlation :data:`PERIOD_MIN_CORRELATION` or more, and a peak
     :data:`PERIOD_MIN_PROMINENCE` above the lowest value between half the
     lag and the lag, and (where twice the lag is under half the side) a
     peak again at twice the lag, at least :data:`PERIOD_MULTIPLE` of the
@@ -152,12 +159,16 @@ def structure_period(exemplar, *, min_lag: int = 8):
     spec = np.fft.rfft2(lum)
     acf = np.fft.irfft2(np.abs(spec) ** 2, s=lum.shape)
     acf /= acf[0, 0]
+    # the linear autocorrelation (pairs of pixels both inside the photo, not across its wrap-around)
+    h, w = lum.shape
+    pad = (2 * h, 2 * w)
+    overlap = np.fft.irfft2(np.abs(np.fft.rfft2(np.ones_like(lum), s=pad)) ** 2, s=pad)
+    linear = np.fft.irfft2(np.abs(np.fft.rfft2(lum, s=pad)) ** 2, s=pad) / np.maximum(overlap, 1.0)
+    linear /= linear[0, 0]
     out = []
-    for a in (acf, acf.T):
-        half = a.shape[0] // 2
-        line = np.array([max(a[d, e % a.shape[1]] for e in range(-int(math.ceil(TILT * d)),
-                                                                  int(math.ceil(TILT * d)) + 1))
-                         for d in range(half)])
+    for a, b in ((acf, linear), (acf.T, linear.T)):
+        line = _axis_line(a, a.shape[0] // 2)
+        half = len(line)
         v = line[min_lag:half]
         peaks = [i for i in range(1, len(v) - 1) if v[i] >= v[i - 1] and v[i] >= v[i + 1]]
         best = max(peaks, key=lambda i: v[i]) if peaks else None
@@ -168,8 +179,24 @@ def structure_period(exemplar, *, min_lag: int = 8):
         if not _period_stands_out(line, p):
             out.append(None)
             continue
-        out.append(round(_refine_period(line, p), 2))
+        period = _refine_period(line, p)
+        seen = a.shape[0] >= PERIOD_MIN_REPEATS * period and _seen_inside(_axis_line(b, half), p)
+        out.append(round(period, 2) if seen else None)
     return out[0], out[1]
+
+
+def _axis_line(a, lags):
+    """Autocorrelation ``a`` (lag 0 at index 0, negative lags wrapped) along its first axis, lags 0 to
+    ``lags - 1``, each lag ``d`` the best over a drift of ``TILT d`` across the axis."""
+    return np.array([max(a[d, e % a.shape[1]] for e in range(-int(math.ceil(TILT * d)), int(math.ceil(TILT * d)) + 1))
+                     for d in range(lags)])
+
+
+def _seen_inside(line, p):
+    """Whether the linear autocorrelation ``line`` (pairs inside the photo) has its peak at lag ``p``
+    (or next to it) :data:`PERIOD_MIN_PROMINENCE` above the lowest value between half the lag and the lag."""
+    top = float(np.max(line[p - 1:p + 2]))
+    return top >= PERIOD_MIN_CORRELATION and top - float(np.min(line[p // 2:p + 1])) >= PERIOD_MIN_PROMINENCE
 
 
 def _period_stands_out(line, p):
