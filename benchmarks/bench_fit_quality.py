@@ -112,7 +112,8 @@ def _period(photo):
     and the photo as the fit reads it: straightened or rectified first where the fit does (its period is the
     one the fit's bake has), else the photo."""
     from spectex.fitting import STRUCTURED_PEAK, prepare_exemplar, structure_peak
-    from spectex.fitting._auto import _straighten_structure, structure_period
+    from spectex.fitting._auto import _straighten_structure
+    from spectex.fitting._structure import structure_period
 
     exemplar = prepare_exemplar(photo)[0]
     structure = structure_peak(exemplar)

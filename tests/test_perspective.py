@@ -78,8 +78,9 @@ def _line_angle_error(found, true, points):
 
 
 def test_rectify_makes_a_wall_seen_in_perspective_square_on(walls):
-    from spectex.fitting._auto import _orientation_drift, structure_period
+    from spectex.fitting._auto import _orientation_drift
     from spectex.fitting._perspective import rectify
+    from spectex.fitting._structure import structure_period
 
     seen = walls["seen"]
     assert _orientation_drift(seen) > 3.0  # its halves' lines differ by several degrees (measured 4.9)
@@ -110,8 +111,9 @@ def test_rectify_makes_a_tiled_floor_seen_at_an_angle_square_on():
     """Square tiles of 64 px in grout, both line families as strong, seen turned and tilted (the rows
     converge as well as the columns): no period can be read on the photo, one of 64 px on its
     rectification."""
-    from spectex.fitting._auto import _orientation_drift, structure_period
+    from spectex.fitting._auto import _orientation_drift
     from spectex.fitting._perspective import rectify
+    from spectex.fitting._structure import structure_period
 
     rng = np.random.default_rng(2)
     side, c, ss = 512, 256.0, 3  # drawn at 3 x 3 samples per pixel

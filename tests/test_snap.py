@@ -287,7 +287,7 @@ def _lattice_share(image, period):
 
 
 def test_structure_period_is_subpixel_and_refuses_a_period_the_bricks_do_not_have():
-    from spectex.fitting._auto import structure_period
+    from spectex.fitting._structure import structure_period
 
     py, px = structure_period(subpixel_wall(320))
     # 33.4 across; down, the bond's two rows of 15.3 (a whole-pixel estimate is 0.4 px off across)
@@ -312,8 +312,8 @@ def _tile_grid(side, *, period=64, grout=5, rng=11):
 
 @pytest.mark.parametrize("origin", [(0, 0), (100, 37), (21, 50)])
 def test_structure_period_refuses_a_period_the_crop_shows_too_few_times(origin):
-    from spectex.fitting import _auto
-    from spectex.fitting._auto import structure_period
+    from spectex.fitting import _structure
+    from spectex.fitting._structure import structure_period
 
     grid = _tile_grid(512)
     y, x = origin
@@ -326,7 +326,7 @@ def test_structure_period_refuses_a_period_the_crop_shows_too_few_times(origin):
     # at least PERIOD_MIN_REPEATS periods across: 192 pixels (3 tiles) are enough, 160 (2.5) are not
     assert structure_period(grid[y:y + 192, x:x + 192]) != (None, None)
     assert structure_period(grid[y:y + 160, x:x + 160]) == (None, None)
-    assert _auto.PERIOD_MIN_REPEATS == 3.0
+    assert _structure.PERIOD_MIN_REPEATS == 3.0
 
 
 def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
@@ -353,7 +353,8 @@ def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
 
 def test_fit_straightens_a_turned_wall_and_says_when_a_photo_is_in_perspective():
     from spectex.fitting import fit_result
-    from spectex.fitting._auto import _period_tile, structure_period
+    from spectex.fitting._auto import _period_tile
+    from spectex.fitting._structure import structure_period
 
     turned = subpixel_wall(320, rng=4, turn=3.0)
     result = fit_result(turned, pixel_size=0.01, layers=2, iterations=1)

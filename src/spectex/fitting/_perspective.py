@@ -267,13 +267,13 @@ def _spacing_map(crop):
     image only once the vanishing line is at infinity; a vanishing line
     read a little off (the rows' vanishing point of short joints is read
     poorly) leaves their spacing changing across the crop. The period
-    (:func:`spectex.fitting._auto.structure_period`) is read in each half
+    (:func:`spectex.fitting._structure.structure_period`) is read in each half
     along an axis; spacing ``s(x) = s0 (1 + k x)`` is evened by
     ``x' = x / (1 + e x)`` (local scale ``1 - 2 e x``), ``e = k / 2``, and
     the same along y. Returns None where no axis changes by more than
     ``SPACING_MIN`` across the crop.
     """
-    from ._auto import structure_period
+    from ._structure import structure_period
 
     h, w = crop.shape[:2]
     third = [0.0, 0.0]
