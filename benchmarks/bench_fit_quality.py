@@ -29,9 +29,13 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   view (<= 0.1 does not repeat);
 * ``rs near``, ``rs far``: the same with the photo's structure lattice removed
   (``repeat_peak(..., period=)``, the period :func:`spectex.fitting.structure_period` finds on a
-  structured photo; ``nan`` on the others): how much the *content* repeats, where the lattice
+  structured photo, after the straightening or rectification the fit makes, so the lattice the
+  fit's bake has; ``nan`` on the others): how much the *content* repeats, where the lattice
   itself (bricks, tile grout) is the photo's own repeat (``rp own`` in the header: brick 0.18,
-  tiles 0.90), which no texture that keeps the structure can lower;
+  tiles 0.90), which no texture that keeps the structure can lower (a wall square-on, its
+  mortar straight, has a higher ``rp`` than the same wall in perspective: brick rectified, 0.75);
+* ``brk``: :func:`spectex.metrics.line_breaks` ratio of the near render to the photo (structured
+  photos): about 1 or below keeps the photo's lines as straight; clearly above, V-shaped breaks;
 * ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
   with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
@@ -104,15 +108,20 @@ def _make(method, photo, near_shape, far_side, rng):
 
 
 def _period(photo):
-    """The photo's structure period ``(py, px)`` in pixels where it is structured (the fit's own test), else None."""
+    """The photo's structure period ``(py, px)`` in pixels where it is structured (the fit's own test), else None,
+    and the photo as the fit reads it: straightened or rectified first where the fit does (its period is the
+    one the fit's bake has), else the photo."""
     from spectex.fitting import STRUCTURED_PEAK, prepare_exemplar, structure_peak
-    from spectex.fitting._auto import structure_period
+    from spectex.fitting._auto import _straighten_structure
+    from spectex.fitting._structure import structure_period
 
     exemplar = prepare_exemplar(photo)[0]
-    if structure_peak(exemplar) < STRUCTURED_PEAK:
-        return None
+    structure = structure_peak(exemplar)
+    if structure < STRUCTURED_PEAK:
+        return None, photo
+    exemplar = _straighten_structure(exemplar, structure, [])[0]
     period = structure_period(exemplar)
-    return None if period == (None, None) else period
+    return (None, photo) if period == (None, None) else (period, exemplar)
 
 
 def _content_repeat(image, period, zoom=1):
@@ -127,15 +136,24 @@ def _content_repeat(image, period, zoom=1):
     return metrics.repeat_peak(image, period=scaled, min_lag=min(24, min(image.shape[:2]) // 2))
 
 
-def _measure(photo, near, far, period=None):
+def _measure(photo, near, far, period=None, straight=None, prepared=None):
+    """The columns for one method's renders; ``prepared``: a dict kept per photo for what is
+    measured of the photo alone (its structural floor, its own range per far-view shape)."""
     from spectex import metrics
 
+    prepared = {} if prepared is None else prepared
     h, w = photo.shape[:2]
-    prepared = metrics.reference_statistics(photo)
-    s1 = metrics.structural_distance(near[:h, :w], photo, prepared=prepared)
-    sn = metrics.structural_distance(near, photo, prepared=prepared)
+    if "statistics" not in prepared:
+        prepared["statistics"] = metrics.reference_statistics(photo)
+    s1 = metrics.structural_distance(near[:h, :w], photo, prepared=prepared["statistics"])
+    sn = metrics.structural_distance(near, photo, prepared=prepared["statistics"])
     clip = metrics.clipping(near, photo)
-    copies = metrics.coarse_copies(far, photo, zoom=8) if min(far.shape[:2]) >= 96 else None
+    copies = None
+    if min(far.shape[:2]) >= 96:
+        shape = far.shape[:2]
+        if shape not in prepared:
+            prepared[shape] = metrics.coarse_reference(photo, view_shape=shape, zoom=8)
+        copies = metrics.coarse_copies(far, photo, zoom=8, prepared=prepared[shape])
     return {"s 1x": s1.ratio, "s near": sn.ratio, "clip": 100 * clip.image, "clip photo": 100 * clip.reference,
             "rp near": metrics.repeat_peak(near),
             "rp far": metrics.repeat_peak(far, min_lag=min(24, min(far.shape[:2]) // 2)),
@@ -143,7 +161,8 @@ def _measure(photo, near, far, period=None):
             "copies photo": copies.reference if copies else float("nan"),
             "copies flag": (copies is not None and not copies.within),
             "rs near": _content_repeat(near, period), "rs far": _content_repeat(far, period, zoom=8),
-            "rs photo": _content_repeat(photo, period),
+            "rs photo": _content_repeat(photo if straight is None else straight, period),
+            "breaks": metrics.line_breaks(near, photo).ratio if period is not None else float("nan"),
             "groups": s1.group_ratios}
 
 
@@ -157,7 +176,7 @@ def _grid(rows, path):
     """Photo | each method's near render (photo-sized corner) | far views, one row per photo."""
     from PIL import Image, ImageDraw
 
-    cell = 192
+    cell = 128
     names = ["photo"] + [f"{m} near" for m in METHODS] + ["fit far", "legacy far"]
     pics = []
     for name, photo, made in rows:
@@ -183,7 +202,7 @@ def _grid(rows, path):
                                                                                          Image.LANCZOS)
             canvas.paste(im, (j * cell + 2, y + 12))
     path.parent.mkdir(parents=True, exist_ok=True)
-    canvas.save(path, quality=88)
+    canvas.save(path, quality=75)  # about 280 KB for 8 photos (busy textures compress poorly)
 
 
 def main(argv=None) -> int:
@@ -206,7 +225,7 @@ def main(argv=None) -> int:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'rs near':>7s} {'rs far':>6s} {'copies':>7s} {'s':>6s}"
+             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'copies':>7s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -215,22 +234,26 @@ def main(argv=None) -> int:
         far_side = 256 if args.quick else 512
         made = {}
         first = True
-        period = _period(photo)
+        period, straight = _period(photo)
+        prepared = {}
         for m in methods:
             out = _make(m, photo, near_shape, far_side, args.rng)
             if out is None:
                 continue
             near, far, seconds = out
             made[m] = (near, far)
-            r = _measure(photo, near, far, period)
+            r = _measure(photo, near, far, period, straight, prepared)
             means[m].append(r["s 1x"])
             if first:
                 print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "
-                      f"rp own {metrics_rp(photo):.3f}, structure period {period}, rs own {r['rs photo']:.3f})")
+                      f"rp own {metrics_rp(photo):.3f}"
+                      + ("" if straight is photo else f" ({metrics_rp(straight):.3f} as the fit reads it)")
+                      + f", structure period {period}, rs own {r['rs photo']:.3f})")
                 first = False
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
-                  f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['copies']:6.2f}{flag} "
+                  f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} "
+                  f"{r['copies']:6.2f}{flag} "
                   f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture

@@ -118,3 +118,13 @@ class _nothing:
 
     def __exit__(self, *exc):
         return False
+
+
+def test_cli_fit_searches_the_magnifications_its_layers_show():
+    """The report's search for magnified copies tries ratio ** k, the magnifications of the photo a
+    coarse layer would show if it drew it, those coarse_copies can search (>= 1.5)."""
+    from spectex.cli._fit import _layer_magnifications
+
+    assert _layer_magnifications(4.0, 5) == (4.0, 16.0, 64.0, 256.0)
+    assert _layer_magnifications(1.3, 4) == pytest.approx((1.69, 2.197))
+    assert _layer_magnifications(1.2, 3) is None  # none searchable: the metric's default

@@ -625,7 +625,12 @@ def test_blender_renders_spectex_picture(blender_exports, tmp_path, name, view):
         if not flipped.exists():
             shutil.copytree(folder, flipped)
             script = flipped / "blender" / "spectex_ground.py"
-            script.write_text(script.read_text().replace("(s, -c, 0.0)", "(-s, c, 0.0)"))
+            text = script.read_text()
+            for old, new in (("(-m10, -m11, 0.0)", "(m10, m11, 0.0)"), ("(anchor_s, -anchor_t, 0.0)",
+                                                                        "(anchor_s, anchor_t, 0.0)")):
+                assert old in text  # the control edits what the script holds
+                text = text.replace(old, new)
+            script.write_text(text)
         wrong, _ = render_blender(flipped, cam, tmp_path)
         assert psnr(wrong, reference) < 30.0
 

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 import spectex.export
+from spectex._template import each_block
 from spectex.export import _template
 from spectex.export._syntax import GODOT, HLSL
 
@@ -58,6 +59,15 @@ def test_no_export_module_holds_a_shader_statement():
     assert {name: lines for name, lines in found.items() if lines} == {}
 
 
+def test_the_shading_generator_holds_no_shader_statement():
+    """``shading/glsl.py`` fills the shader templates of ``shading/shaders/`` (the renderer's and every
+    export's text) with names and numbers: its prelude, library, switches and layer calls are template text."""
+    glsl = EXPORT.parent / "shading" / "glsl.py"
+    assert shader_statements(glsl.read_text(encoding="utf-8")) == []
+    # control: the f-string that used to write a layer's call is a statement
+    assert shader_statements('X = f"        shade_layer({k}, {b}, u_tile[{t}], c, p, jx, jy, lam_w);"')
+
+
 @pytest.mark.parametrize("source", [
     'LINES = ["    vec2 st = spectex_layer_coords(anchor, m, p);"]',
     'def f(n):\n    return f"const vec4 SPECTEX_MAT[{n}] = {{x}};"',
@@ -80,18 +90,20 @@ def test_control_prose_and_docstrings_are_not_statements():
 def test_every_export_template_is_used():
     used = set()
     for p in EXPORT.glob("*.py"):
-        used.update(re.findall(r"""["']((?:godot|hlsl|glsl)/[\w.]+)["']""", p.read_text(encoding="utf-8")))
+        used.update(re.findall(r"""["']((?:godot|hlsl|glsl|materialx)/[\w.]+)["']""", p.read_text(encoding="utf-8")))
     files = {p.relative_to(EXPORT / "templates").as_posix() for p in (EXPORT / "templates").rglob("*")
              if p.is_file() and p.parent != EXPORT / "templates"}
     assert files == used
 
 
 def test_template_language(tmp_path, monkeypatch):
-    text = ("head {{a}}\n{{#each items}}\n  item {{k}} of {{a}}\n{{#if odd}}\n  odd\n{{/if}}\n"
-            "{{#if not odd}}\n  even\n{{/if}}\n{{/each}}\ntail\n")
+    text = ("{{! a comment of the template\nhead {{a}}\n{{#each items}}\n  item {{k}} of {{a}}\n{{#if odd}}\n"
+            "  odd\n{{/if}}\n{{#if not odd}}\n  even\n{{/if}}\n{{/each}}\ntail\n")
     monkeypatch.setattr(_template, "read", lambda name: text)
     out = _template.render("x", {"a": "A", "items": [{"k": 1, "odd": True}, {"k": 2, "odd": False}]})
     assert out == "head A\n  item 1 of A\n  odd\n  item 2 of A\n  even\ntail\n"
+    assert each_block(text, "items") == ("  item {{k}} of {{a}}\n{{#if odd}}\n  odd\n{{/if}}\n"
+                                         "{{#if not odd}}\n  even\n{{/if}}")
     with pytest.raises(KeyError, match="a"):
         _template.render("x", {"items": []})
     monkeypatch.setattr(_template, "read", lambda name: "{{#if x}}\nno end\n")

@@ -176,15 +176,18 @@ def test_fit_coarse_layers_never_magnify_the_photo(fitted, name):
     tex = res.texture
     assert tex.layers[0].tile == 0 and all(layer.tile == 1 for layer in tex.layers[1:])
 
-    def high_fraction(tile):
+    def high_fraction(tile, cycles=16):
         lum = tile[:, :, :3].mean(axis=2)
         spec = np.abs(np.fft.fft2(lum - lum.mean())) ** 2
         n = lum.shape[0]
         u = np.hypot(*np.meshgrid(np.fft.fftfreq(n) * n, np.fft.fftfreq(n) * n))
-        return spec[u > 16].sum() / spec.sum()
+        return spec[u > cycles].sum() / spec.sum()
 
     assert high_fraction(tex.tiles[1]) < 0.02
-    assert high_fraction(tex.tiles[0]) > 0.1
+    # the control: the photo's tile has much of its variance in its fine detail (periods under 8
+    # texels; brick's rectified crop gives a tile of three 31-texel columns, whose mortar lines hold
+    # most of its variance under 16 cycles: 0.20 above n / 8, 0.03 above 16)
+    assert high_fraction(tex.tiles[0], tex.tiles[0].shape[0] / 8) > 0.1
     # 64x the pixel size: the photo's tile has averaged out, the coarse layers carry the variation
     p = res.pixel_size
     with_coarse = band_power(bake(tex, (128, 128), pixel_size=64.0 * p))[1][1:4]
@@ -292,3 +295,24 @@ def test_fit_report_on_a_given_bake_is_the_same_report(fitted, reports):
     assert given.cross_scale_texture == own.cross_scale_texture
     with pytest.raises(ValueError, match="bake must be at least the exemplar's size 128x128, got 64x64"):
         fit_report(tex, _crop("gravel"), bake=bake(tex, (64, 64)))
+
+
+def test_fit_report_with_the_photos_half_made_beforehand_is_the_same_report(fitted, reports):
+    """report_reference (what spectex fit makes while it fits) gives fit_report the same numbers;
+    one of another photo or zoom is refused."""
+    from spectex.fitting import report_reference
+
+    tex = fitted["gravel"].texture
+    own = reports["gravel", (0.0, 0.0)]
+    prepared = report_reference(_crop("gravel"))
+    given = fit_report(tex, _crop("gravel"), pixel_size=fitted["gravel"].pixel_size, prepared=prepared)
+    assert given.band_power_distance_db == own.band_power_distance_db
+    np.testing.assert_array_equal(given.histogram_w1, own.histogram_w1)
+    assert given.cross_scale_texture == own.cross_scale_texture
+    assert given.clipping.image == own.clipping.image and given.coarse is own.coarse is None  # a 128-pixel photo
+    assert given.structure.ratio == own.structure.ratio and given.structure_far.ratio == own.structure_far.ratio
+    assert given.cross_scale_exemplar == own.cross_scale_exemplar
+    with pytest.raises(ValueError, match="prepared"):
+        fit_report(tex, _crop("grass"), prepared=prepared)
+    with pytest.raises(ValueError, match="prepared"):
+        fit_report(tex, _crop("gravel"), coarse_zoom=4, prepared=prepared)

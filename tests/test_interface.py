@@ -43,6 +43,23 @@ def test_every_input_is_named_in_its_row_and_the_shader_only():
     assert misplaced(SRC) == {}
 
 
+def names_in_many_files(root: Path) -> dict[str, set[str]]:
+    """Every ``u_*`` word of the sources (a table row's or not) that more than two source files name."""
+    files: dict[str, set[str]] = {}
+    for p in root.rglob("*"):
+        if p.is_file() and p.suffix in TEXT:
+            for name in set(re.findall(r"\bu_\w+", p.read_text(encoding="utf-8", errors="replace"))):
+                files.setdefault(name, set()).add(p.relative_to(root).as_posix())
+    return {name: where for name, where in files.items() if len(where) > 2}
+
+
+def test_no_shader_input_name_is_written_in_a_third_file():
+    """The grep count: every ``u_*`` name, in the table or not (the MaterialX and Blender exports take
+    the table's values and name no input), is in at most two source files."""
+    assert names_in_many_files(SRC) == {}
+    assert all(len(files_naming(SRC, row.name)) == 2 for row in interface.INPUTS)
+
+
 def test_control_a_name_written_by_hand_elsewhere_is_found(tmp_path):
     root = tmp_path / "spectex"
     shutil.copytree(SRC, root, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
@@ -50,6 +67,12 @@ def test_control_a_name_written_by_hand_elsewhere_is_found(tmp_path):
     gl = root / "render" / "gl.py"
     gl.write_text(gl.read_text(encoding="utf-8") + f'\n_LEAK = "{interface.MAT.name}"\n', encoding="utf-8")
     assert misplaced(root) == {interface.MAT.name: HOMES | {"render/gl.py"}}
+    assert names_in_many_files(root) == {interface.MAT.name: HOMES | {"render/gl.py"}}
+    # a name of no row, written in three files, is found as well
+    for name in ("export/materialx.py", "export/blender.py", "render/cpu.py"):
+        path = root / name
+        path.write_text(path.read_text(encoding="utf-8") + '\n_LEAK2 = "u_by_hand"\n', encoding="utf-8")
+    assert names_in_many_files(root)["u_by_hand"] == {"export/materialx.py", "export/blender.py", "render/cpu.py"}
 
 
 def test_the_shader_declares_exactly_the_table(texture):
@@ -60,7 +83,7 @@ def test_the_shader_declares_exactly_the_table(texture):
     assert source.count(declarations) == 1
     used = set(re.findall(r"\bu_\w+", source.replace(declarations, "")))  # the shader's text and its layer calls
     assert used == {row.name for row in interface.INPUTS}
-    assert set(re.findall(r"\bu_\w+", shader_file("ground.frag.glsl"))) < used
+    assert set(re.findall(r"\bu_\w+", shader_file("ground.frag.glsl"))) == used  # layer calls: the template's
     text = declarations
     assert len(re.findall(r"^uniform ", text, flags=re.M)) == len(interface.INPUTS)
     assert "const " not in text

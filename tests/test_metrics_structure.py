@@ -224,6 +224,86 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name, monkeypat
     assert blind.within and not np.isfinite(blind.per_magnification[2]), blind.per_magnification
 
 
+def test_coarse_reference_is_the_photos_half_of_coarse_copies():
+    photo = _photo("gravel")[:192, :192]
+    rng = np.random.default_rng(5)
+    view = _down(_mosaic(photo, rng, side=512, piece=64), 4)  # 128 x 128 at zoom 4
+    kwargs = dict(zoom=4, magnifications=(2, 4, 8), angles=8, pieces=4)
+    alone = metrics.coarse_copies(view, photo, **kwargs)
+    ref = metrics.coarse_reference(photo, view_shape=view.shape, **kwargs)
+    shared = metrics.coarse_copies(view, photo, prepared=ref, **kwargs)
+    assert shared.as_dict() == alone.as_dict()
+    # the same prepared serves another view of that shape; a copy of the photo magnified 4 times
+    # (1 in the view) is still found with it
+    copy = metrics.coarse_copies(0.4 * view + 0.6 * _down(photo[:128, :128], 1), photo, prepared=ref, **kwargs)
+    assert not copy.within and copy.value > alone.value + 0.2, (copy.value, alone.value)
+    # refused: another photo of the same shape, another view shape, zoom or search
+    other = _photo("brick")[:192, :192]
+    with pytest.raises(ValueError, match="prepared"):
+        metrics.coarse_copies(view, other, prepared=ref, **kwargs)
+    with pytest.raises(ValueError, match="prepared"):
+        metrics.coarse_copies(view[:120], photo, prepared=ref, **kwargs)
+    with pytest.raises(ValueError, match="prepared"):
+        metrics.coarse_copies(view, photo, prepared=ref, **{**kwargs, "zoom": 5})
+    with pytest.raises(ValueError, match="prepared"):
+        metrics.coarse_copies(view, photo, prepared=ref, **{**kwargs, "angles": 9})
+    with pytest.raises(ValueError, match="view_shape"):
+        metrics.coarse_reference(photo, view_shape=(64, 64), **kwargs)
+
+
+def test_best_match_is_the_exhaustive_normalised_correlation():
+    """The batched float32 FFT search against the correlation computed place by place."""
+    import spectex._texture_stats as ts
+
+    rng = np.random.default_rng(1)
+    target = ts._bandpass(rng.standard_normal((64, 80)))
+    pieces, mask = ts._pieces(ts._bandpass(rng.standard_normal((60, 60))), 1, 3)
+    templates = pieces[0]
+    t = mask.shape[0]
+    wrapped = np.pad(target, ((0, t), (0, t)), mode="wrap")
+    best = -1.0
+    for y in range(64):
+        for x in range(80):
+            window = wrapped[y:y + t, x:x + t][mask]
+            zero = window - window.mean()
+            norm = np.sqrt(np.sum(zero * zero))
+            for tpl in templates:
+                best = max(best, float(np.sum(tpl[mask] * zero) / norm))
+    got = ts._best_match(ts._search_targets([target], mask), templates)[0]
+    assert abs(got - best) < 1e-5, (got, best)
+    assert 0.1 < best < 0.9  # noise against noise: neither a match nor nothing
+
+@pytest.mark.slow
+def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeypatch):
+    """Moon's craters look alike at every size: the photo's own score is high and scatters between
+    offsets of its zoom-out (0.15 to 0.28 at 4 times). The default fit's far view was flagged (0.25
+    against 0.18) and so was the photo's own zoom-out at another offset: the measure's reference was
+    one sample. Against the range over four offsets neither is; a magnified copy still is."""
+    import spectex._texture_stats as ts
+    from spectex.fitting import fit_result
+    from spectex.render import bake
+
+    photo = _photo("moon")
+    small = ts._resample(photo.astype(np.float64), 1.0 / 8.0)
+    # the photo's own zoom-out (its 64-pixel reduction repeated) at an offset none of the four takes
+    rolled = np.tile(small, (9, 9))[25:25 + 512, 6:6 + 512]
+    own = metrics.coarse_copies(rolled, photo, zoom=8)
+    assert own.within, own
+    px = 1.5 / 512
+    view = bake(fit_result(photo, pixel_size=px).texture, (512, 512), pixel_size=8 * px)
+    fit = metrics.coarse_copies(view, photo, zoom=8)
+    assert fit.within, fit  # measured 0.05 against its range's 0.02 at that magnification
+    # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
+    big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
+    copied = metrics.coarse_copies(0.7 * view[:, :, 0] + 0.3 * big, photo, zoom=8)
+    assert not copied.within and copied.value >= fit.value + 0.2, (copied, fit)
+    assert int(np.nanargmax(copied.per_magnification)) == copied.magnifications.index(16.0)
+    # the control: with one offset as the reference (the measure as it was), the photo's own
+    # zoom-out is flagged (measured 0.27 against 0.18)
+    monkeypatch.setattr(ts, "_OWN_ROLLS", ts._OWN_ROLLS[:1])
+    assert not metrics.coarse_copies(rolled, photo, zoom=8).within
+
+
 def test_coarse_copies_refuses_bad_input():
     photo = _photo("gravel")[:256, :256]
     view = np.random.default_rng(0).random((128, 128)).astype(np.float32)

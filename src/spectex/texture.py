@@ -47,7 +47,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -218,16 +218,20 @@ class Layer:
         return m[0, 0] * dx + m[0, 1] * dy, m[1, 0] * dx + m[1, 1] * dy
 
 
+_LAYER_FIELDS = frozenset(field.name for field in fields(Layer))
+
+
 def _as_layer(i, value) -> Layer:
     if isinstance(value, Layer):
         return value
     if isinstance(value, dict):
+        unknown = sorted(set(value) - _LAYER_FIELDS, key=str)
+        if unknown:
+            raise ValueError(f"layers[{i}]: unknown field {unknown[0]!r} (known: {', '.join(sorted(_LAYER_FIELDS))})")
         try:
             return Layer(**value)
-        except TypeError as exc:
-            raise ValueError(f"layers[{i}]: {exc}") from None
-        except ValueError as exc:
-            raise ValueError(f"layers[{i}].{exc}") from None
+        except (TypeError, ValueError) as exc:  # a field's check: "size must be ..."
+            raise type(exc)(f"layers[{i}].{exc}") from None
     raise TypeError(f"layers[{i}] must be a Layer or a dict, got {type(value).__name__}")
 
 
@@ -256,9 +260,6 @@ class SpectralTexture:
     columns and ``t`` along its rows (row 0 at ``t = 0``).
     """
 
-    #: The class of the items of :attr:`layers` (``spectex.texture_file`` builds a file's layers with it).
-    layer_type = Layer
-
     def __init__(self, tiles, layers, *, bits=8):
         if isinstance(tiles, np.ndarray):
             tiles = [tiles]
@@ -280,9 +281,7 @@ class SpectralTexture:
                                  "all tiles must have the same shape")
             if np.any(tile < 0) or np.any(tile > 1):
                 raise ValueError(f"tiles[{i}] values must be in [0, 1], got [{tile.min():g}, {tile.max():g}]")
-            from .tiles.mipmap import quantize  # here: the package of tiles imports numba
-
-            checked.append(np.ascontiguousarray(quantize(tile, bits)))
+            checked.append(tile)
         layers = [_as_layer(i, layer) for i, layer in enumerate(layers)]
         if not layers:
             raise ValueError("layers must hold at least one layer, got 0")
@@ -291,6 +290,10 @@ class SpectralTexture:
         for i, layer in enumerate(layers):
             if layer.tile >= len(checked):
                 raise ValueError(f"layers[{i}].tile must be < {len(checked)} (the number of tiles), got {layer.tile}")
+        from .tiles.mipmap import quantize  # here, once everything is checked: the package of tiles imports numba
+
+        for i, tile in enumerate(checked):
+            checked[i] = np.ascontiguousarray(quantize(tile, bits))
         self.tiles = checked
         self.layers = layers
         self.bits = bits

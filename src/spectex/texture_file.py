@@ -43,6 +43,7 @@ does not build with is refused rather than shown differently. Version-1 files (n
 from __future__ import annotations
 
 import numbers
+import re
 import tomllib
 from pathlib import Path
 
@@ -245,8 +246,9 @@ def _check_nesting(text: str, path) -> None:
 def from_dict(doc: dict, *, base=".", texture_type):
     """A ``texture_type`` from the parsed file contents; tile paths are relative to ``base``.
 
-    ``texture_type`` is :class:`spectex.texture.SpectralTexture`; its
-    ``layer_type`` (:class:`spectex.texture.Layer`) checks and holds each layer.
+    ``texture_type`` is :class:`spectex.texture.SpectralTexture`, made once
+    from the tiles and the layers' tables (it makes and checks its layers;
+    its errors are reworded here as the file's fields).
     """
     version = _check_header(doc)
     _check_stochastic_table(doc, version)
@@ -257,13 +259,25 @@ def from_dict(doc: dict, *, base=".", texture_type):
     raw_layers = doc["layers"]
     if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
         raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
+    layers = _layers_from_doc(doc, version)
     tiles = _read_tiles(names, base)
-    layers = _layers_from_doc(doc, version, texture_type.layer_type)
     try:
         return texture_type(tiles, layers, bits=8 if bits == 8 else None)
     except (ValueError, TypeError) as exc:
-        msg = str(exc)
-        raise ValueError(msg if msg.startswith("layers[") else f"field {msg}") from None
+        raise ValueError(_field_error(str(exc))) from None
+
+
+_LAYER_ERROR = re.compile(r"(layers\[\d+\])(?:\.(\S+)|:) (.*)", re.S)
+
+
+def _field_error(msg: str) -> str:
+    """A texture's construction error as the file's field: ``layers[2].size must ...`` (the texture's
+    wording) is ``field 'layers[2].size' must ...``; anything else is ``field ...``."""
+    m = _LAYER_ERROR.fullmatch(msg)
+    if m is None:
+        return f"field {msg}"
+    layer, field, rest = m.groups()
+    return f"field '{layer}.{field}' {rest}" if field else f"field '{layer}' {rest}"
 
 
 def _check_header(doc) -> int:
@@ -333,17 +347,20 @@ def _read_tiles(names, base) -> list[np.ndarray]:
     return tiles
 
 
-def _layers_from_doc(doc, version, layer_type) -> list:
-    """The ``[[layers]]`` as ``Layer`` objects; an error names the layer and its field."""
+def _layers_from_doc(doc, version) -> list[dict]:
+    """The ``[[layers]]`` tables, their fields checked as the file holds them (known, numbers where numbers
+    go); the texture checks their values when it makes its layers of them. An error names the layer and
+    its field."""
     raw_layers = doc["layers"]
     if not isinstance(raw_layers, list) or not raw_layers:
         raise ValueError("field 'layers' must be a non-empty array of tables ([[layers]])")
     allowed = set(_LAYER_FIELDS if version == 1 else _LAYER_FIELDS_V2)
-    return [_layer_from_entry(i, entry, allowed, "stochastic" in doc, layer_type)
-            for i, entry in enumerate(raw_layers)]
+    for i, entry in enumerate(raw_layers):
+        _check_layer_entry(i, entry, allowed, "stochastic" in doc)
+    return raw_layers
 
 
-def _layer_from_entry(i, entry, allowed, has_stochastic_table, layer_type):
+def _check_layer_entry(i, entry, allowed, has_stochastic_table) -> None:
     if not isinstance(entry, dict):
         raise ValueError(f"field 'layers[{i}]' must be a table, got {_show(entry)}")
     extra = sorted(set(entry) - allowed)
@@ -356,8 +373,3 @@ def _layer_from_entry(i, entry, allowed, has_stochastic_table, layer_type):
             raise ValueError(f"field 'layers[{i}].{key}' must be a number, got {_show(entry[key])}")
     if entry.get("tiling") == "stochastic" and not has_stochastic_table:
         raise ValueError(f"field 'layers[{i}].tiling' is 'stochastic' but the file has no [stochastic] table")
-    try:
-        return layer_type(**entry)
-    except (ValueError, TypeError) as exc:
-        field, _, rest = str(exc).partition(" ")
-        raise ValueError(f"field 'layers[{i}].{field}' {rest}") from None

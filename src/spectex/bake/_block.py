@@ -47,7 +47,8 @@ def window_packed(texture, origin, pixel_size):
     """
     from ..shading.tables import anchor_coords, pack
 
-    return (pack(texture), anchor_coords(texture.layers, *origin), float(pixel_size), 1)
+    tables = pack(texture)
+    return (tables, anchor_coords(tables, *origin), float(pixel_size), 1)
 
 
 def bake_window(texture, window, *, origin=(0.0, 0.0), pixel_size=1.0, out=None) -> np.ndarray:

@@ -84,12 +84,10 @@ def _write_fast_png(path, image):
 
 
 def run(args) -> int | None:
-    import math
     import time
-    from pathlib import Path
 
     from spectex._output import OutputSet
-    from spectex.fitting import check_options, fit_result, prepare_exemplar
+    from spectex.fitting import check_options, fit_result, prepare_exemplar, report_reference
     start = time.perf_counter()
     # a denormal opacity ran for minutes (fuzz_hostile)
     if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
@@ -102,12 +100,56 @@ def run(args) -> int | None:
     # Every file checked before the work (none may be the photo); all six replace the earlier
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
-    out = outputs.path
     photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
     exemplar, _ = prepare_exemplar(photo)
+    # The report's measures of the photo alone (its structural floor, its own range for magnified
+    # copies: half the report's work) need no texture: made in a second thread while the fit runs
+    # (a daemon: a failed fit or Ctrl-C does not wait for it).
+    magnifications = _layer_magnifications(args.ratio, args.layers)
+    reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications))
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed, progress=bar)
+    return _finish(args, outputs, exemplar, result, reference, magnifications, start)
+
+
+def _layer_magnifications(ratio, layers):
+    """The magnifications of the photo its coarse layers would show if they drew it (``ratio ** k``),
+    those :func:`spectex.metrics.coarse_copies` can search (>= 1.5); None (its default) if none."""
+    mags = tuple(ratio ** k for k in range(1, layers) if ratio ** k >= 1.5)
+    return mags or None
+
+
+class _Background:
+    """``function()`` in a daemon thread; :meth:`result` waits for its value (or raises its error)."""
+
+    def __init__(self, function):
+        import threading
+
+        self._value = self._error = None
+        self._thread = threading.Thread(target=self._run, args=(function,), daemon=True)
+        self._thread.start()
+
+    def _run(self, function):
+        try:
+            self._value = function()
+        except BaseException as error:  # handed to the caller of result()
+            self._error = error
+
+    def result(self):
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+        return self._value
+
+
+def _finish(args, outputs, exemplar, result, reference, magnifications, start) -> int:
+    """Bake, measure, write and report a finished fit (``reference``: the photo's measures, in a thread)."""
+    import math
+    import time
+    from pathlib import Path
+
+    out = outputs.path
     pixel_size = result.pixel_size
     if not MIN_PIXEL_SIZE <= pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--photo-size gives a pixel size of {pixel_size:g} m, outside {MIN_PIXEL_SIZE:g} to "
@@ -117,14 +159,15 @@ def run(args) -> int | None:
     h, w = exemplar.shape[:2]
     from spectex.render import bake
 
-    same = bake(texture, (h, w), pixel_size=pixel_size)
     side = math.sqrt(8.0)
     large = bake(texture, (16 * round(side * h / 16), 16 * round(side * w / 16)), pixel_size=pixel_size)
+    same = large[:h, :w]  # the render at the photo's own place (a bake is the same pixels in any region)
     # the numbers, on the render of 8x the area that comparison.png shows
     from spectex.fitting import fit_report
 
-    numbers = fit_report(texture, photo, pixel_size=pixel_size, bake=large)
-
+    # the report's measures in a second thread (it waits for the photo's half), the files meanwhile
+    numbers = _Background(lambda: fit_report(texture, exemplar, pixel_size=pixel_size, bake=large,
+                                             coarse_magnifications=magnifications, prepared=reference.result()))
     with outputs as stage:
         texture.save(stage / "texture.toml")
         # the scale the fit assumed or was given, as a comment in the texture file itself
@@ -132,6 +175,7 @@ def run(args) -> int | None:
             fh.write(f"\n# spectex fit of {Path(args.exemplar).name}: {result.params['scale']}\n")
         _write_fast_png(stage / "comparison.png", _comparison(exemplar, same, large))
         _plots(stage, exemplar, same, large)
+        numbers = numbers.result()  # a failure here leaves nothing written
     for note in result.notes:  # the conversions and the scale assumed
         _common.report(f"note: {note}")
     pr = result.params
@@ -168,6 +212,7 @@ def _structure_line(numbers) -> str:
                 "area (about 1: as close as the photo is to itself)")
     line += f"; clipped {100 * clip.image:.1f}% of values (photo {100 * clip.reference:.1f}%)"
     if coarse is not None:
+        mags = ", ".join(f"{m:g}" for m, v in zip(coarse.magnifications, coarse.per_magnification) if v == v)
         line += (f"; magnified copies {'none' if coarse.within else 'FOUND'} at {coarse.zoom:g}x zoomed out "
-                 f"({coarse.value:.2f}, photo's own {coarse.reference:.2f})")
+                 f"({coarse.value:.2f}, photo's own {coarse.reference:.2f}; searched {mags}x)")
     return line

@@ -103,10 +103,10 @@ def run(args) -> int:
                          f"frames, over the budget of {MAX_ANIMATION_BYTES} bytes (1 GiB): at most {most} "
                          f"frames at this size")
     cameras = flight(start, end, args.frames) if animated else [start]
-    texture = SpectralTexture.load(args.texture)
-    check_output_path("output", output, _ANIM if animated else _IMAGE)  # again: not one of its tile files
     kw = dict(filter=args.filter, anisotropy=args.anisotropy, supersample=args.supersample,
               atmosphere=Atmosphere(haze_distance=args.haze))
+    texture = SpectralTexture.load(args.texture)
+    check_output_path("output", output, _ANIM if animated else _IMAGE)  # again: not one of its tile files
 
     renderer = None
     if args.backend in ("auto", "gl"):

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Syntax", "GODOT", "HLSL", "bindings", "layer_calls"]
+__all__ = ["Syntax", "GODOT", "HLSL", "bindings", "layer_values", "layer_calls"]
 
 
 @dataclass(frozen=True)
@@ -91,9 +91,8 @@ def bindings(texture, syntax: Syntax) -> dict:
     """
     from spectex.shading import interface
     from spectex.shading.constants import DEFAULT_ANISOTROPY
-    from spectex.shading.tables import anchor_coords, pack
 
-    frame = interface.GLFrame(pack(texture), len(texture.tiles), anchor=anchor_coords(texture.layers, 0.0, 0.0))
+    frame = _origin_frame(texture)
     out = {"max_anisotropy": syntax.number(DEFAULT_ANISOTROPY)}
     for row in interface.inputs("texture"):
         value = row.gl(frame)
@@ -110,13 +109,40 @@ def bindings(texture, syntax: Syntax) -> dict:
     return out
 
 
+def _origin_frame(texture):
+    """The interface table's frame of ``texture``'s packed tables, with the anchors of ground point (0, 0)."""
+    from spectex.shading import interface
+    from spectex.shading.tables import anchor_coords, pack
+
+    tables = pack(texture)
+    return interface.GLFrame(tables, len(texture.tiles), anchor=anchor_coords(tables, 0.0, 0.0))
+
+
+def layer_values(texture) -> list[dict]:
+    """Per layer, its values of the interface table's per-layer rows, as numbers (the ``gl`` route).
+
+    ``{KEY: value}`` for each row that depends on the texture alone (``MAT``:
+    the world -> tile map ``(m00, m01, m10, m11)``, ``MEAN``, ``OPACITY``,
+    ``LOD_OFF``, and the stochastic rows), and ``ORIGIN_{KEY}`` for the
+    per-frame rows at ground point (0, 0) (``ORIGIN_ANCHOR``: the tile
+    coordinates of the world origin, so that ``(s, t) = ORIGIN_ANCHOR + MAT
+    p``): for the exports whose nodes hold the numbers themselves (MaterialX,
+    Blender), which draw without a host's per-frame anchors.
+    """
+    from spectex.shading import interface
+
+    frame = _origin_frame(texture)
+    rows = [(_key(row), row.gl(frame)) for row in interface.inputs("texture") if row.scope == "layer"]
+    rows += [(f"ORIGIN_{_key(row)}", row.gl(frame)) for row in interface.inputs("frame") if row.scope == "layer"]
+    return [{key: values[k] for key, values in rows} for k in range(len(texture.layers))]
+
+
 def layer_calls(texture) -> list[dict]:
     """Per layer, what a template's ``{{#each layers}}`` block takes: ``k``, ``tile``, ``blend`` (the
     library's code name; ``SPX_BLEND_FIRST`` for the first enabled layer, as ``pack`` decides it) and
-    ``stochastic``."""
-    from spectex.shading.glsl import blend_name
+    ``stochastic``: the items of the renderer's own ground shader (``shading.glsl.layer_item``)."""
+    from spectex.shading.glsl import layer_item
     from spectex.shading.tables import pack
 
     tables = pack(texture)
-    return [{"k": k, "tile": int(tables.tile[k]), "blend": blend_name(int(tables.blend[k])),
-             "stochastic": layer.tiling == "stochastic"} for k, layer in enumerate(texture.layers)]
+    return [layer_item(k, tables.tile[k], tables.tiling[k], tables.blend[k]) for k in range(len(tables.tile))]

@@ -1,29 +1,19 @@
-"""The exports' template files (``export/templates/``) and the one small language they are written in.
+"""The exports' template files (``export/templates/``), written in spectex's template language.
 
-A template is the target's own text with three kinds of marks:
-
-* ``{{name}}``: replaced by the value ``name`` of the context (text);
-* a line ``{{#if name}}`` or ``{{#if not name}}`` ... ``{{/if}}``: the lines
-  between are kept when the context's ``name`` is true (false);
-* a line ``{{#each name}}`` ... ``{{/each}}``: the lines between, once per
-  item of the context's list ``name`` (each item a dict whose entries join
-  the context for that copy).
-
-The directive lines themselves are dropped. Everything a shader states is in
-the template; the Python side gives names, numbers and literals only
-(MaterialX ShaderGen's split of a target into a ``Syntax`` and its code
-templates).
+The language (values, ``{{#if}}`` and ``{{#each}}`` blocks) is
+:mod:`spectex._template`'s, shared with the shading core's own templates
+(``shading/shaders/``). Everything a shader states is in the template; the
+Python side gives names, numbers and literals only (MaterialX ShaderGen's
+split of a target into a ``Syntax`` and its code templates).
 """
 
 from __future__ import annotations
 
-import re
 from importlib import resources
 
-__all__ = ["read", "fill", "render"]
+from .._template import render_text
 
-_VALUE = re.compile(r"\{\{(\w+)\}\}")
-_DIRECTIVE = re.compile(r"\s*\{\{([#/])(\w+)(?: (not )?(\w+))?\}\}\s*")
+__all__ = ["read", "render"]
 
 
 def read(name: str) -> str:
@@ -31,56 +21,6 @@ def read(name: str) -> str:
     return resources.files("spectex.export").joinpath("templates", name).read_text(encoding="utf-8")
 
 
-def fill(text: str, context: dict) -> str:
-    """``text`` with every ``{{name}}`` replaced by ``str(context[name])`` (a missing name is an error)."""
-    def value(match):
-        key = match.group(1)
-        if key not in context:
-            raise KeyError(f"template: no value for {{{{{key}}}}}")
-        return str(context[key])
-
-    return _VALUE.sub(value, text)
-
-
-def _block(lines: list[str], start: int) -> int:
-    """The index of the line that closes the block opened at ``lines[start]``."""
-    depth = 0
-    for i in range(start, len(lines)):
-        m = _DIRECTIVE.fullmatch(lines[i])
-        if m is None:
-            continue
-        depth += 1 if m.group(1) == "#" else -1
-        if depth == 0:
-            return i
-    raise ValueError(f"template: {lines[start].strip()} is not closed")
-
-
-def _render(lines: list[str], context: dict) -> list[str]:
-    out = []
-    i = 0
-    while i < len(lines):
-        m = _DIRECTIVE.fullmatch(lines[i])
-        if m is None:
-            out.append(fill(lines[i], context))
-            i += 1
-            continue
-        kind, word, negate, name = m.groups()
-        if kind == "/":
-            raise ValueError(f"template: {lines[i].strip()} closes nothing")
-        end = _block(lines, i)
-        body = lines[i + 1:end]
-        if word == "if":
-            if bool(context[name]) != bool(negate):
-                out += _render(body, context)
-        elif word == "each":
-            for item in context[name]:
-                out += _render(body, {**context, **item})
-        else:
-            raise ValueError(f"template: unknown directive {lines[i].strip()}")
-        i = end + 1
-    return out
-
-
 def render(name: str, context: dict) -> str:
-    """The template ``export/templates/NAME`` for ``context`` (values, flags and lists, see above)."""
-    return "\n".join(_render(read(name).split("\n"), context))
+    """The template ``export/templates/NAME`` for ``context`` (values, flags and lists: :mod:`spectex._template`)."""
+    return render_text(read(name), context)

@@ -2,11 +2,12 @@
 
 ``blender/spectex_ground.py`` is ``templates/blender_ground.py.in`` (a plain
 Blender script: Geometry position, Vector Math, Image Texture, Math nodes) with
-the texture's table written into it: tiles, per-tile mean colours, and per
-layer its size, offset, rotation, blend, opacity and tiling. Run in Blender, it
-builds the material ``spectex_ground``: each layer's coordinates ``(s, t) =
-R(-rotation) (p - offset) / size`` from the world position, the tile through an
-Image Texture node (Linear, Repeat, Non-Color, alpha channel-packed), the blends
+the texture's table written into it: tiles, and per layer the shader's inputs of
+``shading.interface`` (its map, the tile coordinates of the world origin, its
+tile's mean colour, its opacity), its blend, tile and tiling (and its size, for
+a message). Run in Blender, it builds the material ``spectex_ground``: each
+layer's coordinates ``(s, t) = anchor + M p`` from the world position, the tile
+through an Image Texture node (Linear, Repeat, Non-Color, alpha channel-packed), the blends
 of ``docs/sampling.md`` section 6 node by node, and the blended (sRGB-encoded)
 colour decoded to linear light into the Base Color (or an Emission, unlit).
 
@@ -22,8 +23,6 @@ from __future__ import annotations
 import json
 from importlib import resources
 from pathlib import Path
-
-from ..shading.resources import mean_colours
 
 __all__ = ["COVER_NOTE", "FINE_NOTE", "SNAP_NOTE", "STOCHASTIC_NOTE", "blender_script", "write_blender"]
 
@@ -47,13 +46,16 @@ COVER_NOTE = ("is a cover layer: spectex raises its alpha to 1 with the pixel's 
 
 def blender_script(texture, tile_files) -> str:
     """The script's text for ``texture``; ``tile_files``: per tile, its file name (beside the script)."""
+    from ._syntax import layer_values
+
+    # each layer's map, anchor, mean colour and opacity as the shader's inputs take them (shading.interface)
     table = {
         "tiles": list(tile_files),
-        "means": [[float(v) for v in m] for m in mean_colours(texture)],
-        "layers": [{"size": float(layer.size), "offset": [float(layer.offset[0]), float(layer.offset[1])],
-                    "rotation": float(layer.rotation), "blend": layer.blend, "opacity": float(layer.opacity),
-                    "tile": int(layer.tile), "tiling": getattr(layer, "tiling", "periodic")}
-                   for layer in texture.layers],
+        "layers": [{"map": [float(v) for v in value["MAT"]], "anchor": [float(v) for v in value["ORIGIN_ANCHOR"]],
+                    "mean": [float(v) for v in value["MEAN"]], "opacity": float(value["OPACITY"]),
+                    "blend": layer.blend, "tile": int(layer.tile), "tiling": getattr(layer, "tiling", "periodic"),
+                    "size": float(layer.size)}
+                   for layer, value in zip(texture.layers, layer_values(texture))],
     }
     template = (resources.files("spectex.export").joinpath("templates", "blender_ground.py.in")
                 .read_text(encoding="utf-8"))

@@ -6,8 +6,9 @@ and mixing parameters for a similar-looking spectral texture".
 
 :func:`fit` (also ``spectex.fit``): exemplar in, :class:`spectex.SpectralTexture`
 out; :func:`fit_report` for the numbers of a fit (a :class:`FitResult` holds
-both); :func:`prepare_exemplar` for the input conversions (grey, alpha,
-16-bit, crop of huge images); :func:`structure_peak` for whether an exemplar
+both), :func:`report_reference` for the photo's half of them, made beforehand;
+:func:`prepare_exemplar` for the input conversions (grey, alpha, 16-bit, crop
+of huge images); :func:`structure_peak` for whether an exemplar
 is structured. The statistics it matches are those of :mod:`spectex.analysis`.
 
 See ``docs/fitting.md``.
@@ -25,13 +26,16 @@ from ._core import (
     STRUCTURED_PEAK,
     FitReport,
     FitResult,
+    ReportReference,
     fit_report,
     prepare_exemplar,
+    report_reference,
     structure_peak,
 )
 from ._legacy import _fit_legacy
 
-__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "prepare_exemplar", "structure_peak",
+__all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "report_reference", "ReportReference",
+           "prepare_exemplar", "structure_peak",
            "MIN_SIZE", "MAX_ANALYSIS_SIZE", "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 

@@ -13,8 +13,11 @@ What each layer carries, and why (``docs/fitting.md``):
   the content beyond the structure's lattice). The period is read to a
   fraction of a pixel and the tile resampled to whole-texel periods (the
   snapped offsets are whole texels); a photo a few degrees off its lines is
-  straightened first, and one in perspective is said to be in the notes
-  (:func:`_straighten_structure`).
+  straightened first, and one in perspective (its lines fanning out) is
+  rectified by a homography from its lines' vanishing points, so that
+  patches from its left and right carry the same lattice and meet without
+  V-shaped breaks (:func:`_straighten_structure`; the trial leaves out a way
+  whose bake's lines break, :func:`spectex.metrics.line_breaks`).
 * **Layers 1 ..** carry only what the photo says about larger scales: a
   second tile of random-phase noise (Galerne et al. 2011) whose spectrum
   continues the photo's below its lowest frequency (the slope of its three
@@ -50,21 +53,16 @@ from ._core import (
     prepare_exemplar,
     structure_peak,
 )
+from ._structure import structure_orientation, structure_period
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.
 DEFAULT_PHOTO_SIZE = 1.5
-#: Autocorrelation a lag must reach to count as the structure's period (:func:`structure_period`).
-PERIOD_MIN_CORRELATION = 0.15
 #: Most power per octave the coarse layers' continuation may keep towards coarser scales (dB per
 #: octave): a stationary texture of independent objects has a flat 2-D spectrum beyond its objects'
 #: size (-6 dB per octave band); -3 leaves room for the slow variation of real ground, where the
 #: legacy fit's -1.5 made blotches larger than anything in the photo.
 AUTO_MAX_SLOPE = -3.0
-#: Least rise of the autocorrelation at a period above its trough before it (:func:`structure_period`).
-PERIOD_MIN_PROMINENCE = 0.1
-#: Least height of the autocorrelation's peak at twice a period, as a fraction of the period's own.
-PERIOD_MULTIPLE = 0.4
 #: Most stretch of the photo's period to the tile's whole-texel period (:func:`_tile_counts`).
 PERIOD_STRETCH = 0.12
 #: A structured photo turned by more than this (degrees, :func:`structure_orientation`) is straightened first.
@@ -76,8 +74,6 @@ STRAIGHTEN_MAX = 10.0
 PERSPECTIVE_DRIFT = 1.5
 #: Stretch a whole texel period along the tile's second axis may add before a fractional one is taken.
 PERIOD_FRACTION_COST = 0.02
-#: The drift across the axis :func:`structure_period` allows per pixel of lag (about 6 degrees).
-TILT = 0.1
 #: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
 #: snapped to whole periods unless another way is closer by more than this fraction of the
 #: structural distance (the measure's spread between windows of one photo is about this large;
@@ -88,6 +84,11 @@ TRIAL_MARGIN = 0.1
 #: than the photo's own plus ``REPEAT_MARGIN``: such a way is chosen only if every way repeats.
 REPEAT_LIMIT = 0.1
 REPEAT_MARGIN = 0.05
+#: A way of drawing the finest layer breaks the structure's lines when its trial bake's kinks
+#: (:func:`spectex.metrics.line_breaks`, windows of ``BREAK_WINDOW`` pixels) exceed the photo's by this
+#: factor: such a way is chosen only if every way breaks them.
+BREAK_LIMIT = 1.5
+BREAK_WINDOW = 64
 #: Side of the trial's far bake (pixels, at twice the photo's pixel size).
 TRIAL_FAR = 512
 #: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
@@ -106,136 +107,6 @@ AUTO_ITERATIONS = 2
 COARSE_CYCLES = 2.0
 
 
-def structure_period(exemplar, *, min_lag: int = 8):
-    """The period of a structured exemplar along its columns and rows, to a fraction of a pixel.
-
-    The luma's circular autocorrelation (mean removed, divided by its value
-    at lag 0) is read along the y axis (lag ``(dy, 0)``) and the x axis
-    (``(0, dx)``), lags ``min_lag`` to half the side, each lag ``d`` taking
-    the best over a drift of ``TILT d`` across the axis (a photo a few
-    degrees off the structure's axes). On each axis the highest local
-    maximum wins, unless a shorter lag reaches 90% of it (a multiple of the
-    true period is as high as the period itself).
-
-    A period is accepted only if it stands above the autocorrelation's own
-    floor: correlation :data:`PERIOD_MIN_CORRELATION` or more, and a peak
-    :data:`PERIOD_MIN_PROMINENCE` above the lowest value between half the
-    lag and the lag, and (where twice the lag is under half the side) a
-    peak again at twice the lag, at least :data:`PERIOD_MULTIPLE` of the
-    first's height. Bricks of random length along an axis give a weak bump
-    at their mean length that does not come back at twice it: no period.
-
-    The whole-pixel lag is then refined (:func:`_refine_period`): a
-    parabola through each peak at the period's multiples, the period the
-    least-squares slope of the peaks' places against their multiples (a
-    tile of ``k`` periods is cut ``k`` times more precisely than one peak
-    is read).
-
-    Returns
-    -------
-    (py, px) : tuple of float or None
-        Pixels (not necessarily whole; rounded to 0.01); an entry is None
-        where that axis has no period.
-    """
-    from ._core import _luma
-
-    lum = _luma(exemplar)
-    lum = lum - lum.mean()
-    spec = np.fft.rfft2(lum)
-    acf = np.fft.irfft2(np.abs(spec) ** 2, s=lum.shape)
-    acf /= acf[0, 0]
-    out = []
-    for a in (acf, acf.T):
-        half = a.shape[0] // 2
-        line = np.array([max(a[d, e % a.shape[1]] for e in range(-int(math.ceil(TILT * d)),
-                                                                  int(math.ceil(TILT * d)) + 1))
-                         for d in range(half)])
-        v = line[min_lag:half]
-        peaks = [i for i in range(1, len(v) - 1) if v[i] >= v[i - 1] and v[i] >= v[i + 1]]
-        best = max(peaks, key=lambda i: v[i]) if peaks else None
-        if best is None or v[best] < PERIOD_MIN_CORRELATION:
-            out.append(None)
-            continue
-        p = next(i for i in peaks if v[i] >= 0.9 * v[best]) + min_lag
-        if not _period_stands_out(line, p):
-            out.append(None)
-            continue
-        out.append(round(_refine_period(line, p), 2))
-    return out[0], out[1]
-
-
-def _period_stands_out(line, p):
-    """Whether lag ``p`` of the autocorrelation ``line`` is a period (see :func:`structure_period`)."""
-    if line[p] - float(np.min(line[p // 2:p + 1])) < PERIOD_MIN_PROMINENCE:
-        return False
-    if 2 * p + 1 < len(line):
-        again = float(np.max(line[2 * p - 1:2 * p + 2]))
-        if again < PERIOD_MULTIPLE * line[p] or again - float(np.min(line[p:2 * p + 1])) < PERIOD_MIN_PROMINENCE / 2:
-            return False
-    return True
-
-
-def _peak_place(line, j):
-    """Sub-pixel place of the local maximum of ``line`` at or next to lag ``j`` (a parabola through three lags)."""
-    j = int(np.argmax(line[j - 1:j + 2])) + j - 1
-    if j < 1 or j + 1 >= len(line):
-        return float(j)
-    a, b, c = line[j - 1], line[j], line[j + 1]
-    den = a - 2.0 * b + c
-    if den >= 0.0:  # not a maximum
-        return float(j)
-    return j + float(np.clip(0.5 * (a - c) / den, -0.5, 0.5))
-
-
-def _refine_period(line, p):
-    """The period to a fraction of a pixel from the autocorrelation ``line``'s peaks at ``p, 2p, ...``.
-
-    Each peak is placed by a parabola (:func:`_peak_place`), the next
-    multiple looked for at the estimate so far; the estimate is the least
-    squares slope through the origin of the places against the multiples.
-    Stops at the first multiple that is no longer a peak standing
-    :data:`PERIOD_MIN_PROMINENCE` / 2 above the trough before it.
-    """
-    places = [(1, _peak_place(line, p))]
-    est = places[0][1]
-    m = 2
-    while round(m * est) + 2 < len(line):
-        j = int(round(m * est))
-        x = _peak_place(line, j)
-        jj = int(round(x))
-        trough = float(np.min(line[int((m - 1) * est):jj + 1]))
-        if abs(x - m * est) > 1.5 or line[jj] - trough < PERIOD_MIN_PROMINENCE / 2:
-            break
-        places.append((m, x))
-        ms = np.array([q[0] for q in places], dtype=np.float64)
-        xs = np.array([q[1] for q in places])
-        est = float(np.sum(ms * xs) / np.sum(ms * ms))
-        m += 1
-    return est
-
-
-def structure_orientation(exemplar) -> float:
-    """The angle (degrees, in (-45, 45]) of a structure's lines from the image axes.
-
-    The luma's gradients, each weighted by its squared magnitude, vote for
-    their direction taken four times (``atan2`` of the sums of ``r^2 sin 4t``
-    and ``r^2 cos 4t``, divided by four): lines along x and along y (a brick
-    or tile grid) vote alike, so the angle is the grid's, not its longer
-    lines' only. Positive: the lines turn anticlockwise in the image
-    (row index down).
-    """
-    from scipy import ndimage
-
-    from ._core import _luma
-
-    lum = _luma(exemplar)
-    gy = ndimage.sobel(lum, 0)
-    gx = ndimage.sobel(lum, 1)
-    r2 = gx * gx + gy * gy
-    t = 4.0 * np.arctan2(gy, gx)
-    return math.degrees(math.atan2(float(np.sum(r2 * np.sin(t))), float(np.sum(r2 * np.cos(t)))) / 4.0)
-
-
 def _straightened(exemplar, angle):
     """``exemplar`` turned by ``-angle`` degrees (cubic) and cropped to the largest square inside it."""
     from scipy import ndimage
@@ -251,27 +122,42 @@ def _straightened(exemplar, angle):
 
 
 def _straighten_structure(exemplar, structure, notes):
-    """A structured photo turned a few degrees off its lines straightened, and one in perspective noted.
+    """A structured photo in perspective rectified, or one turned a few degrees off its lines straightened.
 
     Returns ``(exemplar, angle, drift)``: the photo, its structure's angle
     and the largest difference of its halves' angles (left and right, top
-    and bottom; degrees, None where the photo is not structured). Where the
-    drift is over ``PERSPECTIVE_DRIFT`` the notes say the photo is in
-    perspective and its structure cannot be kept whole (it is not turned);
-    else where ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` it is
-    straightened (:func:`_straightened`) and the notes say so.
+    and bottom; degrees, None where the photo is not structured; the angle
+    is the rectified photo's where it was rectified). Where the drift is
+    over ``PERSPECTIVE_DRIFT`` the photo is in perspective: it is rectified
+    (:func:`spectex.fitting._perspective.rectify`, a homography from its
+    two line families' vanishing points) and the rectified crop kept where
+    its own drift is at most ``PERSPECTIVE_DRIFT`` (its lines now run
+    parallel); else the notes say the structure is not kept whole. Where
+    ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` (and no perspective) it
+    is straightened (:func:`_straightened`). The notes say what was done.
     """
     h, w = exemplar.shape[:2]
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None
     angle = structure_orientation(exemplar)
-    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
-    drift = max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
+    drift = _orientation_drift(exemplar)
     if drift > PERSPECTIVE_DRIFT:
-        # lines that fan out are not made parallel by one turn: the photo is left as it is
+        # lines that fan out are not made parallel by one turn: the photo is rectified (a homography from
+        # its two line families' vanishing points) and kept so where its lines then run parallel
+        from ._perspective import rectify
+
+        found = rectify(exemplar)
+        after = None if found is None else _orientation_drift(found.image)
+        if after is not None and after <= PERSPECTIVE_DRIFT:
+            rh, rw = found.image.shape[:2]
+            lo, hi = found.scale_range
+            notes.append(f"rectified the photo's perspective (its structure's lines turned by {drift:.1f} degrees "
+                         f"across it, {after:.1f} after; cropped to {rh} x {rw} px, resampled by {lo:.2f} to "
+                         f"{hi:.2f})")
+            return found.image, structure_orientation(found.image), drift
         notes.append(f"the photo looks to be in perspective (its structure's lines turn by {drift:.1f} degrees "
-                     "across it): patches cut from its sides meet at breaks, the structure is not kept whole; "
-                     "photograph it square-on")
+                     "across it) and could not be rectified: patches cut from its sides meet at breaks, the "
+                     "structure is not kept whole; photograph it square-on")
     elif STRAIGHTEN_MIN < abs(angle) <= STRAIGHTEN_MAX:
         # a photo of a wall taken a few degrees off its lines: the structure straightened first, so that
         # its period is one along x and y and the tile's wrap meets itself. The gradients' vote is biased
@@ -283,6 +169,14 @@ def _straighten_structure(exemplar, structure, notes):
         notes.append(f"turned the photo by {-angle:.1f} degrees to straighten its structure "
                      f"(cropped to {h} x {w} px)")
     return exemplar, angle, drift
+
+
+def _orientation_drift(exemplar):
+    """The largest difference (degrees) of :func:`structure_orientation` between the photo's halves
+    (left and right, top and bottom)."""
+    h, w = exemplar.shape[:2]
+    halves = ((exemplar[:, : w // 2], exemplar[:, w // 2:]), (exemplar[: h // 2], exemplar[h // 2:]))
+    return max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
 
 
 def _best_cut(lines, span):
@@ -446,7 +340,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     (``period``, pixels; the content's repeat beyond the structure's own) of
     a 512 x 512 bake at twice the pixel size (at least two tiles across).
     """
-    from ..metrics import reference_statistics, repeat_peak, structural_distance
+    from ..metrics import line_breaks, reference_statistics, repeat_peak, structural_distance
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
@@ -464,17 +358,20 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
         baked = bake(texture, (m, m), pixel_size=pixel_size)
         far = bake(texture, (TRIAL_FAR, TRIAL_FAR), pixel_size=2.0 * pixel_size)
         out[label] = {"structure": structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio,
-                      "repeat": repeat_peak(far, period=half)}
+                      "repeat": repeat_peak(far, period=half),
+                      "breaks": line_breaks(baked, reference, window=BREAK_WINDOW).ratio if m >= 3 * BREAK_WINDOW
+                      else 1.0}
     return out
 
 
 def _choose(trial, own_repeat):
     """The finest layer's way from :func:`_trial`: the closest structure among the ways that do not
-    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``, all of them
-    if none), the snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in
-    doubt)."""
+    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``) and do not break
+    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's), all of them if none, the
+    snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in doubt)."""
     limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
-    allowed = [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
+    allowed = [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT]
+    allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
     best = min(allowed, key=lambda k: trial[k]["structure"])
     if "snapped" in allowed and trial["snapped"]["structure"] <= (1.0 + TRIAL_MARGIN) * trial[best]["structure"]:
         return "snapped"

@@ -392,8 +392,61 @@ class FitReport(AsDict):
     coarse: object = None
 
 
+@dataclass(frozen=True, eq=False)
+class ReportReference:
+    """What :func:`fit_report` measures of the exemplar alone (:func:`report_reference`)."""
+
+    exemplar: np.ndarray          #: as :func:`prepare_exemplar` gives it
+    cross_scale: object           #: :func:`spectex.analysis.cross_scale` of it
+    band_power_db: np.ndarray     #: its power per octave
+    statistics: object            #: :func:`spectex.metrics.reference_statistics` (None: too small)
+    coarse: object                #: :func:`spectex.metrics.coarse_reference` (None: not measured)
+    coarse_zoom: float | None     #: the zoom ``coarse`` is for
+    coarse_magnifications: tuple | None  #: the magnifications it searches (None: the metric's default)
+
+
+def report_reference(image, *, coarse_zoom: float | None = 8.0, coarse_magnifications=None) -> ReportReference:
+    """The exemplar's half of :func:`fit_report`, which needs no texture.
+
+    Its pyramid statistics (the structural distance's floor), cross-scale
+    dependence, power per octave and its own range for the search for
+    magnified copies (:func:`spectex.metrics.coarse_reference`, for a view of
+    its own shape at ``coarse_zoom``) are most of the report's work on the
+    photo; made before or while the texture is fitted (``spectex fit`` makes
+    them in a second thread while it fits), and given to
+    ``fit_report(..., prepared=...)`` with the same image, ``coarse_zoom``
+    and ``coarse_magnifications``.
+    """
+    from ..metrics import band_power, coarse_reference, reference_statistics
+
+    exemplar, _ = prepare_exemplar(image)
+    h, w = exemplar.shape[:2]
+    if coarse_zoom is not None:
+        coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
+    try:  # an exemplar without two 32 x 32 windows (a 512 x 40 strip) has no floor: None
+        statistics = reference_statistics(exemplar, max_windows=4)
+    except ValueError:
+        statistics = None
+    coarse = None
+    if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
+        coarse = coarse_reference(exemplar, view_shape=(h, w), zoom=coarse_zoom,
+                                  **_search_kwargs(coarse_magnifications))
+    return ReportReference(exemplar=exemplar, cross_scale=cross_scale(exemplar),
+                           band_power_db=band_power(exemplar).power_db, statistics=statistics, coarse=coarse,
+                           coarse_zoom=coarse_zoom, coarse_magnifications=_magnifications(coarse_magnifications))
+
+
+def _magnifications(magnifications):
+    return None if magnifications is None else tuple(float(m) for m in magnifications)
+
+
+def _search_kwargs(magnifications):
+    return {} if magnifications is None else {"magnifications": _magnifications(magnifications)}
+
+
 def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
-               bake=None, coarse_zoom: float | None = 8.0) -> FitReport:
+               bake=None, coarse_zoom: float | None = 8.0, coarse_magnifications=None,
+               prepared: ReportReference | None = None) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
@@ -406,7 +459,13 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
     With ``bake``, a bake of the texture already made (``bake(texture, ...)``
     at the exemplar's ``pixel_size``, at least the exemplar's size), that is
     compared instead, and ``origin`` and ``scale`` are not used: ``spectex
-    fit`` reports on the render of 8x the area it shows this way.
+    fit`` reports on the render of 8x the area it shows this way. With
+    ``prepared`` (:func:`report_reference` of the same image and
+    ``coarse_zoom`` and ``coarse_magnifications``), the exemplar's half of
+    the work is not done again. ``coarse_magnifications``: those the search
+    for magnified copies tries (default: the metric's, 2 to 256 times);
+    ``spectex fit`` gives its layers' (4, 16, 64, ... for ``ratio`` 4: a
+    coarse layer that drew the photo would show it magnified that much).
 
     Returns
     -------
@@ -428,17 +487,20 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
         without ``coarse_zoom`` or for an exemplar under 192 pixels).
     """
-    from ..metrics import (
-        band_power,
-        band_power_distance,
-        clipping,
-        coarse_copies,
-        histogram_w1,
-        reference_statistics,
-        structural_distance,
-    )
+    from concurrent.futures import ThreadPoolExecutor
 
+    from ..metrics import band_power, band_power_distance, clipping, histogram_w1, structural_distance
+
+    if coarse_zoom is not None:
+        coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
     exemplar, _ = prepare_exemplar(image)
+    if prepared is None:
+        prepared = report_reference(exemplar, coarse_zoom=coarse_zoom, coarse_magnifications=coarse_magnifications)
+    elif (not isinstance(prepared, ReportReference) or prepared.coarse_zoom != coarse_zoom
+          or prepared.coarse_magnifications != _magnifications(coarse_magnifications)
+          or not np.array_equal(prepared.exemplar, exemplar)):
+        raise ValueError("prepared must be report_reference() of this image with the same coarse_zoom and "
+                         "coarse_magnifications")
     h, w = exemplar.shape[:2]
     from ..render.cpu import bake as bake_region  # the parameter ``bake`` hides the module's name
 
@@ -450,36 +512,43 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         if bake.shape[0] < h or bake.shape[1] < w:
             raise ValueError(f"bake must be at least the exemplar's size {w}x{h}, got "
                              f"{bake.shape[1]}x{bake.shape[0]}")
-    if coarse_zoom is not None:
-        coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
-    ce = cross_scale(exemplar)
-    cb = cross_scale(bake, fine=ce.fine)
-    try:  # an exemplar without two 32 x 32 windows (a 512 x 40 strip) has no floor: None
-        prepared = reference_statistics(exemplar, max_windows=4)
-        structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared)
-        structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared)
-    except ValueError:
+    view = None
+    if prepared.coarse is not None:
+        view = bake_region(texture, (h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)[:, :, :3]
+    # the search for magnified copies (the report's longest measure: FFTs, most of them without
+    # the GIL) runs in a second thread while this one makes the others
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        coarse = None if view is None else pool.submit(_coarse, view, exemplar, coarse_zoom, prepared.coarse,
+                                                       _search_kwargs(coarse_magnifications))
+        ce = prepared.cross_scale
+        cb = cross_scale(bake, fine=ce.fine)
         structure = structure_far = None
-    coarse = None
-    if coarse_zoom is not None and min(h, w) >= 192:  # coarse_copies' smallest photo
-        view = bake_region(texture, (h, w), origin=origin, pixel_size=coarse_zoom * pixel_size)
-        try:
-            coarse = coarse_copies(view[:, :, :3], exemplar, zoom=coarse_zoom)
-        except ValueError:  # a view too small to show any magnification: nothing measured
-            coarse = None
+        if prepared.statistics is not None:
+            structure = structural_distance(bake[:h, :w], exemplar, max_windows=4, prepared=prepared.statistics)
+            structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared.statistics)
+        others = dict(band_power_distance_db=band_power_distance(exemplar, bake),
+                      band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
+                      histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar))
+        coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
-        band_power_distance_db=band_power_distance(exemplar, bake),
-        band_power_exemplar_db=band_power(exemplar).power_db,
-        band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
-        histogram_w1=histogram_w1(exemplar, bake),
+        band_power_exemplar_db=prepared.band_power_db,
         cross_scale_exemplar=ce.value,
         cross_scale_texture=cb.value,
         amplitude_exemplar=ce.amplitude,
         amplitude_texture=cb.amplitude,
         structure=structure,
         structure_far=structure_far,
-        clipping=clipping(bake, exemplar),
         coarse=coarse,
+        **others,
     )
 
+
+def _coarse(view, exemplar, zoom, prepared, kwargs):
+    """:func:`spectex.metrics.coarse_copies` of a view, None where it cannot show any magnification."""
+    from ..metrics import coarse_copies
+
+    try:
+        return coarse_copies(view, exemplar, zoom=zoom, prepared=prepared, **kwargs)
+    except ValueError:  # a view too small to show any magnification: nothing measured
+        return None

@@ -58,7 +58,7 @@ def render_cpu(texture, camera, shape, *, filter="trilinear", anisotropy=DEFAULT
     h, w = check_size(shape, supersample)
     view = view_params(camera, (h, w), atmosphere=atmosphere, supersample=supersample)
     tables = pack(texture, filter=filter, anisotropy=anisotropy, enabled=enabled)
-    anchor = anchor_coords(texture.layers, *camera.position[:2])
+    anchor = anchor_coords(tables, *camera.position[:2])
     out = np.empty((h, w, 3), dtype=np.float32)
     kernel = render_kernel_fast if tables.fast else render_kernel
     kernel(tables, anchor, view, row_order(h), out)
@@ -136,7 +136,7 @@ def bake(texture, shape, *, origin=(0.0, 0.0), pixel_size=1.0, filter="trilinear
 
     tables = pack(texture, filter=filter, anisotropy=anisotropy, mipmaps=mipmaps)
     out = np.empty((h, w, 3), dtype=np.float32)
-    bake_kernel(tables, anchor_coords(texture.layers, ox, oy), p, n, row0, col0, out)
+    bake_kernel(tables, anchor_coords(tables, ox, oy), p, n, row0, col0, out)
     return out
 
 

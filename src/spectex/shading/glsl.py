@@ -10,8 +10,10 @@ A shader is put together from
 3. the **layer library** ``shaders/spectex_layers.glsl`` (self-contained: no
    uniforms, everything by argument): layer coordinates, sampling with the
    level of detail, blending, haze and sky;
-4. for the renderer, ``shaders/ground.frag.glsl``: the camera, the uniforms
-   and ``main()``, with one unrolled call per drawn layer.
+4. for the renderer, ``shaders/ground.frag.glsl``: the switches, the
+   camera, the uniforms and ``main()``, with one unrolled call per drawn
+   layer: a template (:mod:`spectex._template`) filled in here with names
+   and numbers only.
 
 ``render.gl`` compiles :func:`fragment_source`; the exports write the same
 text (or :func:`layer_library` alone, for an engine's own main), so the
@@ -24,25 +26,19 @@ from importlib import resources
 
 import numpy as np
 
+from .._template import each_block, render_text
 from .constants import BLEND_FIRST, BLENDS, TILING_STOCHASTIC, glsl_defines
 
-__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "shader_file", "texture_macros",
-           "blend_name", "layer_call"]
+__all__ = ["TARGETS", "prelude", "layer_library", "fragment_source", "vertex_source", "program_sources", "shader_file",
+           "texture_macros", "blend_name", "layer_item", "layer_call"]
 
 #: Targets: desktop OpenGL 3.3 core, and WebGL2 / OpenGL ES 3.0.
 TARGETS = ("330", "es300")
 
-_TEXTURE_MACROS = """#define SPX_TEX_ARG(name) sampler2D name
-#define SPX_TEX(name) name
-#define SPX_LOD(name, uv, lod) textureLod(name, uv, lod)
-#define SPX_UINT uint
-"""
-
-
 def texture_macros() -> str:
     """The texture macros of GLSL (``SPX_TEX_ARG``, ``SPX_TEX``, ``SPX_LOD``) and ``SPX_UINT``, as the
-    layer library takes them; the prelude of GLSL-like targets (Godot) too."""
-    return _TEXTURE_MACROS
+    layer library takes them (``shaders/texture_macros.glsl``); the prelude of GLSL-like targets (Godot) too."""
+    return shader_file("texture_macros.glsl")
 
 
 def shader_file(name: str) -> str:
@@ -56,12 +52,13 @@ def _check_target(target):
     return target
 
 
+def _prelude_context(target) -> dict:
+    return {"desktop": _check_target(target) == "330", "macros": texture_macros().removesuffix("\n")}
+
+
 def prelude(target: str = "330") -> str:
-    """``#version`` (and, for ``"es300"``, precision) lines and the texture macros."""
-    _check_target(target)
-    head = ("#version 330 core\n" if target == "330" else
-            "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2D;\n")
-    return head + _TEXTURE_MACROS
+    """``#version`` (and, for ``"es300"``, precision) lines and the texture macros (``shaders/prelude.glsl``)."""
+    return render_text(shader_file("prelude.glsl"), _prelude_context(target))
 
 
 def layer_library(*, anisotropic: bool = False) -> str:
@@ -71,11 +68,13 @@ def layer_library(*, anisotropic: bool = False) -> str:
     (``SPX_ANISO``): even untaken, its loop costs llvmpipe about a third of
     a frame.
     """
-    return _library(1 if anisotropic else 0)
+    return render_text(shader_file("library.glsl"), _library_context(1 if anisotropic else 0))
 
 
-def _library(aniso) -> str:
-    return glsl_defines() + f"#define SPX_ANISO {aniso}\n" + shader_file("spectex_layers.glsl")
+def _library_context(aniso) -> dict:
+    """``shaders/library.glsl``'s values: the constants, ``SPX_ANISO`` and the layer library."""
+    return {"defines": glsl_defines().removesuffix("\n"), "aniso": aniso,
+            "library": shader_file("spectex_layers.glsl").removesuffix("\n")}
 
 
 def blend_name(code: int) -> str:
@@ -83,15 +82,19 @@ def blend_name(code: int) -> str:
     return "SPX_BLEND_FIRST" if code == BLEND_FIRST else f"SPX_BLEND_{BLENDS[code].upper()}"
 
 
+def layer_item(k: int, tile: int, tiling: int, blend: int) -> dict:
+    """What the ground shader's ``{{#each layers}}`` block takes for drawn layer ``k``: its index, its
+    tile, its blend's code name (:func:`blend_name` of a ``constants.BLEND_*`` code) and whether it is
+    stochastic (``constants.TILING_*`` code); the engine exports' templates take the same."""
+    return {"k": int(k), "tile": int(tile), "blend": blend_name(int(blend)),
+            "stochastic": int(tiling) == TILING_STOCHASTIC}
+
+
 def layer_call(k: int, tile: int, tiling: int, blend: int) -> str:
     """The ground shader's call of drawn layer ``k`` (its tile, ``constants.TILING_*`` and
-    ``constants.BLEND_*`` codes written in), one line of ``main()``."""
-    from . import interface
-
-    if tiling == TILING_STOCHASTIC:
-        return (f"        shade_layer_stochastic({k}, {blend_name(blend)}, {interface.GAUSS.name}[{tile}], "
-                f"{interface.LUT.name}, c, p, jx, jy, lam_w);")
-    return f"        shade_layer({k}, {blend_name(blend)}, {interface.TILE.name}[{tile}], c, p, jx, jy, lam_w);"
+    ``constants.BLEND_*`` codes written in), one line of ``main()``: the shader's ``{{#each layers}}``
+    block for that layer alone (the web viewer joins them at run time)."""
+    return render_text(each_block(shader_file("ground.frag.glsl"), "layers"), layer_item(k, tile, tiling, blend))
 
 
 def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: bool = False,
@@ -99,17 +102,20 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
                     open_switches: bool = False) -> str:
     """The ground shader for a texture's :class:`~spectex.shading.tables.ShadingTables`.
 
-    Sampler arrays may only be indexed by constants, so each drawn layer
-    (``tables.on``) gets its own call with its tile's index and its blend
-    code (``tables.blend``: the first drawn layer has ``SPX_BLEND_FIRST``)
-    written in, and the compiler folds every branch away: llvmpipe runs
-    both sides of a branch it cannot fold, and a runtime toggle or "first
-    layer" flag cost a quarter of the frame. ``iso_lod`` (square tiles, no
-    anisotropy) derives each layer's level of detail from one per-pixel
-    world level (``docs/sampling.md``, section 3). ``sky_only`` compiles
-    the ground branch out, for the rows that see only sky. The
-    minification filter's code is written in (``MIN_FILTER``), so that the
-    stochastic layers' choice of table row folds to one formula.
+    ``shaders/ground.frag.glsl`` is a template (:mod:`spectex._template`)
+    filled in here with the switches, the inputs' declarations
+    (``shading.interface``) and the drawn layers. Sampler arrays may only
+    be indexed by constants, so each drawn layer (``tables.on``) gets its
+    own call (the template's ``{{#each layers}}`` block) with its tile's
+    index and its blend code (``tables.blend``: the first drawn layer has
+    ``SPX_BLEND_FIRST``) written in, and the compiler folds every branch
+    away: llvmpipe runs both sides of a branch it cannot fold, and a runtime
+    toggle or "first layer" flag cost a quarter of the frame. ``iso_lod``
+    (square tiles, no anisotropy) derives each layer's level of detail from
+    one per-pixel world level (``docs/sampling.md``, section 3).
+    ``sky_only`` compiles the ground branch out, for the rows that see only
+    sky. The minification filter's code is written in (``MIN_FILTER``), so
+    that the stochastic layers' choice of table row folds to one formula.
 
     ``constants`` writes the values of the uniforms that depend on the
     texture alone (the layers' maps, opacities, level offsets, mean colours,
@@ -129,31 +135,46 @@ def fragment_source(tables, n_tiles: int, *, target: str = "330", anisotropic: b
     layer call but the marker ``//@LAYERS@`` where the drawn layers' calls
     (:func:`layer_call`) go (the web viewer's template).
     """
+    return render_text(*_fragment(tables, n_tiles, target=target, anisotropic=anisotropic, iso_lod=iso_lod,
+                                  sky_only=sky_only, constants=constants, open_switches=open_switches))
+
+
+def _fragment(tables, n_tiles, *, target, anisotropic, iso_lod, sky_only, constants, open_switches):
+    """:func:`fragment_source`'s template (``prelude.glsl``, ``library.glsl`` and ``ground.frag.glsl``, one
+    after the other) and its values."""
     from . import interface
 
-    calls = [layer_call(k, int(tables.tile[k]), int(tables.tiling[k]), int(tables.blend[k]))
-             for k in range(len(tables.tile)) if tables.on[k]]
+    layers = [layer_item(k, tables.tile[k], tables.tiling[k], tables.blend[k])
+              for k in range(len(tables.tile)) if tables.on[k]]
     stochastic = bool(np.any(np.asarray(tables.tiling)[np.asarray(tables.on) != 0] == TILING_STOCHASTIC))
     values = {"ISO_LOD": 1 if iso_lod and not anisotropic else 0, "STOCHASTIC": 1 if stochastic else 0,
               "MIN_FILTER": int(tables.min_filter), "SPX_ANISO": 1 if anisotropic else 0}
     if open_switches:  # left to the viewer: @NAME@ in their place, and the layer calls' marker kept
         values = {name: f"@{name.removeprefix('SPX_')}@" for name in values}
-        calls = ["//@LAYERS@"]
-    switches = (f"#define N_LAYERS {len(tables.tile)}\n#define N_TILES {int(n_tiles)}\n"
-                f"#define ISO_LOD {values['ISO_LOD']}\n"
-                f"#define SKY_ONLY {1 if sky_only else 0}\n"
-                f"#define STOCHASTIC {values['STOCHASTIC']}\n"
-                f"#define MIN_FILTER {values['MIN_FILTER']}\n")
-    frame = interface.GLFrame(tables, int(n_tiles)) if constants else None
-    main = shader_file("ground.frag.glsl")
-    for marker, text in (("//@INPUTS@\n", interface.glsl_declarations(frame)), ("//@LAYERS@", "\n".join(calls))):
-        if main.count(marker) != 1:
-            raise RuntimeError(f"ground shader: expected one {marker.strip()!r}")
-        main = main.replace(marker, text)
-    return prelude(target) + _library(values["SPX_ANISO"]) + switches + main
+        layers = []
+    text = shader_file("prelude.glsl") + shader_file("library.glsl") + shader_file("ground.frag.glsl")
+    context = {**_prelude_context(target), **_library_context(values["SPX_ANISO"]),
+               "n_layers": len(tables.tile), "n_tiles": int(n_tiles), "iso_lod": values["ISO_LOD"],
+               "sky_only": 1 if sky_only else 0, "any_stochastic": values["STOCHASTIC"],
+               "min_filter": values["MIN_FILTER"], "open_layers": open_switches, "layers": layers}
+    declarations = interface.glsl_declarations(interface.GLFrame(tables, int(n_tiles)) if constants else None)
+    return text, {**context, "inputs": declarations.removesuffix("\n")}
+
+
+def _vertex(target) -> tuple[str, dict]:
+    return shader_file("fullscreen.vert.glsl"), {"desktop": _check_target(target) == "330"}
 
 
 def vertex_source(target: str = "330") -> str:
-    """The full-screen triangle's vertex shader."""
-    head = "#version 330 core\n" if _check_target(target) == "330" else "#version 300 es\nprecision highp float;\n"
-    return head + shader_file("fullscreen.vert.glsl")
+    """The full-screen triangle's vertex shader (``shaders/fullscreen.vert.glsl``)."""
+    return render_text(*_vertex(target))
+
+
+def program_sources(tables, n_tiles: int, *, target: str = "330", **switches) -> tuple[str, str]:
+    """The renderer's program: :func:`vertex_source` and :func:`fragment_source` (its keywords), both
+    templates filled in after everything they hold is known."""
+    switches = {"anisotropic": False, "iso_lod": False, "sky_only": False, "constants": False,
+                "open_switches": False, **switches}
+    vertex = _vertex(target)
+    fragment = _fragment(tables, n_tiles, target=target, **switches)
+    return render_text(*vertex), render_text(*fragment)

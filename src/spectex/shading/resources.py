@@ -4,16 +4,18 @@ A :class:`spectex.SpectralTexture` is plain data: tiles, layers, bits. What
 the samplers, the kernels and the shaders read is derived from its tiles and
 lives here, as plain functions of a texture:
 
-========================  ===============================================
-function                  what it gives
-========================  ===============================================
-:func:`mip_levels`        per tile, its mip chain quantised to the bits
-:func:`mean_colours`      per tile, the mean RGB (its 1 x 1 level)
-:func:`texel_store`       every tile's levels as one array (the kernels')
-:func:`stochastic_tables` per tile, its stochastic tiling's tables
-:func:`stochastic_store`  the Gaussianised levels and expanded look-up
-                          tables as one array each (the kernels')
-========================  ===============================================
+=========================  ===============================================
+function                   what it gives
+=========================  ===============================================
+:func:`mip_levels`         per tile, its mip chain quantised to the bits
+:func:`mean_colours`       per tile, the mean RGB (its 1 x 1 level)
+:func:`texel_store`        every tile's levels as one array (the kernels')
+:func:`stochastic_tables`  per tile, its stochastic tiling's tables
+:func:`stochastic_store`   the Gaussianised levels and expanded look-up
+                           tables as one array each (the kernels')
+:func:`shading_resources`  those of them that ``shading.tables.pack``
+                           reads, handed down in one bundle
+=========================  ===============================================
 
 Caching. The results depend on the tiles' texels and the texture's bits
 only (not on the layers), so they are kept in one small least-recently-used
@@ -39,8 +41,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["KEPT", "StochasticStore", "TexelStore", "clear_cache", "mean_colours", "mip_levels", "stochastic_store",
-           "stochastic_tables", "texel_store", "tile_digest"]
+__all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "clear_cache", "mean_colours", "mip_levels",
+           "shading_resources", "stochastic_store", "stochastic_tables", "texel_store", "tile_digest"]
 
 #: Entries kept (a tile's levels, a tile's stochastic tables, a texture's store: one entry each).
 KEPT = 16
@@ -146,6 +148,25 @@ def texel_store(texture, *, mipmaps=True) -> TexelStore:
         return TexelStore(data, tex.data.shape[0], tex.offsets, tex.widths, tex.heights)
 
     return _kept(("store", _texture_key(texture), mipmaps), make)
+
+
+class ShadingResources(NamedTuple):
+    """What :func:`spectex.shading.tables.pack` reads of a texture's derived data, fetched in one call."""
+
+    store: TexelStore               #: :func:`texel_store`
+    means: np.ndarray               #: :func:`mean_colours`
+    stochastic: StochasticStore | None  #: :func:`stochastic_store`; None without ``stochastic``
+    tables: list | None             #: :func:`stochastic_tables`; None without ``stochastic``
+
+
+def shading_resources(texture, *, mipmaps=True, stochastic=False) -> ShadingResources:
+    """The texel store and mean colours of ``texture`` and, with ``stochastic``, its stochastic store and
+    tables: everything the packed tables hold of the tiles, handed down in one bundle."""
+    store = texel_store(texture, mipmaps=mipmaps)
+    means = mean_colours(texture)
+    if not stochastic:
+        return ShadingResources(store, means, None, None)
+    return ShadingResources(store, means, stochastic_store(texture, mipmaps=mipmaps), stochastic_tables(texture))
 
 
 def stochastic_tables(texture) -> list:

@@ -1,8 +1,9 @@
 """A texture's layers as the kernels and the shader take them: one typed structure.
 
-:func:`pack` turns a spectral texture (anything with ``layers``,
-``texel_store()``, ``mean_colours()`` and ``tile_shape``, i.e.
-:class:`spectex.SpectralTexture`; this module imports nothing above it)
+:func:`pack` turns a spectral texture (anything with ``layers``, ``tiles``
+and ``bits``, i.e. :class:`spectex.SpectralTexture`; this module imports
+nothing above it; what is derived from the tiles comes from
+``shading.resources`` in one bundle)
 and a sampler state into :class:`ShadingTables`, a ``NamedTuple`` of
 arrays and scalars that numba passes to the kernels as one argument and
 from which ``render.gl`` sets the shader's per-layer uniforms. Everything a
@@ -32,7 +33,7 @@ from .constants import (
     TILINGS,
     WRAP_REPEAT,
 )
-from .resources import mean_colours, stochastic_store, stochastic_tables, texel_store
+from .resources import shading_resources
 from .sampler import filter_code
 
 __all__ = ["ShadingTables", "pack", "anchor_coords"]
@@ -80,34 +81,45 @@ class ShadingTables(NamedTuple):
     snap: np.ndarray
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
     origin: np.ndarray     #: (L, 3) float64
+    shift: np.ndarray      #: (L, 2) float64: the layer's offset (``Layer.offset``), world metres (for the anchors)
 
 
 def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
     """Per layer, where world point ``(x0, y0)`` is in the layer's tile and grid, ``(L, 6)``.
 
-    Columns 0-1: the tile coordinates modulo ``ANCHOR_PERIOD``. Columns 2-5,
-    for a stochastic layer (zero otherwise): the point in the skewed
-    triangle-grid coordinates ``k = grid @ (s, t)`` split into its fraction
-    ``k - floor(k)`` (2-3) and the grid vertex ``floor(k)`` modulo 2^32
-    (4-5, whole numbers): the grid's vertices are hashed by their index, so
-    it must be known exactly, not modulo a small period. Computed in
-    float64 on the host, so that the kernels and shaders work with small
+    ``layers``: the texture's layers, or its :class:`ShadingTables` (which
+    hold each layer's map, offset and grid: the renderers' way, the same
+    numbers). Columns 0-1: the tile coordinates modulo ``ANCHOR_PERIOD``.
+    Columns 2-5, for a stochastic layer (zero otherwise): the point in the
+    skewed triangle-grid coordinates ``k = grid @ (s, t)`` split into its
+    fraction ``k - floor(k)`` (2-3) and the grid vertex ``floor(k)`` modulo
+    2^32 (4-5, whole numbers): the grid's vertices are hashed by their
+    index, so it must be known exactly, not modulo a small period. Computed
+    in float64 on the host, so that the kernels and shaders work with small
     coordinates relative to an anchor (the camera, a bake's corner) and keep
     their precision far from the world origin.
     """
-    out = np.zeros((len(layers), 6), dtype=np.float64)
-    for k, layer in enumerate(layers):
-        m = layer.matrix()
-        dx = float(x0) - layer.offset[0]
-        dy = float(y0) - layer.offset[1]
+    if isinstance(layers, ShadingTables):
+        maps, offsets, grids = layers.mats, layers.shift, layers.grid
+        stochastic = [int(t) == TILING_STOCHASTIC for t in layers.tiling]
+    else:
+        maps = [layer.matrix() for layer in layers]
+        offsets = [layer.offset for layer in layers]
+        stochastic = [getattr(layer, "tiling", "periodic") == "stochastic" for layer in layers]
+        if any(stochastic):
+            from .stochastic import triangle_grid_matrix
+
+            grids = [triangle_grid_matrix(layer.patch) if st else None for layer, st in zip(layers, stochastic)]
+    out = np.zeros((len(maps), 6), dtype=np.float64)
+    for k, m in enumerate(maps):
+        dx = float(x0) - offsets[k][0]
+        dy = float(y0) - offsets[k][1]
         s = m[0, 0] * dx + m[0, 1] * dy
         t = m[1, 0] * dx + m[1, 1] * dy
         out[k, 0] = s % ANCHOR_PERIOD
         out[k, 1] = t % ANCHOR_PERIOD
-        if getattr(layer, "tiling", "periodic") == "stochastic":
-            from .stochastic import triangle_grid_matrix
-
-            g = triangle_grid_matrix(layer.patch)
+        if stochastic[k]:
+            g = grids[k]
             kx = g[0, 0] * s + g[0, 1] * t
             ky = g[1, 0] * s + g[1, 1] * t
             bx, by = math.floor(kx), math.floor(ky)
@@ -117,6 +129,10 @@ def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
 
 def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=None) -> ShadingTables:
     """The :class:`ShadingTables` of ``texture`` for a sampler state.
+
+    The texture's layers are read as plain data (each layer's map from
+    ``Layer.matrix``), and everything derived from its tiles comes from
+    ``shading.resources`` in one bundle (:func:`~spectex.shading.resources.shading_resources`).
 
     Parameters
     ----------
@@ -135,39 +151,51 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     aniso = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
     layers = texture.layers
     n = len(layers)
-    if enabled is None:
-        enabled = [True] * n
-    enabled = [bool(e) for e in enabled]
-    if len(enabled) != n:
-        raise ValueError(f"enabled must have one flag per layer ({n}), got {len(enabled)}")
-    data, stride, offsets, widths, heights = texel_store(texture, mipmaps=mipmaps)
-    tile = np.array([layer.tile for layer in layers], dtype=np.int64)
-    blend = np.array([BLENDS.index(layer.blend) for layer in layers], dtype=np.int64)
-    if any(enabled):
-        blend[enabled.index(True)] = BLEND_FIRST
-    tiling = np.array([TILINGS.index(getattr(layer, "tiling", "periodic")) for layer in layers], dtype=np.int64)
-    h0, w0 = texture.tile_shape
+    flags = [True] * n if enabled is None else [bool(e) for e in enabled]
+    if len(flags) != n:
+        raise ValueError(f"enabled must have one flag per layer ({n}), got {len(flags)}")
+    on = np.array(flags, dtype=np.int64)
+    h0, w0 = texture.tiles[0].shape[:2]
+    tile = np.zeros(n, dtype=np.int64)
+    blend = np.zeros(n, dtype=np.int64)
+    tiling = np.zeros(n, dtype=np.int64)
+    mats = np.zeros((n, 2, 2), dtype=np.float64)
+    shift = np.zeros((n, 2), dtype=np.float64)
+    opacity = np.zeros(n, dtype=np.float64)
+    lod_off = np.zeros(n, dtype=np.float64)
+    grid = np.zeros((n, 2, 2), dtype=np.float64)
+    key = np.zeros(n, dtype=np.int64)
+    snap = np.tile(np.array([w0, h0], dtype=np.float64), (n, 1))
+    for k, layer in enumerate(layers):
+        tile[k] = layer.tile
+        blend[k] = BLENDS.index(layer.blend)
+        tiling[k] = TILINGS.index(getattr(layer, "tiling", "periodic"))
+        mats[k] = layer.matrix()
+        shift[k] = layer.offset
+        opacity[k] = layer.opacity
+        lod_off[k] = math.log2(w0 / layer.size)
+        if tiling[k] == TILING_STOCHASTIC:
+            from .stochastic import layer_key, snap_counts, triangle_grid_matrix
+
+            grid[k] = triangle_grid_matrix(layer.patch)
+            key[k] = layer_key(layer.seed)
+            snap[k] = snap_counts(getattr(layer, "snap", (0, 0)), (h0, w0))
+    if on.any():
+        blend[int(np.argmax(on))] = BLEND_FIRST
+    stochastic = bool(np.any(tiling == TILING_STOCHASTIC))
+    res = shading_resources(texture, mipmaps=mipmaps, stochastic=stochastic)
+    data, stride, offsets, widths, heights = res.store
     mag = FILTER_NEAREST if code == FILTER_NEAREST else FILTER_LINEAR
     size0 = int(widths[0])
     fast = bool(code == FILTER_LINEAR_MIPMAP_LINEAR and aniso == 1.0 and h0 == w0 and size0 & (size0 - 1) == 0
                 and widths.shape[0] == size0.bit_length())
-    grid = np.zeros((n, 2, 2), dtype=np.float64)
-    key = np.zeros(n, dtype=np.int64)
-    snap = np.tile(np.array([w0, h0], dtype=np.float64), (n, 1))
     basis = np.zeros((n, 3, 3), dtype=np.float64)
     origin = np.zeros((n, 3), dtype=np.float64)
-    if np.any(tiling == TILING_STOCHASTIC):
-        from .stochastic import layer_key, snap_counts, triangle_grid_matrix
-
-        gauss, lut, lut_rows = stochastic_store(texture, mipmaps=mipmaps)
-        stoch = stochastic_tables(texture)
-        for k, layer in enumerate(layers):
-            if tiling[k] == TILING_STOCHASTIC:
-                grid[k] = triangle_grid_matrix(layer.patch)
-                key[k] = layer_key(layer.seed)
-                snap[k] = snap_counts(getattr(layer, "snap", (0, 0)), (h0, w0))
-                basis[k] = stoch[layer.tile].basis
-                origin[k] = stoch[layer.tile].origin
+    if stochastic:
+        gauss, lut, lut_rows = res.stochastic
+        for k in np.flatnonzero(tiling == TILING_STOCHASTIC):
+            basis[k] = res.tables[tile[k]].basis
+            origin[k] = res.tables[tile[k]].origin
     else:
         gauss = np.zeros((1, 4), dtype=np.float32)
         lut = np.zeros((1, 2, 4), dtype=np.float32)
@@ -175,11 +203,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     return ShadingTables(
         data=data, flat=data.reshape(-1), stride=int(stride), offsets=offsets, widths=widths, heights=heights,
         wrap_s=WRAP_REPEAT, wrap_t=WRAP_REPEAT, min_filter=code, mag_filter=mag, max_aniso=aniso, bias=0.0,
-        min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile,
-        mats=np.stack([layer.matrix() for layer in layers]).astype(np.float64),
-        blend=blend, tiling=tiling, mean=np.ascontiguousarray(mean_colours(texture)[tile], dtype=np.float64),
-        opacity=np.array([layer.opacity for layer in layers], dtype=np.float64),
-        on=np.array(enabled, dtype=np.int64),
-        lod_off=np.array([math.log2(w0 / layer.size) for layer in layers], dtype=np.float64),
+        min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile, mats=mats, blend=blend, tiling=tiling,
+        mean=np.ascontiguousarray(res.means[tile], dtype=np.float64), opacity=opacity, on=on, lod_off=lod_off,
         size0=size0, fast=fast, gauss=gauss, lut=lut, lut_rows=int(lut_rows), grid=grid, key=key,
-        snap=snap, basis=basis, origin=origin)
+        snap=snap, basis=basis, origin=origin, shift=shift)

@@ -1,3 +1,12 @@
+{{! This file is a template (spectex/_template.py), filled in by spectex/shading/glsl.py with the
+{{! switches' values, the inputs' declarations (spectex/shading/interface.py) and, per drawn layer, the
+{{! "each layers" block in main(); these template comments are not part of the shader.
+#define N_LAYERS {{n_layers}}
+#define N_TILES {{n_tiles}}
+#define ISO_LOD {{iso_lod}}
+#define SKY_ONLY {{sky_only}}
+#define STOCHASTIC {{any_stochastic}}
+#define MIN_FILTER {{min_filter}}
 // The spectral texture on the ground plane, with sky and haze: the
 // renderer's main(), docs/sampling.md section 7, over the layer library
 // (spectex_layers.glsl), which glsl.py includes before this text together
@@ -12,7 +21,7 @@
 
 // The inputs (uniforms; in the renderer's shader, constants where they may be), written in place of
 // this marker from the table of spectex/shading/interface.py:
-//@INPUTS@
+{{inputs}}
 
 out vec4 frag_colour;
 
@@ -73,7 +82,17 @@ void main() {
         // (the floor on the squared length: its square would underflow in float32)
         float lam_w = 0.5 * log2(max(max(dot(jx, jx), dot(jy, jy)), SPX_LOD_FLOOR));
         vec3 c = vec3(0.0);  // black where every layer is off
+{{#if open_layers}}
 //@LAYERS@
+{{/if}}
+{{#each layers}}
+{{#if stochastic}}
+        shade_layer_stochastic({{k}}, {{blend}}, u_gauss[{{tile}}], u_lut, c, p, jx, jy, lam_w);
+{{/if}}
+{{#if not stochastic}}
+        shade_layer({{k}}, {{blend}}, u_tile[{{tile}}], c, p, jx, jy, lam_w);
+{{/if}}
+{{/each}}
         col = spectex_haze(clamp(c, 0.0, 1.0), tt * dlen, u_horizon, u_haze);
     } else if (d.z > 0.0) {
         col = spectex_sky(d.z / dlen, u_horizon, u_zenith);
