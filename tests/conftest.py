@@ -44,15 +44,46 @@ def tile_maker():
     return make_test_tile
 
 
+# --- The slowest files first ----------------------------------------------------------------
+# ``--dist loadfile`` hands each worker whole files; pytest-xdist orders them by their number of
+# tests (function_family's 794 quick ones first), which left the few-but-slow files (the real
+# engine clients, the structural metrics, the fits) to the end, where one worker ran them while the
+# other had nothing left. Handing out the slowest files first (longest job first) lets both workers
+# end together. The order: each file's time in a warm run (2026-11-25, 2-core EPYC, loaded), the
+# slowest first; the files not named follow in their usual order. It changes no test, only when
+# a file runs.
+_SLOWEST_FIRST = (
+    "test_engines_real.py", "test_metrics_structure.py", "test_hostile.py", "test_fit.py",
+    "test_render_stochastic.py", "test_web_viewer.py", "test_render.py", "test_cli_bake.py",
+    "test_texture.py", "test_bake.py", "test_export_engines.py", "test_first_picture.py", "test_snap.py",
+    "test_cli_fit.py",
+)
+
+
+def pytest_configure(config):
+    if hasattr(config.option, "loadscopereorder"):  # pytest-xdist: keep the order given below
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {name: i for i, name in enumerate(_SLOWEST_FIRST)}
+    order = {id(item): i for i, item in enumerate(items)}
+    items.sort(key=lambda item: (rank.get(item.path.name, len(rank)), order[id(item)]))
+
+
 # --- Spreading the cold compile of the shading kernels over the xdist workers -----------------
 # On a clean clone every numba kernel compiles on first use (cache=True keeps it on disk after);
-# the five kernels of the shading core take 30-60 s each on one core and are used by many test
-# files, so two workers that reach one of them at the same time both compile it. Under xdist
-# (the README's ``-n 2``), each worker compiles its share of them first, one after the other,
-# and finds the other worker's share in numba's disk cache when its tests need it. Tiny inputs,
-# the same argument types as every other call: one signature per kernel. Without xdist (a
-# targeted run) nothing is warmed: only the kernels the chosen tests use compile.
-# SPECTEX_TEST_WARMUP=0 turns it off.
+# the five kernels of the shading core take 5-55 s each on one core and are used by many test
+# files (and by the command-line tests' subprocesses), so two workers, or a worker and a
+# subprocess, that reach one of them before it is on disk both compile it. Under xdist (the
+# README's ``-n 2``), each worker first goes through the kernels, each under a file lock shared by
+# the workers of the run: it compiles those no worker has compiled yet, and takes each other one
+# from numba's disk cache once the worker compiling it has finished (waiting for it: at most the
+# rest of one kernel's compile). So every kernel is compiled once, the workers share the work as
+# it comes, and no test or subprocess starts before all five are on disk. Tiny inputs, the same
+# argument types as every other call: one signature per kernel. Without xdist (a targeted run)
+# nothing is warmed: only the kernels the chosen tests use compile. SPECTEX_TEST_WARMUP=0 turns
+# it off.
 
 
 def _warm_jobs():
@@ -70,20 +101,87 @@ def _warm_jobs():
     cam = Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=-20.0)
     st = np.linspace(0.0, 1.0, 8)
     d = np.full(8, 0.01)
-    return [  # (an order that gives each worker about the same compile time)
-        lambda: bake(tex, (4, 4), pixel_size=0.1),                                           # bake_kernel
-        lambda: render_cpu(tex, cam, (8, 8)),                                                # render_kernel
-        lambda: sample_stochastic(stochastic_tables(tex)[0], st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0, dtdy=d),
-        lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),                                # render_kernel_fast
-        lambda: sample(MipTexture(mip_levels(tex)[0]), st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0, dtdy=d),
-    ]
+    return {  # an order whose every other entry is half the compile time (about 87 and 88 CPU s)
+        "render_kernel": lambda: render_cpu(tex, cam, (8, 8)),
+        "bake_kernel": lambda: bake(tex, (4, 4), pixel_size=0.1),
+        "render_kernel_fast": lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),
+        "stochastic_kernel": lambda: sample_stochastic(stochastic_tables(tex)[0], st, st, dsdx=d, dtdx=d * 0,
+                                                       dsdy=d * 0, dtdy=d),
+        "sample_kernel": lambda: sample(MipTexture(mip_levels(tex)[0]), st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0,
+                                        dtdy=d),
+    }
+
+
+def _warm(jobs: dict, folder, worker: int, workers: int) -> None:
+    """Run every job once in this process, each compiled by one worker only (see above)."""
+    import fcntl
+
+    own = list(jobs)[worker::workers]  # its share first, then whatever the others have not begun
+    waiting = []
+    for name in own + [name for name in jobs if name not in own]:
+        lock = open(folder / f"warm-{name}.lock", "a")  # closing it lets the lock go
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:  # another worker is compiling it: take the next one meanwhile
+            waiting.append((name, lock))
+            continue
+        with lock:
+            jobs[name]()  # compiled here, or loaded from the disk cache where another worker compiled it
+    for name, lock in waiting:
+        with lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # until the worker compiling it has saved it
+            jobs[name]()  # from the disk cache
 
 
 @pytest.fixture(scope="session", autouse=True)
-def _warm_the_shading_kernels():
+def _warm_the_shading_kernels(tmp_path_factory):
     workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
     if workers < 2 or os.environ.get("SPECTEX_TEST_WARMUP", "1") == "0":
         return
     worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
-    for job in _warm_jobs()[worker::workers]:
-        job()
+    shared = tmp_path_factory.getbasetemp().parent  # the run's folder, above each worker's own
+    _warm(_warm_jobs(), shared, worker, workers)
+
+
+# --- Where the cold run's compile time goes ----------------------------------------------------
+# SPECTEX_TEST_COMPILE_LOG=FILE appends one line per numba compilation (not a load from numba's
+# disk cache) to FILE: worker, seconds, the kernel and its signature, the test that caused it.
+# Two workers compiling one kernel show up as two lines; a kernel compiled for several signatures
+# as several. Off by default.
+
+
+def _install_compile_log(path: str) -> None:
+    import threading
+    import time
+
+    from numba.core import event
+
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+    local = threading.local()
+
+    class _Log(event.Listener):
+        def on_start(self, ev):
+            local.depth = getattr(local, "depth", 0) + 1
+            if local.depth == 1:
+                local.start = time.perf_counter(), time.process_time()
+
+        def on_end(self, ev):
+            local.depth -= 1
+            if local.depth:
+                return  # a function compiled inside another's compilation: counted in the outer one
+            wall, cpu = time.perf_counter() - local.start[0], time.process_time() - local.start[1]
+            data = ev.data or {}
+            func = data["dispatcher"].py_func
+            name = f"{func.__module__}.{func.__qualname__}"
+            if func.__closure__:  # the noise kernels: one per combination of captured constants
+                name += repr(tuple(c.cell_contents for c in func.__closure__
+                                   if isinstance(c.cell_contents, (bool, int))))
+            test = os.environ.get("PYTEST_CURRENT_TEST", "(outside a test)").rsplit(" ", 1)[0]
+            with open(path, "a", encoding="utf-8") as fh:
+                fh.write(f"{worker}\t{wall:.2f}\t{cpu:.2f}\t{name}\t{data.get('args')}\t{test}\n")
+
+    event.register("numba:compile", _Log())
+
+
+if os.environ.get("SPECTEX_TEST_COMPILE_LOG"):
+    _install_compile_log(os.environ["SPECTEX_TEST_COMPILE_LOG"])

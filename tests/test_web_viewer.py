@@ -139,6 +139,12 @@ def wait_drawn(page, condition: str) -> None:
     page.wait_for_function(f"(d => !!d && ({condition}))(window.spectexDrawn)", timeout=60_000)
 
 
+def wait_for_new_fragment(page, before: str) -> None:
+    """Wait until the viewer has written a fragment other than ``before`` (it writes one when a drag,
+    a touch or a flight ends): a condition, not a fixed sleep."""
+    page.wait_for_function("before => location.hash !== before", arg=before, timeout=60_000)
+
+
 def screenshot(page) -> np.ndarray:
     from PIL import Image
 
@@ -370,10 +376,11 @@ def test_no_network_and_nothing_but_the_file(browser, exports):
     requests = []
     page = open_page(browser, view_url(exports["paper"], VIEWS["closeup"]), requests=requests)
     try:
-        page.keyboard.down("KeyD")
-        page.wait_for_timeout(300)
+        before = page.evaluate("location.hash")
+        page.keyboard.down("KeyD")  # fly sideways for a few frames (anything the flight loads is requested)
+        wait_drawn(page, "d.camera[0] > 0.5")
         page.keyboard.up("KeyD")
-        page.wait_for_timeout(200)
+        wait_for_new_fragment(page, before)  # the frame after the key is let go writes it
     finally:
         page.close()
     assert requests and all(url.startswith(exports["paper"].as_uri()) for url in requests), requests
@@ -484,11 +491,12 @@ def test_mouse_drag_looks_around_and_wheel_sets_speed(browser, exports):
     page = open_page(browser, view_url(exports["paper"], camera))
     try:
         h = SIZE[0]
+        before = page.evaluate("location.hash")
         page.mouse.move(100, 90)
         page.mouse.down()
         page.mouse.move(100 + h // 2, 90 - h // 4, steps=4)  # half a height right, a quarter up
-        page.mouse.up()
-        page.wait_for_timeout(200)
+        page.mouse.up()  # written when the button is let go, not while dragging
+        wait_for_new_fragment(page, before)
         x, y, z, yaw, pitch = _camera_of(page)
         # one window height is one field of view (60 degrees)
         assert (x, y, z) == (0.0, 0.0, 10.0)
@@ -516,16 +524,18 @@ def test_touch_one_finger_looks_two_fingers_pinch_climb(browser, exports):
             c.dispatchEvent(new TouchEvent(type, {touches: type === 'touchend' ? [] : touches,
                 changedTouches: touches, cancelable: true, bubbles: true}));
         }"""
+        before = page.evaluate("location.hash")
         page.evaluate(touch, ["touchstart", [[100, 100]]])
         page.evaluate(touch, ["touchmove", [[100 + h, 100]]])  # one height right: one fov of yaw
-        page.evaluate(touch, ["touchend", [[100 + h, 100]]])
-        page.wait_for_timeout(200)
+        page.evaluate(touch, ["touchend", [[100 + h, 100]]])  # written when the last finger lifts
+        wait_for_new_fragment(page, before)
         _, _, z, yaw, _ = _camera_of(page)
         assert abs(yaw - 60.0) < 0.5 and z == 10.0
+        before = page.evaluate("location.hash")
         page.evaluate(touch, ["touchstart", [[100, 90], [200, 90]]])
         page.evaluate(touch, ["touchmove", [[50, 90], [250, 90]]])  # spread x2: half the altitude
         page.evaluate(touch, ["touchend", [[50, 90], [250, 90]]])
-        page.wait_for_timeout(200)
+        wait_for_new_fragment(page, before)
         _, _, z, _, _ = _camera_of(page)
         assert abs(z - 5.0) < 1e-3
     finally:
