@@ -182,7 +182,7 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
     _common.report(f"fitted {len(texture.layers)} layers of a {pr['tile_px']}x{pr['tile_px']} tile from "
                    f"{args.exemplar} in {fit_seconds:.1f} s")
     _common.report(f"  scale: {pr['scale']}")
-    _common.report(f"  layer sizes {', '.join(f'{lay.size:g}' for lay in texture.layers)} m; opacities "
+    _common.report(f"  layer sizes {', '.join(f'{lay.size:.4g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; finest tile: {pr['tile_method']}")
     w1 = max(numbers.histogram_w1)
     _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
