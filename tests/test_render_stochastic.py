@@ -209,7 +209,8 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
     Why 16 x 16 and not 8 x 8: the fitted gravel tile is nearly white (as much power in its finest
     octave as in its coarsest), and on the aerial and high views a pixel covers up to 150 x 150
     texels of the finest layer, so 64 point samples do not average it: the 8 x 8 reference is itself
-    aliased, 36.5-36.7 dB from the 16 x 16 one there (asserted below), and the mip-mapped renders
+    aliased, 36.5-38.1 dB from the 16 x 16 one there (below 39 dB and the mip-mapped render's
+    figure: asserted), and the mip-mapped renders
     scored 36.3 and 37.3 dB against it (the same with the finest layer periodic, 36.6 and 37.5: not
     the stochastic weights). Against 16 x 16 they score 39.5 and 44.7 dB; the 16 x 16 reference
     agrees with an independent one (8 x 8 mip-mapped samples) to 45 dB. The controls: a single
@@ -229,6 +230,48 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
             plain[name] = psnr(render_cpu(fitted, cam, SIZE, filter="linear"), ref)
             if name == "high":
                 ref8 = render_cpu(fitted, cam, SIZE, filter="linear", supersample=8)
-                assert psnr(ref8, ref) < 38.0, psnr(ref8, ref)  # the 8 x 8 reference aliases here
+                # the 8 x 8 reference aliases here: further from the 16 x 16 one than the render is
+                assert psnr(ref8, ref) < min(mip[name], 39.0), (psnr(ref8, ref), mip[name])
     assert min(mip.values()) >= 38.0 and min(gl_mip.values()) >= 38.0, (mip, gl_mip)
     assert all(plain[k] <= mip[k] - 3.0 for k in VIEWS if k != "close"), (mip, plain)
+
+
+
+def _two_toned_floor(n=128, rng=5):
+    """Four square tiles of different colours (2 x 2 periods of 64 texels), each with a little noise,
+    between light grout lines 6 texels wide: a fitted floor's tile, drawn with its offsets snapped."""
+    rng = np.random.default_rng(rng)
+    y, x = np.mgrid[0:n, 0:n]
+    cell = (y // 64) * 2 + (x // 64)
+    colours = np.array([[0.55, 0.30, 0.25], [0.65, 0.40, 0.25], [0.50, 0.25, 0.30], [0.70, 0.35, 0.30]])
+    tile = colours[cell] + 0.02 * rng.standard_normal((n, n, 1))
+    grout = ((y % 64) < 6) | ((x % 64) < 6)
+    tile[grout] = 0.85 + 0.02 * rng.standard_normal((int(grout.sum()), 1))
+    return np.clip(tile, 0.0, 1.0).astype(np.float32), grout
+
+
+def test_stochastic_blend_makes_no_value_none_of_its_patches_has():
+    from spectex.shading.stochastic import keep_between, sample_stochastic
+    from spectex.shading.stochastic import stochastic_tables as tile_tables
+
+    # the rule itself: the blended Gaussian value stays between the three sources
+    assert keep_between(0.9, 0.6, 0.7, 0.65) == 0.7 and keep_between(0.1, 0.6, 0.7, 0.65) == 0.6
+    assert keep_between(0.66, 0.6, 0.7, 0.65) == 0.66
+    tile, grout = _two_toned_floor()
+    tables = tile_tables(tile)
+    # at texel centres (the offsets are whole periods): the bilinear filter does not mix grout in
+    s, t = np.meshgrid(np.arange(0.5, 1024) / 128, np.arange(0.5, 1024) / 128)
+    out = sample_stochastic(tables, s.ravel(), t.ravel(), patch=0.4, seed=3, snap=(2, 2),
+                            lod=np.zeros(s.size)).reshape(1024, 1024, 4)
+    inside = ~np.tile(grout, (8, 8))
+    inside &= np.tile(~np.roll(grout, 1, 0) & ~np.roll(grout, -1, 0) & ~np.roll(grout, 1, 1)
+                      & ~np.roll(grout, -1, 1), (8, 8))
+    # Inside the tiles (a texel away from the grout) no patch has the grout's light grey. The
+    # variance-preserving blend divides by |w| < 1 between the vertices: where two tiles of
+    # different colours are both above the mean in a decorrelated channel it pushed the value
+    # into the Gaussian's tail, which the table maps to the grout (light specks inside the tiles:
+    # 0.54 % of the inside measured before the blend was kept between its sources).
+    light = out[..., :3].mean(axis=2) > 0.7
+    assert float(np.mean(light[inside])) < 1e-4, float(np.mean(light[inside]))
+    # the tiles keep their own colours' spread (the blend is not flattened to a mean)
+    assert float(np.std(out[..., 0][inside])) > 0.5 * float(np.std(tile[..., 0][~grout]))

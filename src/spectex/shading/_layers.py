@@ -38,7 +38,14 @@ from .constants import (
     TILING_STOCHASTIC,
 )
 from .sampler import sample_grad
-from .stochastic import lut_lookup, sample_stochastic_grad, sharpen_weights, triangle_vertices, vertex_offset
+from .stochastic import (
+    keep_between,
+    lut_lookup,
+    sample_stochastic_grad,
+    sharpen_weights,
+    triangle_vertices,
+    vertex_offset,
+)
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
@@ -315,10 +322,10 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         r3, g3, b3, a3 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
         inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
         mu = GAUSS_MEAN
-        v0 = mu + (w1 * (r1 - mu) + w2 * (r2 - mu) + w3 * (r3 - mu)) * inv
-        v1 = mu + (w1 * (g1 - mu) + w2 * (g2 - mu) + w3 * (g3 - mu)) * inv
-        v2 = mu + (w1 * (b1 - mu) + w2 * (b2 - mu) + w3 * (b3 - mu)) * inv
-        v3 = mu + (w1 * (a1 - mu) + w2 * (a2 - mu) + w3 * (a3 - mu)) * inv
+        v0 = keep_between(mu + (w1 * (r1 - mu) + w2 * (r2 - mu) + w3 * (r3 - mu)) * inv, r1, r2, r3)
+        v1 = keep_between(mu + (w1 * (g1 - mu) + w2 * (g2 - mu) + w3 * (g3 - mu)) * inv, g1, g2, g3)
+        v2 = keep_between(mu + (w1 * (b1 - mu) + w2 * (b2 - mu) + w3 * (b3 - mu)) * inv, b1, b2, b3)
+        v3 = keep_between(mu + (w1 * (a1 - mu) + w2 * (a2 - mu) + w3 * (a3 - mu)) * inv, a1, a2, a3)
         # the table level of LINEAR_MIPMAP_LINEAR (stochastic.lut_level): lambda itself, 0 in magnification
         x0 = lut_lookup(lut, row0, lam, v0, 0)
         x1 = lut_lookup(lut, row0, lam, v1, 1)

@@ -404,6 +404,25 @@ def sharpen_weights(w1, w2, w3, lam):
 
 
 @_jit_inline
+def keep_between(v, x1, x2, x3):
+    """The blended Gaussian value ``v`` kept between the smallest and largest of its three sources.
+
+    The variance-preserving blend divides by ``sqrt(w1^2 + w2^2 + w3^2)``
+    (< 1 between vertices): where the three patches deviate from the mean
+    the same way (two tiles of different colours, both above the mean in
+    a channel) it pushes the value past all three, into the Gaussian's
+    tail, which the table maps to the tile's rarest colour (grout-coloured
+    specks inside the tiles of a fitted floor). Kept inside the sources'
+    range per channel, the blend makes no value that none of the three
+    patches has there; with mixed signs (independent patches) it is
+    unchanged, and at a vertex it is the vertex's value.
+    """
+    lo = min(x1, min(x2, x3))
+    hi = max(x1, max(x2, x3))
+    return min(max(v, lo), hi)
+
+
+@_jit_inline
 def triangle_vertices(kx, ky):
     """The triangle of the skewed grid holding ``(kx, ky)``: its three vertices and barycentric weights.
 
@@ -485,10 +504,10 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
                                    mag_filter, wrap_s, wrap_t)
     inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
     m = GAUSS_MEAN
-    v0 = m + (w1 * (r1 - m) + w2 * (r2 - m) + w3 * (r3 - m)) * inv
-    v1 = m + (w1 * (g1 - m) + w2 * (g2 - m) + w3 * (g3 - m)) * inv
-    v2 = m + (w1 * (b1 - m) + w2 * (b2 - m) + w3 * (b3 - m)) * inv
-    v3 = m + (w1 * (a1 - m) + w2 * (a2 - m) + w3 * (a3 - m)) * inv
+    v0 = keep_between(m + (w1 * (r1 - m) + w2 * (r2 - m) + w3 * (r3 - m)) * inv, r1, r2, r3)
+    v1 = keep_between(m + (w1 * (g1 - m) + w2 * (g2 - m) + w3 * (g3 - m)) * inv, g1, g2, g3)
+    v2 = keep_between(m + (w1 * (b1 - m) + w2 * (b2 - m) + w3 * (b3 - m)) * inv, b1, b2, b3)
+    v3 = keep_between(m + (w1 * (a1 - m) + w2 * (a2 - m) + w3 * (a3 - m)) * inv, a1, a2, a3)
     level = lut_level(lam, min_filter, np.float64(widths.shape[0] - 1))
     x0 = lut_lookup(lut, row0, level, v0, 0)
     x1 = lut_lookup(lut, row0, level, v1, 1)

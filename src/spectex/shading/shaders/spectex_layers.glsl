@@ -179,6 +179,8 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size, snap), lam);
     // the weights sum to 1: sum w_i (x_i - m) = sum w_i x_i - m
     vec4 gb = (w.x * x1 + w.y * x2 + w.z * x3 - SPX_GAUSS_MEAN) * (1.0 / length(w)) + SPX_GAUSS_MEAN;
+    // kept between the three sources per channel (stochastic.keep_between): no value none of them has
+    gb = clamp(gb, min(x1, min(x2, x3)), max(x1, max(x2, x3)));
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
     return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
 }
