@@ -76,6 +76,7 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
     beta = (lam - d1)[..., None]
     acc = 0.0
     norm = 0.0
+    sources = []
     for vi, vj, w in verts:
         h = lowbias32(vi.astype(np.int64).astype(np.uint32) ^ lowbias32(vj.astype(np.int64).astype(np.uint32) ^ key))
         w0, h0 = levels[0].shape[1], levels[0].shape[0]
@@ -90,7 +91,9 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
                 g[sel] = lo + beta[sel] * (hi - lo)
         acc = acc + w[..., None] * (g - 0.5)
         norm = norm + w * w
-    gb = 0.5 + acc / np.sqrt(norm)[..., None]
+        sources.append(g)
+    # kept per channel between the three patches' values (stochastic.keep_between)
+    gb = np.clip(0.5 + acc / np.sqrt(norm)[..., None], np.minimum.reduce(sources), np.maximum.reduce(sources))
     # the expanded table: nearest of 8 rows per level step, nearest of LUT_SIZE entries
     table = tables.expanded()
     row = np.floor(lam * 8 + 0.5).astype(np.int64)
@@ -109,7 +112,12 @@ def test_kernel_agrees_with_the_direct_numpy_formulas(tables):
     for patch, seed in ((0.5, 0), (0.3, 12345)):
         ours = sample_stochastic(tables, s, t, lod=lod, patch=patch, seed=seed)
         ref = _np_stochastic(tables, s, t, lod, patch, seed)
-        assert np.max(np.abs(ours - ref)) < 2e-4
+        diff = np.abs(ours - ref)
+        # Kept between its sources, the blended value often equals a quantised texel's exactly,
+        # where the table's nearest entry is a tie: the float32 kernel and this float64 route may
+        # take neighbouring entries there (1 sample in 6000, in alpha). Anywhere else: the same.
+        step = float(np.abs(np.diff(tables.expanded(), axis=1)).max())
+        assert np.mean(diff > 2e-4) <= 1e-3 and diff.max() <= step + 2e-4, (np.mean(diff > 2e-4), diff.max())
 
 
 def test_a_grid_vertex_shows_the_tile_texel_its_offset_points_to(tile, tables):
