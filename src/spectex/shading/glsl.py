@@ -58,7 +58,7 @@ def _prelude_context(target) -> dict:
 
 def prelude(target: str = "330") -> str:
     """``#version`` (and, for ``"es300"``, precision) lines and the texture macros (``shaders/prelude.glsl``)."""
-    return render_text(shader_file("prelude.glsl"), _prelude_context(target))
+    return render_text(shader_file("version.glsl") + shader_file("prelude.glsl"), _prelude_context(target))
 
 
 def layer_library(*, anisotropic: bool = False) -> str:
@@ -152,7 +152,8 @@ def _fragment(tables, n_tiles, *, target, anisotropic, iso_lod, sky_only, consta
     if open_switches:  # left to the viewer: @NAME@ in their place, and the layer calls' marker kept
         values = {name: f"@{name.removeprefix('SPX_')}@" for name in values}
         layers = []
-    text = shader_file("prelude.glsl") + shader_file("library.glsl") + shader_file("ground.frag.glsl")
+    text = (shader_file("version.glsl") + shader_file("prelude.glsl") + shader_file("library.glsl")
+            + shader_file("ground.frag.glsl"))
     context = {**_prelude_context(target), **_library_context(values["SPX_ANISO"]),
                "n_layers": len(tables.tile), "n_tiles": int(n_tiles), "iso_lod": values["ISO_LOD"],
                "sky_only": 1 if sky_only else 0, "any_stochastic": values["STOCHASTIC"],
@@ -162,7 +163,8 @@ def _fragment(tables, n_tiles, *, target, anisotropic, iso_lod, sky_only, consta
 
 
 def _vertex(target) -> tuple[str, dict]:
-    return shader_file("fullscreen.vert.glsl"), {"desktop": _check_target(target) == "330"}
+    text = shader_file("version.glsl") + shader_file("fullscreen.vert.glsl")
+    return text, {"desktop": _check_target(target) == "330"}
 
 
 def vertex_source(target: str = "330") -> str:

@@ -1,12 +1,7 @@
-{{! The opening lines of a GLSL shader (spectex/shading/glsl.py's prelude, a template of
-{{! spectex/_template.py): the target's #version (and GLSL ES's precision), then the texture macros
+{{! The opening lines of a GLSL shader after version.glsl (spectex/shading/glsl.py's prelude, a template of
+{{! spectex/_template.py): GLSL ES's int and sampler precision, then the texture macros
 {{! the layer library is written with (texture_macros.glsl).
-{{#if desktop}}
-#version 330 core
-{{/if}}
 {{#if not desktop}}
-#version 300 es
-precision highp float;
 precision highp int;
 precision highp sampler2D;
 {{/if}}
