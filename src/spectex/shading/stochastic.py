@@ -63,6 +63,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from .._parallel import in_parts
 from .._validate import check_float, check_image, check_seed
 from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, SHARP_LOD, WEIGHT_SQUARINGS
 from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
@@ -553,12 +554,12 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
     return r * inv, g * inv, b * inv, a * inv
 
 
-@numba.njit(cache=True, parallel=True, nogil=True)
+@numba.njit(cache=True, nogil=True)  # serial: split over threads by the caller (_parallel.in_parts)
 def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
                        min_lod, max_lod, lut, basis, origin, grid, key, nx, ny, mode, s, t, dsdx, dtdx, dsdy, dtdy,
                        lod, out):
     n = s.shape[0]
-    for k in numba.prange(n):
+    for k in range(n):
         kx = grid[0, 0] * s[k] + grid[0, 1] * t[k]
         ky = grid[1, 0] * s[k] + grid[1, 1] * t[k]
         if mode == 1:
@@ -656,7 +657,13 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="t
     else:
         s_, t_, lod_ = flat
         a_ = b_ = c_ = d_ = np.zeros(1)
-    _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
-                       anisotropy, 0.0, -1000.0, 1000.0, tables.expanded(), tables.basis, tables.origin, grid, key,
-                       nx, ny, mode, s_, t_, a_, b_, c_, d_, lod_, out)
+    lut = tables.expanded()
+    n = out.shape[0]
+
+    def part(i, j):  # the per-point arrays cut, the length-1 placeholders whole
+        _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
+                           anisotropy, 0.0, -1000.0, 1000.0, lut, tables.basis, tables.origin, grid, key, nx, ny,
+                           mode, *(x[i:j] if x.shape[0] == n else x for x in (s_, t_, a_, b_, c_, d_, lod_, out)))
+
+    in_parts(n, part)
     return out.reshape(shape + (4,))
