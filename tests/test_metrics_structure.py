@@ -199,8 +199,10 @@ def test_coarse_copies_flags_a_magnified_copy_not_a_continuation(name, monkeypat
     # the same with the photo magnified 16 times (2 in the view), rotated, at 30 % weight
     big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
     copied = 0.7 * continuation + 0.3 * big
-    fine = metrics.coarse_copies(continuation, photo, zoom=8)
-    flagged = metrics.coarse_copies(copied, photo, zoom=8)
+    # the photo's half of the search made once for both views (the same numbers: see the next test)
+    ref = metrics.coarse_reference(photo, view_shape=continuation.shape, zoom=8)
+    fine = metrics.coarse_copies(continuation, photo, zoom=8, prepared=ref)
+    flagged = metrics.coarse_copies(copied, photo, zoom=8, prepared=ref)
     assert fine.within, (fine.value, fine.reference)
     assert not flagged.within and flagged.value > fine.value + 0.2, (flagged.value, fine.value)
     assert abs(fine.value) < 0.05  # no copy: chance level, whatever the view's smoothness
@@ -287,21 +289,24 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     small = ts._resample(photo.astype(np.float64), 1.0 / 8.0)
     # the photo's own zoom-out (its 64-pixel reduction repeated) at an offset none of the four takes
     rolled = np.tile(small, (9, 9))[25:25 + 512, 6:6 + 512]
-    own = metrics.coarse_copies(rolled, photo, zoom=8)
+    # the photo's half of the search made once for every view here (the same numbers: see
+    # test_coarse_reference_is_the_photos_half_of_coarse_copies)
+    ref = metrics.coarse_reference(photo, view_shape=rolled.shape, zoom=8)
+    own = metrics.coarse_copies(rolled, photo, zoom=8, prepared=ref)
     assert own.within, own
     px = 1.5 / 512
     view = bake(fit_result(photo, pixel_size=px).texture, (512, 512), pixel_size=8 * px)
-    fit = metrics.coarse_copies(view, photo, zoom=8)
+    fit = metrics.coarse_copies(view, photo, zoom=8, prepared=ref)
     assert fit.within, fit  # measured 0.05 against its range's 0.02 at that magnification
     # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
     big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
-    copied = metrics.coarse_copies(0.7 * view[:, :, 0] + 0.3 * big, photo, zoom=8)
+    copied = metrics.coarse_copies(0.7 * view[:, :, 0] + 0.3 * big, photo, zoom=8, prepared=ref)
     assert not copied.within and copied.value >= fit.value + 0.2, (copied, fit)
     assert int(np.nanargmax(copied.per_magnification)) == copied.magnifications.index(16.0)
     # the control: with one offset as the reference (the measure as it was), the photo's own
-    # zoom-out is flagged (measured 0.27 against 0.18)
+    # zoom-out is flagged (measured 0.27 against 0.18); the prepared half holds the first offset only
     monkeypatch.setattr(ts, "_OWN_ROLLS", ts._OWN_ROLLS[:1])
-    assert not metrics.coarse_copies(rolled, photo, zoom=8).within
+    assert not metrics.coarse_copies(rolled, photo, zoom=8, prepared=ref).within
 
 
 def test_coarse_copies_refuses_bad_input():
