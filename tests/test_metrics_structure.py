@@ -379,16 +379,18 @@ def test_fit_report_sees_a_magnified_coarse_layer():
     """The fit report's structural measures on two hand-made textures of one photo tile: the tile
     alone (the photo repeated: at the floor, no copies, no clipping) and the tile with a coarse
     layer 16 times larger at half opacity (the photo magnified: flagged by ``coarse``)."""
-    from spectex.fitting import fit_report
+    from spectex.fitting import fit_report, report_reference
     from spectex.texture import Layer, SpectralTexture
 
     photo = _photo("gravel")
     tile = np.dstack([np.repeat(photo[:, :, None], 3, axis=2), np.ones((512, 512), np.float32)])
     alone = SpectralTexture(tile, [Layer(size=512.0)])
-    report = fit_report(alone, photo, pixel_size=1.0)
+    # the photo's half of both reports made once (the same numbers: test_fit.py's report_reference test)
+    prepared = report_reference(photo)
+    report = fit_report(alone, photo, pixel_size=1.0, prepared=prepared)
     assert report.structure.ratio < 1.2 and report.structure_far.ratio < 1.2
     assert report.clipping.within and report.coarse.within, report.coarse
     magnified = SpectralTexture(tile, [Layer(size=512.0), Layer(size=8192.0, rotation=40.0, opacity=0.5)])
-    bad = fit_report(magnified, photo, pixel_size=1.0)
+    bad = fit_report(magnified, photo, pixel_size=1.0, prepared=prepared)
     assert not bad.coarse.within and bad.coarse.value > report.coarse.value + 0.1, (bad.coarse, report.coarse)
     assert fit_report(alone, photo, pixel_size=1.0, coarse_zoom=None).coarse is None
