@@ -113,7 +113,7 @@ def _warm_jobs():
     st = np.linspace(0.0, 1.0, 8)
     d = np.full(8, 0.01)
     # an order whose every other entry is half the compile time (cold, one core: render 49, bake 46,
-    # stochastic 21, fast 28, sample 4 CPU s: 74 and 74)
+    # stochastic 21, fast 28, sample 8 CPU s: 78 and 74)
     return {
         "render_kernel": lambda: render_cpu(tex, cam, (8, 8)),
         "bake_kernel": lambda: bake(tex, (4, 4), pixel_size=0.1),

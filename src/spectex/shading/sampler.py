@@ -47,7 +47,6 @@ import math
 import numba
 import numpy as np
 
-from .._parallel import in_parts
 from .._validate import check_choice, check_float, check_image
 from ..tiles.mipmap import gl_level_shapes, quantize
 from .constants import (
@@ -309,14 +308,8 @@ def sample(texture: MipTexture, s, t, *, dsdx=None, dtdx=None, dsdy=None, dtdy=N
     else:
         s_, t_, lod_ = flat
         a = bb = c = d = np.zeros(1)
-    state = texture.state()
-    n = out.shape[0]
-
-    def part(i, j):  # the per-point arrays cut, the length-1 placeholders whole
-        _sample_kernel(texture.data, texture.offsets, texture.widths, texture.heights, *state, mode,
-                       *(x[i:j] if x.shape[0] == n else x for x in (s_, t_, a, bb, c, d, lod_, out)))
-
-    in_parts(n, part)
+    _sample_kernel(texture.data, texture.offsets, texture.widths, texture.heights, *texture.state(),
+                  mode, s_, t_, a, bb, c, d, lod_, out)
     return out.reshape(shape + (4,))
 
 
@@ -494,11 +487,11 @@ def sample_grad(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter
     return r * inv, g * inv, b * inv, a * inv
 
 
-@numba.njit(cache=True, nogil=True)  # serial: split over threads by the caller (_parallel.in_parts)
+@numba.njit(cache=True, parallel=True, nogil=True)
 def _sample_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso,
                    bias, min_lod, max_lod, mode, s, t, dsdx, dtdx, dsdy, dtdy, lod, out):
     n = s.shape[0]
-    for k in range(n):
+    for k in numba.prange(n):
         if mode == 1:
             r, g, b, a = sample_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter,
                                      max_aniso, bias, min_lod, max_lod, s[k], t[k], dsdx[k], dtdx[k],
