@@ -63,9 +63,10 @@ def readme_pytest(root: Path, workers: int) -> list[str]:
     return [sys.executable, *command[1:]]
 
 
-def children_cpu() -> float:
+def children_cpu() -> tuple[float, float]:
+    """User and system CPU seconds of the waited-for child processes so far."""
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
+    return usage.ru_utime, usage.ru_stime
 
 
 def read_tsv(path: Path) -> list[list[str]]:
@@ -99,7 +100,9 @@ def main(argv=None) -> int:
     load_before = os.getloadavg()
     cpu0, wall0 = children_cpu(), time.perf_counter()
     run = subprocess.run(command, cwd=clone, env=env, capture_output=True, text=True, check=False)
-    wall, cpu = time.perf_counter() - wall0, children_cpu() - cpu0
+    wall, cpu1 = time.perf_counter() - wall0, children_cpu()
+    user, system = cpu1[0] - cpu0[0], cpu1[1] - cpu0[1]
+    cpu = user + system
     load_after = os.getloadavg()
     summary = [line for line in run.stdout.splitlines() if re.search(r"\d+ (passed|failed|error)", line)]
 
@@ -118,7 +121,7 @@ def main(argv=None) -> int:
           f"{load_after[0]:.1f} after")
     print(f"result: {summary[-1] if summary else run.stdout[-500:]} (exit status {run.returncode})")
     print(f"wall {wall:.0f} s ({wall / 60:.1f} min); CPU {cpu:.0f} s, / {args.workers} = {cpu / args.workers:.0f} s "
-          f"({cpu / args.workers / 60:.1f} min) on {args.workers} idle cores")
+          f"({cpu / args.workers / 60:.1f} min) on {args.workers} idle cores; {user:.0f} s user, {system:.0f} s system")
     print(f"numba compiling in the workers: {compile_cpu:.0f} CPU s ({100 * compile_cpu / max(cpu, 1e-9):.0f} %), "
           f"{len(compiles)} compilations of {len(per_kernel)} kernels")
     for name, (n, seconds) in sorted(per_kernel.items(), key=lambda kv: -kv[1][1])[:args.top]:
