@@ -88,7 +88,8 @@ def layer_entries(texture) -> list[dict]:
     ``grid`` (m00, m01, m10, m11: tile -> skewed grid coordinates), ``key``
     (the hash key of its seed, a uint32), ``snap`` (its snap counts along s
     and t, whole numbers: ``Layer.snap``'s structure periods per tile, or
-    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``lut_row`` (its tile's first
+    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``cell_row`` (the first table
+    row of its tile's cell map, ``shading.resources.cell_rows``, -1 without), ``lut_row`` (its tile's first
     table row), ``basis`` (3 x 3, row-major: RGB = origin + basis v; GLSL's
     ``mat3`` takes the transpose, column after column), ``origin``; and
     ``patch``, ``seed`` and ``snap_periods`` (``Layer.snap`` itself) for people.
@@ -107,6 +108,7 @@ def layer_entries(texture) -> list[dict]:
                 "key": int(tables.key[k]),
                 "snap": [float(v) for v in tables.snap[k]],
                 "snap_periods": [int(v) for v in getattr(layer, "snap", (0, 0))],
+                "cell_row": float(tables.cell_row[k]),
                 "lut_row": int(tables.tile[k]) * int(tables.lut_rows),
                 "basis": [float(v) for v in tables.basis[k].reshape(-1)],
                 "origin": [float(v) for v in tables.origin[k]],

@@ -138,22 +138,37 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
-// One stochastic sample at lambda: st the tile coordinates, g the same point
-// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
-// tex_size the level-0 width and height, snap the layer's snap counts
-// (spectex_hash_offset);
-// three patches of the Gaussianised tile `gauss`, each offset by its
-// vertex's hash, blended with the barycentric weights preserving the
-// variance, then the layer's row `lut_row0` (+ level) of the tables and the
-// inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2, b0..b2 the
-// basis's columns). RGBA in [0, 1].
-vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
-                               SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
-                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
-    // The triangle (docs/sampling.md, 6b): lower (f.x + f.y < 1) with vertices
-    // (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1), (0, 1), (1, 0);
-    // as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
-    // share their row's hash. The weights as |.| of one expression for both.
+// Where a snapped layer takes its patches' weights (stochastic.cell_point): the
+// texel under st reads its cell map entry (dx, dy, closed: channels 0-2 of the table
+// texture from row cell_row, texel idx = y w + x at row cell_row + idx / SPX_LUT_SIZE,
+// entry idx mod SPX_LUT_SIZE); a closed cell's centre (xy + 1/2 + (dx, dy)) / tex_size,
+// the same for every texel of the cell, or for a band the point moved by (dx, dy)
+// texels onto its centre line; returned in the skewed grid (grid: the tile -> grid
+// map; g: st there).
+vec2 spectex_cell_point(SPX_TEX_ARG(lut), vec2 st, vec2 g, vec2 tex_size, vec4 grid, float cell_row,
+                        float lut_rows, out bool closed) {
+    vec2 xy = floor(st * tex_size);
+    int sx = int(tex_size.x);
+    int sy = int(tex_size.y);
+    int idx = ((int(xy.y) % sy + sy) % sy) * sx + (int(xy.x) % sx + sx) % sx;
+    int row = idx / SPX_LUT_SIZE;
+    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
+    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
+    vec2 dc = vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x);
+    closed = SPX_LOD(lut, vec2(u, v + 0.5), 0.0).x > 0.5;
+    vec2 rel = closed ? (xy + 0.5 + dc) / tex_size - st : dc / tex_size;
+    return g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+}
+
+// The blended Gaussian value at st of the patches whose weights are taken at grid
+// point g (relative to the vertex (base_i, base_j)): the triangle (docs/sampling.md, 6b)
+// lower (f.x + f.y < 1) with vertices (0, 0), (1, 0), (0, 1) of the cell, upper with
+// (1, 1), (0, 1), (1, 0); as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the
+// first two share their row's hash; the weights as |.| of one expression for both.
+// closed: the one patch of the vertex with the largest weight (the first of equals),
+// its own value (stochastic.patches_at).
+vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                        vec2 snap, vec2 tex_size, float lam, bool closed) {
     vec2 c = floor(g);
     vec2 f = g - c;
     float fs = f.x + f.y;
@@ -163,8 +178,14 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     SPX_UINT i0 = SPX_UINT(int(c.x)) + base_i;
     SPX_UINT j0 = SPX_UINT(int(c.y)) + base_j;
     SPX_UINT hj = spectex_hash((j0 + d) ^ key);
-    SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
     vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
+    vec2 inv_size = 1.0 / tex_size;
+    if (closed) {
+        SPX_UINT i = (w.x >= w.y && w.x >= w.z) ? i0 + d : ((w.y >= w.z) ? i0 + 1u - d : i0 + d);
+        SPX_UINT h = (w.x >= w.y && w.x >= w.z) || w.y >= w.z ? hj : spectex_hash((j0 + 1u - d) ^ key);
+        return SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash(i ^ h), tex_size, inv_size, snap), lam);
+    }
+    SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
     // sharpened (stochastic.sharpen_weights): raised to the power 2^SPX_WEIGHT_SQUARINGS and
     // renormalised up to lambda = SPX_SHARP_LOD, the barycentric weights from SPX_SHARP_LOD + 1 on
     vec3 ws = w;
@@ -173,14 +194,42 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     }
     ws = ws * (1.0 / (ws.x + ws.y + ws.z));
     w = ws + clamp(lam - SPX_SHARP_LOD, 0.0, 1.0) * (w - ws);
-    vec2 inv_size = 1.0 / tex_size;
     vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size, snap), lam);
     vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size, snap), lam);
     vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size, snap), lam);
     // the weights sum to 1: sum w_i (x_i - m) = sum w_i x_i - m
     vec4 gb = (w.x * x1 + w.y * x2 + w.z * x3 - SPX_GAUSS_MEAN) * (1.0 / length(w)) + SPX_GAUSS_MEAN;
     // kept between the three sources per channel (stochastic.keep_between): no value none of them has
-    gb = clamp(gb, min(x1, min(x2, x3)), max(x1, max(x2, x3)));
+    return clamp(gb, min(x1, min(x2, x3)), max(x1, max(x2, x3)));
+}
+
+// One stochastic sample at lambda: st the tile coordinates, g the same point
+// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
+// tex_size the level-0 width and height, snap the layer's snap counts
+// (spectex_hash_offset); three patches of the Gaussianised tile `gauss`, each
+// offset by its vertex's hash, blended with the barycentric weights preserving
+// the variance (spectex_patches_at), then the layer's row `lut_row0` (+ level) of
+// the tables and the inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2,
+// b0..b2 the basis's columns). RGBA in [0, 1]. A snapped layer with a cell map
+// (cell_row >= 0; grid: the tile -> grid map) takes its weights at its cell's
+// centre (spectex_cell_point: a closed cell's one patch, whole) up to lambda =
+// SPX_SHARP_LOD, at the point from SPX_SHARP_LOD + 1 on, the linear mix between.
+vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
+                               SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
+                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, vec4 grid,
+                               float cell_row) {
+    float tm = clamp(lam - SPX_SHARP_LOD, 0.0, 1.0);
+    bool cells = cell_row >= 0.0 && tm < 1.0;
+    vec4 gb = vec4(0.0);
+    if (cells) {
+        bool closed;
+        vec2 gc = spectex_cell_point(SPX_TEX(lut), st, g, tex_size, grid, cell_row, lut_rows, closed);
+        gb = spectex_patches_at(SPX_TEX(gauss), st, gc, base_i, base_j, key, snap, tex_size, lam, closed);
+    }
+    if (!cells || tm > 0.0) {
+        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam, false);
+        gb = cells ? gb + tm * (gp - gb) : gp;
+    }
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
     return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
 }
@@ -192,7 +241,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
 vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                     SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 dx, vec2 dy, vec2 tex_size,
                                     float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
-                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
+                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float cell_row) {
     float lam;
     vec2 d;
     float n = spectex_footprint(dx, dy, tex_size, max_aniso, lam, d);
@@ -204,13 +253,13 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
             float fi = i / (n + 1.0) - 0.5;
             acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
                                              base_j, key, snap, tex_size, lam, min_filter, q, lut_row0, lut_rows,
-                                             b0, b1, b2, origin);
+                                             b0, b1, b2, origin, grid, cell_row);
         }
         return acc / n;
     }
 #endif
     return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size,
-                                     lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin);
+                                     lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin, grid, cell_row);
 }
 #endif
 
@@ -280,7 +329,7 @@ vec3 spectex_layer(int blend, SPX_TEX_ARG(tile), vec3 c, vec2 anchor, vec4 m, fl
 // channel lut_rows.
 vec3 spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec3 c, vec2 anchor, vec2 ganchor,
                               SPX_UINT base_i, SPX_UINT base_j, vec4 m, vec4 gm, SPX_UINT key, vec2 snap,
-                              float lut_row, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float opacity, vec3 mean,
+                              float cell_row, float lut_row, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float opacity, vec3 mean,
                               vec2 p, vec2 jx, vec2 jy, vec2 tex_size, float max_aniso, int min_filter, float lut_q,
                               float lut_rows, float fade_bias) {
     vec2 rel = spectex_layer_deriv(m, p);  // tile coordinates relative to the anchor
@@ -288,7 +337,7 @@ vec3 spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), v
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, base_i, base_j, key,
                                             snap, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size,
                                             (blend == SPX_BLEND_FINE) ? 1.0 : max_aniso, gm, min_filter, lut_q,
-                                            lut_row, lut_rows, b0, b1, b2, origin);
+                                            lut_row, lut_rows, b0, b1, b2, origin, cell_row);
     float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)
         ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size) : 0.0;
     return spectex_blend(blend, c, x, opacity, mean, lam + fade_bias);

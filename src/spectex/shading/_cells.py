@@ -1,0 +1,162 @@
+"""The structural cells of a snapped tile: which brick or floor tile each texel belongs to.
+
+A stochastic layer snapped to its tile's structure (``Layer.snap = (nx, ny)``)
+draws patches offset by whole periods, so the grout lines of every patch
+fall on the same places; but the triangle grid's patch boundaries would
+still run through the middle of bricks, so one brick would change colour
+partway across. The *cell map* says, per level-0 texel, where the centre of
+its structural cell is, so that the sampler can give a whole cell one patch
+(``shading.stochastic.cell_point``) and let the patches change on the grout.
+
+It is a deterministic function of the tile and its snap (a derived resource:
+texture files do not hold it):
+
+1. the tile is cut into its ``nx x ny`` period cells and averaged: the mean
+   period cell keeps what is the same in every period (the grout, sharp) and
+   flattens what is not (each brick its own colour);
+2. its colours along their principal axis, lightly smoothed on the torus,
+   split in two classes by Otsu's threshold; the class whose connected
+   components (on the period cell taken as a *torus*: a brick straddling its
+   edge is one component, running bond's half bricks) run around the torus
+   along more axes (a grid of lines), or the smaller one where both run along
+   as many (stripes), is the grout, the other the cells' interiors;
+3. every texel (grout too) takes the interior component nearest to it, and
+   the map holds the vector from the texel to that component's centre (the
+   mean position of its texels, unwrapped, rounded to half texels: exact in
+   half floats), tiled over the tile. A component that runs around the torus
+   along an axis (the columns of a wall snapped along x only) is a *band*: 0
+   along that axis, and the sampler blends the patches there as without
+   cells, at the point moved to the band's centre line; a closed component is
+   a *cell*, one patch whole. A third channel says which (1: cell).
+
+Where the two classes do not differ clearly (their means less than
+``MIN_CONTRAST`` pooled standard deviations of the tile's own texels apart),
+the interiors cover too little of the period cell, or no interior component
+is closed along any axis, there is no map (None) and the layer is sampled as
+without one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
+
+#: The grout's and the interiors' mean colours must lie this many of the tile's own texel standard deviations
+#: (within each class, pooled) apart along the mean period cell's principal colour axis.
+MIN_CONTRAST = 1.5
+#: The interiors must cover at least this fraction of the period cell.
+MIN_INTERIOR = 0.25
+#: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
+MIN_CELL = 0.02
+
+
+def _otsu(values: np.ndarray) -> float:
+    """Otsu's threshold of a 1-D sample (256 bins): the split that maximises the between-class variance."""
+    hist, edges = np.histogram(values, bins=256)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    w0 = np.cumsum(hist).astype(np.float64)
+    w1 = w0[-1] - w0
+    s0 = np.cumsum(hist * centres)
+    m0 = s0 / np.maximum(w0, 1.0)
+    m1 = (s0[-1] - s0) / np.maximum(w1, 1.0)
+    between = w0 * w1 * (m0 - m1) ** 2
+    return float(edges[int(np.argmax(between[:-1])) + 1])
+
+
+def _torus_components(mask: np.ndarray):
+    """Components of ``mask`` on the torus: ``(labels, count, ids, wraps)`` of its 3 x 3 mosaic.
+
+    ``ids``: the labels met in the centre copy; ``wraps[i]``: (along y, along x) whether component ``i``
+    runs around the torus (its extent in the mosaic at least one period).
+    """
+    from scipy import ndimage
+
+    ph, pw = mask.shape
+    labels, count = ndimage.label(np.tile(mask, (3, 3)))
+    centre = labels[ph:2 * ph, pw:2 * pw]
+    ids = np.unique(centre[centre > 0])
+    wraps = np.zeros((count + 1, 2), dtype=bool)
+    for i, sl in enumerate(ndimage.find_objects(labels), start=1):
+        if sl is not None:
+            wraps[i] = (sl[0].stop - sl[0].start >= ph + 1, sl[1].stop - sl[1].start >= pw + 1)
+    return labels, count, ids, wraps
+
+
+def cell_map(tile, snap) -> np.ndarray | None:
+    """Per texel of ``tile``, the vector to the centre of its structural cell, or None.
+
+    Parameters
+    ----------
+    tile : ndarray, shape (H, W, 3) or (H, W, 4)
+        A tile in [0, 1]; alpha is ignored.
+    snap : (int, int)
+        ``(nx, ny)``: the whole structure periods the tile holds along x and y
+        (``Layer.snap``; 0: the whole tile is one period along that axis, as
+        where the offsets are not snapped along it). No map unless the counts
+        divide the tile's width and height and there are at least 4 periods in
+        all (the mean period cell needs them).
+
+    Returns
+    -------
+    ndarray, shape (H, W, 3), float32, or None
+        ``(dx, dy, closed)``: the centre of texel ``(x, y)``'s cell is at texel
+        position ``(x + dx, y + dy)`` (unwrapped: near the texel, possibly
+        outside the tile; multiples of 1/2), ``closed`` 1 for a cell, 0 for a
+        band (``dx`` or ``dy`` 0 along the axis it runs along). None where the
+        tile shows no separate cells (see the module's text).
+    """
+    from scipy import ndimage
+
+    tile = np.asarray(tile)
+    nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
+    h, w = tile.shape[:2]
+    if w % nx or h % ny or nx * ny < 4:
+        return None
+    ph, pw = h // ny, w // nx
+    if min(ph, pw) < 4:
+        return None
+    rgb = tile[:, :, :3].astype(np.float64)
+    mean = rgb.reshape(ny, ph, nx, pw, 3).mean(axis=(0, 2))
+    flat = mean.reshape(-1, 3) - mean.reshape(-1, 3).mean(axis=0)
+    axis = np.linalg.svd(flat, full_matrices=False)[2][0]
+    level = (mean @ axis)
+    level = sum(np.roll(np.roll(level, dy, axis=0), dx, axis=1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)) / 9.0
+    high = level > _otsu(level.ravel())
+    if high.all() or not high.any():
+        return None
+    classes = []
+    for mask in (high, ~high):
+        labels, count, ids, wraps = _torus_components(mask)
+        classes.append((int(wraps[ids].any(axis=0).sum()), mask.mean(), mask, labels, count, ids, wraps))
+    # the grout: runs around along more axes, or the smaller class where both run along as many
+    grout = max(range(2), key=lambda c: (classes[c][0], -classes[c][1]))
+    _, area, _, labels, count, ids, wraps = classes[1 - grout]
+    inside = classes[1 - grout][2]
+    # the classes' contrast, against the spread of the tile's own texels within each (texture, not structure)
+    values = (rgb @ axis).reshape(ny, ph, nx, pw)
+    within = np.sqrt(0.5 * (values.transpose(1, 3, 0, 2)[inside].var() + values.transpose(1, 3, 0, 2)[~inside].var()))
+    gap = abs(level[inside].mean() - level[~inside].mean())
+    if area < MIN_INTERIOR or gap < MIN_CONTRAST * within:
+        return None
+    sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
+    keep = np.zeros(count + 1, dtype=bool)
+    keep[ids] = sizes[ids] >= MIN_CELL * ph * pw
+    if not keep.any() or wraps[keep].all():
+        return None  # nothing closed along any axis: no cells to keep whole
+    kept = keep[labels]
+    yy, xx = np.indices(labels.shape, dtype=np.float64)
+    index = np.arange(count + 1)
+    n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
+    cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
+    cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
+    # every texel's nearest kept interior texel (itself inside one), on the mosaic so that it wraps
+    _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
+    owner = labels[iy, ix][ph:2 * ph, pw:2 * pw]
+    py, px = np.indices((ph, pw), dtype=np.float64)
+    d = np.zeros((ph, pw, 3), dtype=np.float64)
+    d[:, :, 0] = np.where(wraps[owner, 1], 0.0, cx[owner] - (px + pw))
+    d[:, :, 1] = np.where(wraps[owner, 0], 0.0, cy[owner] - (py + ph))
+    d[:, :, :2] = np.round(2.0 * d[:, :, :2]) / 2.0
+    d[:, :, 2] = ~wraps[owner].any(axis=-1)
+    return np.ascontiguousarray(np.tile(d, (ny, nx, 1)), dtype=np.float32)
