@@ -931,6 +931,10 @@ class Comparison(AsDict):
     coarse : CoarseCopies or None
         With ``zoom``: :func:`coarse_copies`, the image taken as a view at
         ``zoom`` times the reference's pixel size.
+    cells : CellSplits or None
+        With the reference's structure ``period``: :func:`cell_splits`, its
+        bricks or floor tiles changing colour partway across (None without a
+        period or where either image shows no separate cells).
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     """
@@ -950,6 +954,7 @@ class Comparison(AsDict):
     structure: StructuralDistance | None = None
     clipping: Clipping | None = None
     coarse: CoarseCopies | None = None
+    cells: CellSplits | None = None
 
 
 def _repeat_peak_or_none(image):
@@ -975,7 +980,7 @@ def _structure_or_none(image, reference):
 
 
 def compare(image, *, reference, block: int | None = None, overlap: int = 0,
-            zoom: float | None = None) -> Comparison:
+            zoom: float | None = None, period=None) -> Comparison:
     """All the measures of ``image`` against a ``reference`` (an exemplar).
 
     Call it as ``compare(image, reference=exemplar)``: the image judged
@@ -994,6 +999,10 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         The image is a zoomed-out view of a texture, rendered at ``zoom``
         times the reference's pixel size: also search it for magnified
         copies of the reference (:func:`coarse_copies`).
+    period : (py, px), optional
+        The reference's structure period in pixels
+        (``spectex.fitting.structure_period``): also measure its cells
+        changing colour partway across (:func:`cell_splits`).
 
     Returns
     -------
@@ -1023,4 +1032,5 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         repeat_peak_reference=_repeat_peak_or_none(reference), exact_repetition=exact,
         seam_energy=seam_energy(image, block, overlap) if block is not None else None,
         structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
-        coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None)
+        coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
+        cells=cell_splits(image, reference, period=period) if period is not None else None)

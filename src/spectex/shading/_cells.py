@@ -29,9 +29,8 @@ texture files do not hold it):
    cells, at the point moved to the band's centre line; a closed component is
    a *cell*, one patch whole. A third channel says which (1: cell).
 
-Where the two classes do not differ clearly (their means less than
-``MIN_CONTRAST`` pooled standard deviations of the tile's own texels apart),
-the interiors cover too little of the period cell, or no interior component
+Where the structure is weak (the mean period cell varies less than
+``MIN_CONTRAST`` times as much as the texels about it), the interiors cover too little of the period cell, or no interior component
 is closed along any axis, there is no map (None) and the layer is sampled as
 without one.
 """
@@ -42,9 +41,9 @@ import numpy as np
 
 __all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
 
-#: The grout's and the interiors' mean colours must lie this many of the tile's own texel standard deviations
-#: (within each class, pooled) apart along the mean period cell's principal colour axis.
-MIN_CONTRAST = 1.5
+#: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
+#: texels' variance about it: a structure repeated in every period, not a texture averaged out.
+MIN_CONTRAST = 0.5
 #: The interiors must cover at least this fraction of the period cell.
 MIN_INTERIOR = 0.25
 #: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
@@ -133,11 +132,11 @@ def cell_map(tile, snap) -> np.ndarray | None:
     grout = max(range(2), key=lambda c: (classes[c][0], -classes[c][1]))
     _, area, _, labels, count, ids, wraps = classes[1 - grout]
     inside = classes[1 - grout][2]
-    # the classes' contrast, against the spread of the tile's own texels within each (texture, not structure)
+    # the structure's strength: the mean period cell's variance against the texels' own about it
     values = (rgb @ axis).reshape(ny, ph, nx, pw)
-    within = np.sqrt(0.5 * (values.transpose(1, 3, 0, 2)[inside].var() + values.transpose(1, 3, 0, 2)[~inside].var()))
-    gap = abs(level[inside].mean() - level[~inside].mean())
-    if area < MIN_INTERIOR or gap < MIN_CONTRAST * within:
+    structure = float(np.var(mean @ axis))
+    residual = float(np.mean((values - (mean @ axis)[None, :, None, :]) ** 2))
+    if area < MIN_INTERIOR or structure < MIN_CONTRAST * residual:
         return None
     sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
     keep = np.zeros(count + 1, dtype=bool)

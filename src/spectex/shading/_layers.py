@@ -33,21 +33,20 @@ from .constants import (
     BLEND_FIRST,
     FADE_END,
     FADE_START,
-    GAUSS_MEAN,
     LOD_FLOOR,
+    SHARP_LOD,
     TILING_STOCHASTIC,
 )
 from .sampler import sample_grad
-from .constants import SHARP_LOD
 from .stochastic import (
     blend_patches,
-    winner,
     cell_point,
     lut_lookup,
     sample_stochastic_grad,
     sharpen_weights,
     triangle_vertices,
     vertex_offset,
+    winner,
 )
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",

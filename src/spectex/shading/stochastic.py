@@ -672,8 +672,8 @@ def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filte
         if mode == 1:
             r, g, b, a = sample_stochastic_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                                 mag_filter, max_aniso, bias, min_lod, max_lod, lut, 0, basis,
-                                                origin, grid, 0, 0, key, (nx, ny, cell_row), s[k], t[k], kx, ky, dsdx[k],
-                                                dtdx[k], dsdy[k], dtdy[k])
+                                                origin, grid, 0, 0, key, (nx, ny, cell_row), s[k], t[k], kx, ky,
+                                                dsdx[k], dtdx[k], dsdy[k], dtdy[k])
         else:
             lam = clamp_lod(lod[k], bias, min_lod, max_lod)
             r, g, b, a = sample_stochastic_at_lod(data, 0, offsets, widths, heights, lut, 0, basis, origin,
