@@ -731,6 +731,10 @@ def line_breaks(image, reference, *, window: int = 64, floor: float = 0.5) -> Li
 
 #: The least fraction of the colour variance the grout / interior split must explain (Otsu's criterion).
 CELL_SEPARATION = 0.5
+#: The least fraction of the colour variance (along its principal axis) the image's mean line profile,
+#: folded by the period, must hold along each axis with a period: a lattice of grout, not a texture (white
+#: noise about 0.0004, gravel 0.001; the tiles and brick photos and their bakes 0.45-0.65).
+LATTICE_STRENGTH = 0.1
 #: The least number of whole cells (not touching the border) an image must show.
 MIN_CELLS = 6
 
@@ -775,7 +779,22 @@ def _otsu(values: np.ndarray) -> tuple[float, float]:
     return float(edges[k + 1]), float(between[k] / max(values.var(), 1e-12))
 
 
-def _cell_split(image):
+def _lattice_strength(level, period) -> float:
+    """The smallest, over the axes with a period, of the variance of ``level``'s mean line profile folded by
+    the period (``round(p)`` phases) as a fraction of ``level``'s variance."""
+    out = []
+    for ax, p in enumerate(period):
+        if p is None:
+            continue
+        profile = level.mean(axis=1 - ax)
+        bins = max(2, int(round(p)))
+        phase = np.floor((np.arange(profile.size) % p) * bins / p).astype(np.int64) % bins
+        folded = np.bincount(phase, weights=profile, minlength=bins) / np.maximum(np.bincount(phase, minlength=bins), 1)
+        out.append(float(folded.var()) / max(float(level.var()), 1e-12))
+    return min(out)
+
+
+def _cell_split(image, period):
     """``(score, cells)`` of :func:`cell_splits` for one image, or None where it shows no separate cells."""
     from scipy import ndimage
 
@@ -785,6 +804,8 @@ def _cell_split(image):
     centred = flat - flat.mean(axis=0)
     axis = np.linalg.svd(centred[:: max(1, centred.shape[0] // 20000)], full_matrices=False)[2][0]
     level = (centred @ axis).reshape(rgb.shape[:2])
+    if _lattice_strength(level, period) < LATTICE_STRENGTH:
+        return None
     threshold, explained = _otsu(level.ravel())
     if explained < CELL_SEPARATION:
         return None
@@ -867,8 +888,10 @@ def cell_splits(image, reference, *, period) -> CellSplits | None:
     -------
     CellSplits or None
         None where there is no structure (``period``), or where either image
-        shows no separate cells: its two colour classes explain less than
-        ``CELL_SEPARATION`` of its colour variance, or it has fewer than
+        shows no separate cells: its mean line profile folded by the period
+        holds less than ``LATTICE_STRENGTH`` of its colour variance along an
+        axis with a period (no lattice of grout), its two colour classes
+        explain less than ``CELL_SEPARATION`` of it, or it has fewer than
         ``MIN_CELLS`` whole cells.
     """
     image = check_image("image", image)
@@ -879,8 +902,8 @@ def cell_splits(image, reference, *, period) -> CellSplits | None:
         period = tuple(None if p is None else check_float("period", p, minimum=2.0) for p in period)
     if period is None or period == (None, None):
         return None
-    mine = _cell_split(image)
-    own = _cell_split(reference)
+    mine = _cell_split(image, period)
+    own = _cell_split(reference, period)
     if mine is None or own is None:
         return None
     return CellSplits(image=mine[0], reference=own[0], ratio=mine[0] / max(own[0], 1e-9), cells_image=mine[1],
