@@ -116,8 +116,7 @@ def run(args) -> int | None:
 
 def _period(reference):
     """The reference's structure period where the fit would call it structured (bricks, floor tiles), else None."""
-    from spectex.fitting import STRUCTURED_PEAK, structure_peak
-    from spectex.fitting._structure import structure_period
+    from spectex.fitting import STRUCTURED_PEAK, structure_peak, structure_period
 
     if reference.ndim != 3 or min(reference.shape[:2]) < 64 or structure_peak(reference) < STRUCTURED_PEAK:
         return None

@@ -30,9 +30,9 @@ texture files do not hold it):
    a *cell*, one patch whole. A third channel says which (1: cell).
 
 Where the structure is weak (the mean period cell varies less than
-``MIN_CONTRAST`` times as much as the texels about it), the interiors cover too little of the period cell, or no interior component
-is closed along any axis, there is no map (None) and the layer is sampled as
-without one.
+``MIN_CONTRAST`` times as much as the texels about it), the interiors cover
+too little of the period cell, or no interior component is closed along any
+axis, there is no map (None) and the layer is sampled as without one.
 """
 
 from __future__ import annotations
@@ -131,7 +131,6 @@ def cell_map(tile, snap) -> np.ndarray | None:
     # the grout: runs around along more axes, or the smaller class where both run along as many
     grout = max(range(2), key=lambda c: (classes[c][0], -classes[c][1]))
     _, area, _, labels, count, ids, wraps = classes[1 - grout]
-    inside = classes[1 - grout][2]
     # the structure's strength: the mean period cell's variance against the texels' own about it
     values = (rgb @ axis).reshape(ny, ph, nx, pw)
     structure = float(np.var(mean @ axis))
