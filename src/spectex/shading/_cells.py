@@ -23,16 +23,16 @@ texture files do not hold it):
 3. every texel (grout too) takes the interior component nearest to it, and
    the map holds the vector from the texel to that component's centre (the
    mean position of its texels, unwrapped, rounded to half texels: exact in
-   half floats), tiled over the tile. A component that runs around the torus
-   along an axis (the columns of a wall snapped along x only) is a *band*: 0
-   along that axis, and the sampler blends the patches there as without
-   cells, at the point moved to the band's centre line; a closed component is
-   a *cell*, one patch whole. A third channel says which (1: cell).
+   half floats), tiled over the tile.
 
 Where the structure is weak (the mean period cell varies less than
 ``MIN_CONTRAST`` times as much as the texels about it), the interiors cover
-too little of the period cell, or no interior component is closed along any
-axis, there is no map (None) and the layer is sampled as without one.
+too little of the period cell, or an interior component runs around the torus
+(a band, not a cell: the columns of a wall whose bricks have no period along
+them, snapped along x only), there is no map (None) and the layer is sampled
+as without one. (Bands were tried, their patches blended at the point moved
+onto the band's centre line: brick's bake was no better by eye or by
+``metrics.cell_splits``, and the GL frame paid for two samplings.)
 """
 
 from __future__ import annotations
@@ -98,12 +98,11 @@ def cell_map(tile, snap) -> np.ndarray | None:
 
     Returns
     -------
-    ndarray, shape (H, W, 3), float32, or None
-        ``(dx, dy, closed)``: the centre of texel ``(x, y)``'s cell is at texel
+    ndarray, shape (H, W, 2), float32, or None
+        ``(dx, dy)``: the centre of texel ``(x, y)``'s cell is at texel
         position ``(x + dx, y + dy)`` (unwrapped: near the texel, possibly
-        outside the tile; multiples of 1/2), ``closed`` 1 for a cell, 0 for a
-        band (``dx`` or ``dy`` 0 along the axis it runs along). None where the
-        tile shows no separate cells (see the module's text).
+        outside the tile; multiples of 1/2). None where the tile shows no
+        separate cells (see the module's text).
     """
     from scipy import ndimage
 
@@ -140,8 +139,8 @@ def cell_map(tile, snap) -> np.ndarray | None:
     sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
     keep = np.zeros(count + 1, dtype=bool)
     keep[ids] = sizes[ids] >= MIN_CELL * ph * pw
-    if not keep.any() or wraps[keep].all():
-        return None  # nothing closed along any axis: no cells to keep whole
+    if not keep.any() or wraps[keep].any():
+        return None  # no cells, or bands running around the torus
     kept = keep[labels]
     yy, xx = np.indices(labels.shape, dtype=np.float64)
     index = np.arange(count + 1)
@@ -152,9 +151,6 @@ def cell_map(tile, snap) -> np.ndarray | None:
     _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
     owner = labels[iy, ix][ph:2 * ph, pw:2 * pw]
     py, px = np.indices((ph, pw), dtype=np.float64)
-    d = np.zeros((ph, pw, 3), dtype=np.float64)
-    d[:, :, 0] = np.where(wraps[owner, 1], 0.0, cx[owner] - (px + pw))
-    d[:, :, 1] = np.where(wraps[owner, 0], 0.0, cy[owner] - (py + ph))
-    d[:, :, :2] = np.round(2.0 * d[:, :, :2]) / 2.0
-    d[:, :, 2] = ~wraps[owner].any(axis=-1)
+    d = np.stack([cx[owner] - (px + pw), cy[owner] - (py + ph)], axis=2)
+    d = np.round(2.0 * d) / 2.0
     return np.ascontiguousarray(np.tile(d, (ny, nx, 1)), dtype=np.float32)

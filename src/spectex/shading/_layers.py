@@ -288,10 +288,10 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam, closed):
+def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam, one_patch):
     """:func:`~spectex.shading.stochastic.patches_at` with the fast path's trilinear sampler."""
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    if closed:
+    if one_patch:
         win = winner(w1, w2, w3)
         ci = i1 if win == 1 else (i2 if win == 2 else i3)
         cj = j1 if win == 1 else (j2 if win == 2 else j3)
@@ -345,9 +345,9 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         cells = cell_row >= 0.0 and tm < 1.0
         v0 = v1 = v2 = v3 = 0.0
         if cells:
-            closed, gx, gy = cell_point(lut, cell_row, s, t, kx, ky, gk, w0, w0)
+            gx, gy = cell_point(lut, cell_row, s, t, kx, ky, gk, w0, w0)
             v0, v1, v2, v3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0,
-                                          nx, ny, lam, closed)
+                                          nx, ny, lam, True)
         if not cells or tm > 0.0:
             u0, u1, u2, u3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, kx, ky, bi, bj, key, w0,
                                           nx, ny, lam, False)

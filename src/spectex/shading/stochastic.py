@@ -273,18 +273,18 @@ def expand_lut(lut: np.ndarray) -> np.ndarray:
 
 
 def cell_rows(cells: np.ndarray) -> np.ndarray:
-    """A cell map (``shading._cells.cell_map``, ``(h, w, 3)``) as rows of the expanded table, ``(rows, LUT_SIZE, 4)``.
+    """A cell map (``shading._cells.cell_map``, ``(h, w, 2)``) as rows of the expanded table, ``(rows, LUT_SIZE, 4)``.
 
     Texel ``(x, y)``'s entry is at index ``idx = y w + x``: row ``idx //
-    LUT_SIZE``, entry ``idx mod LUT_SIZE``, ``dx, dy, closed`` in channels
-    0-2 (3 is 0); ``ceil(h w / LUT_SIZE)`` rows, appended after the tables
-    (the samplers read them from the layer's ``cell_row``:
+    LUT_SIZE``, entry ``idx mod LUT_SIZE``, ``dx, dy`` in channels 0 and 1
+    (2 and 3 are 0); ``ceil(h w / LUT_SIZE)`` rows, appended after the
+    tables (the samplers read them from the layer's ``cell_row``:
     :func:`cell_point`). Its values are multiples of 1/2, exact in half floats.
     """
-    flat = np.asarray(cells, dtype=np.float32).reshape(-1, 3)
+    flat = np.asarray(cells, dtype=np.float32).reshape(-1, 2)
     rows = -(-flat.shape[0] // LUT_SIZE)
     out = np.zeros((rows * LUT_SIZE, 4), dtype=np.float32)
-    out[:flat.shape[0], :3] = flat
+    out[:flat.shape[0], :2] = flat
     return _half(out.reshape(rows, LUT_SIZE, 4))
 
 
@@ -495,15 +495,13 @@ def cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0):
     """Where a snapped layer takes its patches' weights: the centre of the structural cell holding ``(s, t)``.
 
     The texel under ``(s, t)`` (level 0, ``w0 x h0``) reads its cell map
-    entry (``shading._cells.cell_map``: ``(dx, dy, closed)``), stored in the
+    entry (``shading._cells.cell_map``: ``(dx, dy)``), stored in the
     expanded table ``lut`` from row ``cell_row`` on: texel ``idx = y w0 +
     x`` at row ``cell_row + idx // LUT_SIZE``, entry ``idx mod LUT_SIZE``
-    (:func:`cell_rows`). For a closed cell, its centre ``((x + 1/2 + dx) /
-    w0, (y + 1/2 + dy) / h0)``: the same for every texel of the cell; for a
-    band (``closed`` 0), the point moved by ``(dx, dy) / (w0, h0)`` onto the
-    band's centre line. Returns ``closed`` and that point in the skewed grid
-    (``grid``: tile -> grid; ``(kx, ky)`` is ``(s, t)`` there, as the
-    samplers hold it).
+    (:func:`cell_rows`). The cell's centre ``((x + 1/2 + dx) / w0, (y +
+    1/2 + dy) / h0)`` is the same for every texel of the cell; returned in
+    the skewed grid (``grid``: tile -> grid; ``(kx, ky)`` is ``(s, t)``
+    there, as the samplers hold it).
     """
     x = math.floor(s * w0)
     y = math.floor(t * h0)
@@ -512,14 +510,9 @@ def cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0):
     n = np.int64(lut.shape[1])
     r = np.int64(cell_row) + idx // n
     c = idx % n
-    closed = lut[r, c, 2] > 0.5
-    if closed:
-        cs = (x + 0.5 + lut[r, c, 0]) / w0 - s
-        ct = (y + 0.5 + lut[r, c, 1]) / h0 - t
-    else:
-        cs = lut[r, c, 0] / w0
-        ct = lut[r, c, 1] / h0
-    return closed, kx + (grid[0, 0] * cs + grid[0, 1] * ct), ky + (grid[1, 0] * cs + grid[1, 1] * ct)
+    cs = (x + 0.5 + lut[r, c, 0]) / w0 - s
+    ct = (y + 0.5 + lut[r, c, 1]) / h0 - t
+    return kx + (grid[0, 0] * cs + grid[0, 1] * ct), ky + (grid[1, 0] * cs + grid[1, 1] * ct)
 
 
 @_jit_inline
@@ -539,17 +532,17 @@ def blend_patches(x1, x2, x3, w1, w2, w3, inv):
 
 @_jit_inline
 def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam, min_filter,
-               mag_filter, wrap_s, wrap_t, closed):
+               mag_filter, wrap_s, wrap_t, one_patch):
     """The blended Gaussian RGBA at ``(s, t)`` of the patches whose weights are taken at grid point ``(gx, gy)``.
 
     The vertices of ``(gx, gy)``'s triangle (relative to vertex ``(bi, bj)``)
     with their weights sharpened at ``lam`` (:func:`sharpen_weights`), the
     three patches sampled at ``(s, t)`` plus their offsets and blended
-    (:func:`blend_patches`); ``closed``: the one patch of the nearest vertex
+    (:func:`blend_patches`); ``one_patch``: the one patch of the nearest vertex
     (:func:`winner`), its own value.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    if closed:
+    if one_patch:
         win = winner(w1, w2, w3)
         ci = i1 if win == 1 else (i2 if win == 2 else i3)
         cj = j1 if win == 1 else (j2 if win == 2 else j3)
@@ -588,13 +581,12 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     decorrelation; ``grid``: the tile -> skewed grid map.
 
     A snapped layer whose tile has a cell map (``cell_row >= 0``;
-    ``shading._cells``) takes, up to ``lam = SHARP_LOD``, its weights at
-    :func:`cell_point`: in a closed cell the one patch of the vertex nearest
-    the cell's centre (its own value: one fetch; a brick or floor tile whole
-    from one patch, the patches changing on the grout, where they agree:
-    their offsets are whole periods), in a band the blend at the point moved
-    onto the band's centre line; from ``SHARP_LOD + 1`` on the blend at the
-    point; in between, the linear mix of the two (no popping).
+    ``shading._cells``) takes, up to ``lam = SHARP_LOD``, the one patch of
+    the vertex nearest its cell's centre (:func:`cell_point`; its own value,
+    one fetch): a brick or floor tile whole from one patch, the patches
+    changing on the grout, where they agree (their offsets are whole
+    periods); from ``SHARP_LOD + 1`` on the blend at the point; in between,
+    the linear mix of the two (no popping).
     """
     nx, ny, cell_row = snap
     w0 = np.float64(widths[0])
@@ -603,9 +595,9 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
     if cells:
-        closed, gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
+        gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
         v0, v1, v2, v3 = patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny,
-                                    lam, min_filter, mag_filter, wrap_s, wrap_t, closed)
+                                    lam, min_filter, mag_filter, wrap_s, wrap_t, True)
     if not cells or tm > 0.0:
         u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
                                     lam, min_filter, mag_filter, wrap_s, wrap_t, False)
@@ -712,7 +704,7 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), cells=Non
     snap : (int, int)
         Whole structure periods the tile holds along s and t; the offsets
         are snapped to them (``Layer.snap``; 0: off along that axis).
-    cells : ndarray, shape (H, W, 3), optional
+    cells : ndarray, shape (H, W, 2), optional
         The tile's cell map for this snap (``shading._cells.cell_map``): whole
         structural cells take one patch (:func:`cell_point`). None: off.
     filter : str
@@ -771,8 +763,8 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), cells=Non
     cell_row = -1.0
     if cells is not None:
         cells = np.asarray(cells, dtype=np.float32)
-        if cells.shape != tables.gaussian[0].shape[:2] + (3,):
-            raise ValueError(f"cells must have shape {tables.gaussian[0].shape[:2] + (3,)}, got {cells.shape}")
+        if cells.shape != tables.gaussian[0].shape[:2] + (2,):
+            raise ValueError(f"cells must have shape {tables.gaussian[0].shape[:2] + (2,)}, got {cells.shape}")
         cell_row = float(lut.shape[0])
         lut = np.ascontiguousarray(np.concatenate([lut, cell_rows(cells)]))
     _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,

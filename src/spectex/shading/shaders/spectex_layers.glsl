@@ -138,15 +138,16 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
-// Where a snapped layer takes its patches' weights (stochastic.cell_point): the
-// texel under st reads its cell map entry (dx, dy, closed: channels 0-2 of the table
-// texture from row cell_row, texel idx = y w + x at row cell_row + idx / SPX_LUT_SIZE,
-// entry idx mod SPX_LUT_SIZE); a closed cell's centre (xy + 1/2 + (dx, dy)) / tex_size,
-// the same for every texel of the cell, or for a band the point moved by (dx, dy)
-// texels onto its centre line; returned in the skewed grid (grid: the tile -> grid
-// map; g: st there).
-vec2 spectex_cell_point(SPX_TEX_ARG(lut), vec2 st, vec2 g, vec2 tex_size, vec4 grid, float cell_row,
-                        float lut_rows, out bool closed) {
+// The offset of the patch a snapped layer's structural cell takes whole
+// (stochastic.cell_point, patches_at): the texel under st reads its cell map entry
+// (dx, dy: channels 0 and 1 of the table texture from row cell_row, texel idx = y w + x
+// at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE); its cell's centre
+// (xy + 1/2 + (dx, dy)) / tex_size, the same for every texel of the cell, moved into
+// the skewed grid (grid: the tile -> grid map; g: st there, relative to the vertex
+// (base_i, base_j)), and the vertex of its triangle with the largest weight (the first
+// of equals, as stochastic.winner) gives the offset.
+vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                         vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
     vec2 xy = floor(st * tex_size);
     int sx = int(tex_size.x);
     int sy = int(tex_size.y);
@@ -154,21 +155,28 @@ vec2 spectex_cell_point(SPX_TEX_ARG(lut), vec2 st, vec2 g, vec2 tex_size, vec4 g
     int row = idx / SPX_LUT_SIZE;
     float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
     float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
-    vec2 dc = vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x);
-    closed = SPX_LOD(lut, vec2(u, v + 0.5), 0.0).x > 0.5;
-    vec2 rel = closed ? (xy + 0.5 + dc) / tex_size - st : dc / tex_size;
-    return g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+    vec2 rel = (xy + 0.5 + vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x)) / tex_size
+        - st;
+    vec2 gc = g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+    vec2 c = floor(gc);
+    vec2 f = gc - c;
+    // the triangle's vertices and weights as in stochastic.triangle_vertices
+    bool lower = f.x + f.y < 1.0;
+    vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
+    vec2 win = (w.x >= w.y && w.x >= w.z) ? (lower ? vec2(0.0, 0.0) : vec2(1.0, 1.0))
+        : ((w.y >= w.z) ? (lower ? vec2(1.0, 0.0) : vec2(0.0, 1.0)) : (lower ? vec2(0.0, 1.0) : vec2(1.0, 0.0)));
+    SPX_UINT i = SPX_UINT(int(c.x + win.x)) + base_i;
+    SPX_UINT j = SPX_UINT(int(c.y + win.y)) + base_j;
+    return spectex_vertex_offset(i, j, key, tex_size, 1.0 / tex_size, snap);
 }
 
-// The blended Gaussian value at st of the patches whose weights are taken at grid
-// point g (relative to the vertex (base_i, base_j)): the triangle (docs/sampling.md, 6b)
-// lower (f.x + f.y < 1) with vertices (0, 0), (1, 0), (0, 1) of the cell, upper with
-// (1, 1), (0, 1), (1, 0); as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the
-// first two share their row's hash; the weights as |.| of one expression for both.
-// closed: the one patch of the vertex with the largest weight (the first of equals),
-// its own value (stochastic.patches_at).
+// The blended Gaussian value at st of the three patches of the triangle holding grid
+// point g (relative to the vertex (base_i, base_j)) (docs/sampling.md, 6b): lower
+// (f.x + f.y < 1) with vertices (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1),
+// (0, 1), (1, 0); as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
+// share their row's hash; the weights as |.| of one expression for both.
 vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
-                        vec2 snap, vec2 tex_size, float lam, bool closed) {
+                        vec2 snap, vec2 tex_size, float lam) {
     vec2 c = floor(g);
     vec2 f = g - c;
     float fs = f.x + f.y;
@@ -178,14 +186,8 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
     SPX_UINT i0 = SPX_UINT(int(c.x)) + base_i;
     SPX_UINT j0 = SPX_UINT(int(c.y)) + base_j;
     SPX_UINT hj = spectex_hash((j0 + d) ^ key);
-    vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
-    vec2 inv_size = 1.0 / tex_size;
-    if (closed) {
-        SPX_UINT i = (w.x >= w.y && w.x >= w.z) ? i0 + d : ((w.y >= w.z) ? i0 + 1u - d : i0 + d);
-        SPX_UINT h = (w.x >= w.y && w.x >= w.z) || w.y >= w.z ? hj : spectex_hash((j0 + 1u - d) ^ key);
-        return SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash(i ^ h), tex_size, inv_size, snap), lam);
-    }
     SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
+    vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
     // sharpened (stochastic.sharpen_weights): raised to the power 2^SPX_WEIGHT_SQUARINGS and
     // renormalised up to lambda = SPX_SHARP_LOD, the barycentric weights from SPX_SHARP_LOD + 1 on
     vec3 ws = w;
@@ -194,6 +196,7 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
     }
     ws = ws * (1.0 / (ws.x + ws.y + ws.z));
     w = ws + clamp(lam - SPX_SHARP_LOD, 0.0, 1.0) * (w - ws);
+    vec2 inv_size = 1.0 / tex_size;
     vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size, snap), lam);
     vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size, snap), lam);
     vec4 x3 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hk), tex_size, inv_size, snap), lam);
@@ -211,9 +214,9 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
 // the variance (spectex_patches_at), then the layer's row `lut_row0` (+ level) of
 // the tables and the inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2,
 // b0..b2 the basis's columns). RGBA in [0, 1]. A snapped layer with a cell map
-// (cell_row >= 0; grid: the tile -> grid map) takes its weights at its cell's
-// centre (spectex_cell_point: a closed cell's one patch, whole) up to lambda =
-// SPX_SHARP_LOD, at the point from SPX_SHARP_LOD + 1 on, the linear mix between.
+// (cell_row >= 0; grid: the tile -> grid map) takes its structural cell's one
+// patch whole (spectex_cell_offset) up to lambda = SPX_SHARP_LOD, the blend at the
+// point from SPX_SHARP_LOD + 1 on, the linear mix of the two between.
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
                                float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, vec4 grid,
@@ -222,12 +225,11 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     bool cells = cell_row >= 0.0 && tm < 1.0;
     vec4 gb = vec4(0.0);
     if (cells) {
-        bool closed;
-        vec2 gc = spectex_cell_point(SPX_TEX(lut), st, g, tex_size, grid, cell_row, lut_rows, closed);
-        gb = spectex_patches_at(SPX_TEX(gauss), st, gc, base_i, base_j, key, snap, tex_size, lam, closed);
+        gb = SPX_LOD(gauss, st + spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid,
+                                                     cell_row, lut_rows), lam);
     }
     if (!cells || tm > 0.0) {
-        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam, false);
+        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam);
         gb = cells ? gb + tm * (gp - gb) : gp;
     }
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
