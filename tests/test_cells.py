@@ -206,3 +206,27 @@ def test_cell_splits_sees_floor_tiles_made_of_two():
     assert cell_splits(noise, noise, period=(32.0, 32.0)) is None  # no grout to find cells by
     with pytest.raises(ValueError, match="period"):
         cell_splits(photo, photo, period=64)
+
+
+def test_compare_prints_the_cells_of_a_structured_reference(tmp_path, capsys):
+    from spectex.cli import main
+    from spectex.io import write_image
+    from spectex.shading._cells import cell_map
+
+    photo, _ = _floor(512, 64)
+    tile = photo[:256, :256]
+    write_image(tmp_path / "photo.png", photo)
+    write_image(tmp_path / "split.png", _sample(tile, None, (512, 512)))
+    write_image(tmp_path / "whole.png", _sample(tile, cell_map(tile, (4, 4)), (512, 512)))
+    ratios = {}
+    for name in ("split", "whole"):
+        assert main(["compare", str(tmp_path / f"{name}.png"), "--reference", str(tmp_path / "photo.png")]) == 0
+        line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("cells split")]
+        assert len(line) == 1, line
+        ratios[name] = float(line[0].split("=")[1].split("x")[0])
+    assert ratios["split"] >= 1.6 and ratios["whole"] <= 1.35, ratios
+    # an unstructured reference: no line
+    noise = np.random.default_rng(0).random((256, 256, 3)).astype(np.float32)
+    write_image(tmp_path / "noise.png", noise)
+    assert main(["compare", str(tmp_path / "noise.png"), "--reference", str(tmp_path / "noise.png")]) == 0
+    assert "cells split" not in capsys.readouterr().out

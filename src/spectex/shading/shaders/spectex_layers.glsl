@@ -225,8 +225,10 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     bool cells = cell_row >= 0.0 && tm < 1.0;
     vec4 gb = vec4(0.0);
     if (cells) {
-        gb = SPX_LOD(gauss, st + spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid,
-                                                     cell_row, lut_rows), lam);
+        // (a macro's arguments on one line: Godot's preprocessor takes no line break inside them)
+        vec2 off = spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
+                                       lut_rows);
+        gb = SPX_LOD(gauss, st + off, lam);
     }
     if (!cells || tm > 0.0) {
         vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam);
