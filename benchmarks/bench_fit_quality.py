@@ -36,6 +36,9 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   mortar straight, has a higher ``rp`` than the same wall in perspective: brick rectified, 0.75);
 * ``brk``: :func:`spectex.metrics.line_breaks` ratio of the near render to the photo (structured
   photos): about 1 or below keeps the photo's lines as straight; clearly above, V-shaped breaks;
+* ``cells``: :func:`spectex.metrics.cell_splits` ratio of the near render to the photo as the fit reads
+  it (structured photos): about 1, bricks and floor tiles as uniform as the photo's; clearly above,
+  cells made of two (patch boundaries across them);
 * ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
   with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
@@ -163,7 +166,19 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
             "rs near": _content_repeat(near, period), "rs far": _content_repeat(far, period, zoom=8),
             "rs photo": _content_repeat(photo if straight is None else straight, period),
             "breaks": metrics.line_breaks(near, photo).ratio if period is not None else float("nan"),
+            "cells": _cells(near, photo if straight is None else straight, period),
             "groups": s1.group_ratios}
+
+
+def _cells(near, reference, period):
+    """:func:`spectex.metrics.cell_splits` ratio of the near render to the photo as the fit reads it; nan
+    without a structure or where either shows no separate cells."""
+    from spectex import metrics
+
+    if period is None:
+        return float("nan")
+    found = metrics.cell_splits(near, reference, period=period)
+    return float("nan") if found is None else found.ratio
 
 
 def metrics_rp(image):
@@ -225,7 +240,7 @@ def main(argv=None) -> int:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'copies':>7s} {'s':>6s}"
+             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -252,7 +267,7 @@ def main(argv=None) -> int:
                 first = False
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
-                  f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} "
+                  f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} {r['cells']:5.2f} "
                   f"{r['copies']:6.2f}{flag} "
                   f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))

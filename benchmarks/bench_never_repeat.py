@@ -148,6 +148,8 @@ def main(argv=None) -> int:
     ap.add_argument("--photos", default=",".join(PHOTOS))
     ap.add_argument("--repeats", type=int, default=4, help="interleaved GL timing runs (default 4)")
     ap.add_argument("--gl-only", action="store_true", help="only the paper preset's GL frame ratio")
+    ap.add_argument("--cells-only", action="store_true",
+                    help="only the GL frame of snapped fits (tiles, brick) with their cells against without")
     args = ap.parse_args(argv)
 
     import skimage.data
@@ -164,9 +166,9 @@ def main(argv=None) -> int:
     load = os.getloadavg()
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
-    if args.gl_only:
+    if args.gl_only or args.cells_only:
         if gl:
-            _paper_ratio(args.repeats)
+            (_cells_ratio if args.cells_only else _paper_ratio)(args.repeats)
         return 0
     print(f"photos cropped to {args.crop} x {args.crop}; near: 2048^2 at the photo's pixel size, "
           f"far: 1024^2 at 8x; t&b patch {args.patch} tiles")
@@ -213,6 +215,7 @@ def main(argv=None) -> int:
               + " (target: fit <= legacy)")
     if gl:
         _paper_ratio(args.repeats)
+        _cells_ratio(args.repeats)
     load = os.getloadavg()
     print(f"load average at the end {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
     return 0
@@ -252,6 +255,41 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3) -> di
         for r, _ in renderers.values():
             r.release()
         ctx.release()
+
+
+def _cells_ratio(repeats: int) -> None:
+    """Snapped fits (the procedural tiles floor, scikit-image's brick wall), their finest layer drawn with its
+    structural cells (issue 22: a whole floor tile from one patch, one fetch of the Gaussian tile inside a
+    cell) against the same texture with the layer's snap off (the triangle grid's three patches everywhere,
+    the shader's code and cost before the cells): GL CPU time per frame, two views each."""
+    import dataclasses
+    import sys
+    from pathlib import Path
+
+    from spectex.fitting import fit
+    from spectex.render import Camera
+    from spectex.texture import SpectralTexture
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from exemplars import load as load_photo
+
+    for name in ("tiles", "brick"):
+        tex = fit(load_photo(name), pixel_size=1.0)
+        if tuple(tex.layers[0].snap) == (0, 0):
+            print(f"{name}: the fit did not snap its finest layer; skipped")
+            continue
+        plain = SpectralTexture(tex.tiles, [dataclasses.replace(tex.layers[0], snap=(0, 0)), *tex.layers[1:]],
+                                bits=tex.bits)
+        size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
+        for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
+                          ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
+            frames = _gl_frames({"cells": tex, "plain": plain}, repeats, camera=cam)
+            c, p = frames["cells"][1], frames["plain"][1]
+            load = os.getloadavg()
+            print(f"GL CPU time per frame, {name} fit (snap {tuple(tex.layers[0].snap)}), {view}, 1920 x 1080: "
+                  f"with cells {np.median(c) * 1e3:.1f} ms, without {np.median(p) * 1e3:.1f} ms, ratio "
+                  f"{np.median(c / p):.2f} (runs: {', '.join(f'{v:.2f}' for v in c / p)}; load {load[0]:.2f})",
+                  flush=True)
 
 
 def _paper_ratio(repeats: int) -> None:

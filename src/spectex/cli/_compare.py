@@ -16,7 +16,9 @@ def register(subparsers) -> None:
             "IMAGE, how strongly the fine detail of each repeats (repeat_peak, any period and "
             "direction), the structural distance (Portilla-Simoncelli texture statistics) as a "
             "ratio to the exemplar's own floor (about 1: as close as the photo is to itself), the "
-            "clipped values against the exemplar's, with --zoom a search for magnified copies of the "
+            "clipped values against the exemplar's, for a structured exemplar (bricks, floor tiles) how much "
+            "its cells change colour partway across against its own, with --zoom a search for magnified "
+            "copies of the "
             "exemplar in IMAGE taken as a zoomed-out view, "
             "and with --block the seam energy of a quilt. Grey against colour compares "
             "the colour image's luma."
@@ -93,7 +95,7 @@ def run(args) -> int | None:
         raise ValueError(f"--zoom must be >= 1 (the view's pixel size over the exemplar's), got {args.zoom:g}")
     try:
         result = metrics.compare(image, reference=reference, block=args.block, overlap=args.overlap,
-                                 zoom=args.zoom)
+                                 zoom=args.zoom, period=_period(reference))
     except ValueError as exc:
         if args.zoom is None:
             raise
@@ -110,6 +112,16 @@ def run(args) -> int | None:
         write_image(output, montage([reference, image], labels))
         _common.report(f"wrote {output}")
     return 0
+
+
+def _period(reference):
+    """The reference's structure period where the fit would call it structured (bricks, floor tiles), else None."""
+    from spectex.fitting import STRUCTURED_PEAK, structure_peak, structure_period
+
+    if reference.ndim != 3 or min(reference.shape[:2]) < 64 or structure_peak(reference) < STRUCTURED_PEAK:
+        return None
+    period = structure_period(reference)
+    return None if period == (None, None) else period
 
 
 def _finite(value):
@@ -167,5 +179,10 @@ def _print_table(r, image, reference) -> None:
         k = r.coarse
         print(f"magnified copies (zoom {k.zoom:g})  {num(k.value, '{:.3f}')} (reference's own "
               f"{num(k.reference, '{:.3f}')}): " + ("none found" if k.within else "FOUND, the reference magnified"))
+    if r.cells is not None:
+        k = r.cells
+        print(f"cells split image / ref.   {num(k.image, '{:.2f}')} / {num(k.reference, '{:.2f}')} = "
+              f"{num(k.ratio, '{:.2f}')}x   (bricks, floor tiles changing colour partway across; about 1 is "
+              "the reference's own)")
     if r.seam_energy is not None:
         print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

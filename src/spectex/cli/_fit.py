@@ -215,4 +215,7 @@ def _structure_line(numbers) -> str:
         mags = ", ".join(f"{m:g}" for m, v in zip(coarse.magnifications, coarse.per_magnification) if v == v)
         line += (f"; magnified copies {'none' if coarse.within else 'FOUND'} at {coarse.zoom:g}x zoomed out "
                  f"({coarse.value:.2f}, photo's own {coarse.reference:.2f}; searched {mags}x)")
+    if getattr(numbers, "cells", None) is not None:
+        line += (f"; bricks or tiles changing colour partway across {numbers.cells.ratio:.2f}x the photo's own "
+                 f"({numbers.cells.cells_image} cells)")
     return line

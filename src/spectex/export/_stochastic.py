@@ -18,7 +18,9 @@ exports write their IEEE half bits and lose nothing:
   as Godot's ``Image.create_from_data``, Unity's ``LoadRawTextureData`` and
   three.js's ``DataTexture`` take them.
 
-Per layer the shader also takes its grid map, hash key, snap counts, first table row and
+The table texture also holds, after the tables, the cell maps of snapped layers' tiles
+(``shading.resources.cell_rows``; ``docs/sampling.md``, 6b, "Cells"). Per layer the shader
+also takes its grid map, hash key, snap counts, cell-map row, first table row and
 decorrelation (:func:`layer_entries`), and, per frame, the grid position of
 the anchor (``shading.tables.anchor_coords``, columns 2-5).
 """
@@ -88,7 +90,8 @@ def layer_entries(texture) -> list[dict]:
     ``grid`` (m00, m01, m10, m11: tile -> skewed grid coordinates), ``key``
     (the hash key of its seed, a uint32), ``snap`` (its snap counts along s
     and t, whole numbers: ``Layer.snap``'s structure periods per tile, or
-    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``lut_row`` (its tile's first
+    the tile's width and height where that is 0; ``shading.stochastic.snap_counts``), ``cell_row`` (the first table
+    row of its tile's cell map, ``shading.resources.cell_rows``, -1 without), ``lut_row`` (its tile's first
     table row), ``basis`` (3 x 3, row-major: RGB = origin + basis v; GLSL's
     ``mat3`` takes the transpose, column after column), ``origin``; and
     ``patch``, ``seed`` and ``snap_periods`` (``Layer.snap`` itself) for people.
@@ -107,6 +110,7 @@ def layer_entries(texture) -> list[dict]:
                 "key": int(tables.key[k]),
                 "snap": [float(v) for v in tables.snap[k]],
                 "snap_periods": [int(v) for v in getattr(layer, "snap", (0, 0))],
+                "cell_row": float(tables.cell_row[k]),
                 "lut_row": int(tables.tile[k]) * int(tables.lut_rows),
                 "basis": [float(v) for v in tables.basis[k].reshape(-1)],
                 "origin": [float(v) for v in tables.origin[k]],

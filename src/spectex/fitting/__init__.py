@@ -33,9 +33,10 @@ from ._core import (
     structure_peak,
 )
 from ._legacy import _fit_legacy
+from ._structure import structure_period
 
 __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "report_reference", "ReportReference",
-           "prepare_exemplar", "structure_peak",
+           "prepare_exemplar", "structure_peak", "structure_period",
            "MIN_SIZE", "MAX_ANALYSIS_SIZE", "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 

@@ -179,13 +179,46 @@ def _orientation_drift(exemplar):
     return max(abs(structure_orientation(a) - structure_orientation(b)) for a, b in halves)
 
 
-def _best_cut(lines, span):
+def _grout_lines(lines, period):
+    """Per line (axis 0), whether it lies in the structure's grout or mortar, or None where that is unclear.
+
+    The lines' mean colours along their principal axis, folded by ``period``
+    (lines) into ``round(period)`` phases: the grout is the same colour in
+    every period, the cells' interiors average out, so the phases far from
+    the profile's median (beyond half its largest deviation, on the side of
+    that deviation) are the grout's. None where those phases are more than
+    half of them (no thin grout to tell).
+    """
+    n = lines.shape[0]
+    means = lines.reshape(n, -1, lines.shape[-1]).mean(axis=1)
+    centred = means - means.mean(axis=0)
+    axis = np.linalg.svd(centred, full_matrices=False)[2][0]
+    profile = centred @ axis
+    bins = max(2, int(round(period)))
+    phase = np.floor((np.arange(n) % period) * bins / period).astype(np.int64) % bins
+    folded = np.bincount(phase, weights=profile, minlength=bins) / np.maximum(np.bincount(phase, minlength=bins), 1)
+    dev = folded - np.median(folded)
+    peak = dev[np.argmax(np.abs(dev))]
+    grout = dev * np.sign(peak) > 0.5 * abs(peak)
+    if grout.mean() > 0.5:
+        return None
+    return grout[phase]
+
+
+def _best_cut(lines, span, period=None):
     """Start of the ``span`` lines (axis 0) whose wrap edge shows least: line ``start + span`` (the one
-    after the cut) closest to line ``start`` in mean squared difference."""
+    after the cut) closest to line ``start`` in mean squared difference; with the structure's ``period``
+    (lines), among the starts in its grout (:func:`_grout_lines`), so that the wrap edge runs along the grout
+    and no brick or floor tile of the tile is made of two of the photo's (a speckled grout can differ more
+    across a cut than a smooth brick: that cut splits the brick in two colours)."""
     n = lines.shape[0]
     if span >= n:
         return 0
-    costs = [float(np.mean((lines[y] - lines[y + span]) ** 2)) for y in range(n - span)]
+    costs = np.array([float(np.mean((lines[y] - lines[y + span]) ** 2)) for y in range(n - span)])
+    if period is not None:
+        grout = _grout_lines(lines, period)
+        if grout is not None and grout[: n - span].any():
+            costs[~grout[: n - span]] = np.inf
     return int(np.argmin(costs))
 
 
@@ -270,9 +303,9 @@ def _period_tile(exemplar, period):
     side, (qy, qx), (ky, kx), (sy, sx) = found
     spans = [ky * period[0] if ky else float(side), kx * period[1] if kx else float(side)]
     iy, ix = int(math.ceil(spans[0])), int(math.ceil(spans[1]))
-    x0 = _best_cut(np.moveaxis(exemplar, 1, 0), int(round(spans[1])))
+    x0 = _best_cut(np.moveaxis(exemplar, 1, 0), int(round(spans[1])), period[1])
     x0 = min(x0, w - ix - 1)
-    y0 = _best_cut(exemplar[:, x0:x0 + ix], int(round(spans[0])))
+    y0 = _best_cut(exemplar[:, x0:x0 + ix], int(round(spans[0])), period[0])
     y0 = min(y0, h - iy - 1)
     crop = exemplar[y0:y0 + iy + 1, x0:x0 + ix + 1].astype(np.float64)
     # texel centres (i + 0.5) of the L-texel tile at photo places (i + 0.5) span / L - 0.5 of the crop

@@ -390,6 +390,9 @@ class FitReport(AsDict):
     clipping: object = None
     #: :func:`spectex.metrics.coarse_copies` on a view at ``coarse_zoom`` times the pixel size
     coarse: object = None
+    #: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar (bricks, floor tiles
+    #: changing colour partway across: about 1 is the photo's own; None for an unstructured photo)
+    cells: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -528,7 +531,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
             structure_far = structural_distance(bake, exemplar, max_windows=4, prepared=prepared.statistics)
         others = dict(band_power_distance_db=band_power_distance(exemplar, bake),
                       band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
-                      histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar))
+                      histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
+                      cells=_cells(bake, exemplar))
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -542,6 +546,17 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         coarse=coarse,
         **others,
     )
+
+
+def _cells(bake, exemplar):
+    """:func:`spectex.metrics.cell_splits` of the bake against a structured exemplar, else None."""
+    from ..metrics import cell_splits
+    from ._structure import structure_period
+
+    if exemplar.ndim != 3 or min(exemplar.shape[:2]) < 64 or structure_peak(exemplar) < STRUCTURED_PEAK:
+        return None
+    period = structure_period(exemplar)
+    return None if period == (None, None) else cell_splits(bake, exemplar, period=period)
 
 
 def _coarse(view, exemplar, zoom, prepared, kwargs):

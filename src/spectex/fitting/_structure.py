@@ -60,9 +60,9 @@ def structure_period(exemplar, *, min_lag: int = 8):
         Pixels (not necessarily whole; rounded to 0.01); an entry is None
         where that axis has no period.
     """
-    from ._core import _luma
+    from ..color import luma
 
-    lum = _luma(exemplar)
+    lum = luma(exemplar, dtype=np.float64)  # (Rec. 709, as fitting._core._luma)
     lum = lum - lum.mean()
     spec = np.fft.rfft2(lum)
     acf = np.fft.irfft2(np.abs(spec) ** 2, s=lum.shape)
@@ -169,9 +169,9 @@ def structure_orientation(exemplar) -> float:
     """
     from scipy import ndimage
 
-    from ._core import _luma
+    from ..color import luma
 
-    lum = _luma(exemplar)
+    lum = luma(exemplar, dtype=np.float64)  # (Rec. 709, as fitting._core._luma)
     gy = ndimage.sobel(lum, 0)
     gx = ndimage.sobel(lum, 1)
     r2 = gx * gx + gy * gy

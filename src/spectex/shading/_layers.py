@@ -33,18 +33,20 @@ from .constants import (
     BLEND_FIRST,
     FADE_END,
     FADE_START,
-    GAUSS_MEAN,
     LOD_FLOOR,
+    SHARP_LOD,
     TILING_STOCHASTIC,
 )
 from .sampler import sample_grad
 from .stochastic import (
-    keep_between,
+    blend_patches,
+    cell_point,
     lut_lookup,
     sample_stochastic_grad,
     sharpen_weights,
     triangle_vertices,
     vertex_offset,
+    winner,
 )
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
@@ -92,7 +94,8 @@ def sample_layer(T, anchor, k, s, t, dsdx, dtdx, dsdy, dtdy):
                                       T.wrap_t, T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod,
                                       T.max_lod, T.lut, T.tile[k] * T.lut_rows, T.basis[k], T.origin[k],
                                       T.grid[k], np.int64(anchor[k, 4]), np.int64(anchor[k, 5]), T.key[k],
-                                      (T.snap[k, 0], T.snap[k, 1]), s, t, kx, ky, dsdx, dtdx, dsdy, dtdy)
+                                      (T.snap[k, 0], T.snap[k, 1], T.cell_row[k]), s, t, kx, ky, dsdx, dtdx, dsdy,
+                                      dtdy)
     return sample_grad(T.data, T.tile[k] * T.stride, T.offsets, T.widths, T.heights, T.wrap_s, T.wrap_t,
                        T.min_filter, T.mag_filter, aniso, T.bias, T.min_lod, T.max_lod,
                        s, t, dsdx, dtdx, dsdy, dtdy)
@@ -285,12 +288,35 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key, snap, lut, row0, basis, origin,
-                           k, off_k, px, py, lamw, lr, lg, lb, la, m):
+def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam, one_patch):
+    """:func:`~spectex.shading.stochastic.patches_at` with the fast path's trilinear sampler."""
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
+    if one_patch:
+        win = winner(w1, w2, w3)
+        ci = i1 if win == 1 else (i2 if win == 2 else i3)
+        cj = j1 if win == 1 else (j2 if win == 2 else j3)
+        ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, w0, nx, ny)
+        return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
+    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0, nx, ny)
+    r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0, nx, ny)
+    r2, g2, b2, a2 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, w0, nx, ny)
+    r3, g3, b3, a3 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+    inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
+    return (blend_patches(r1, r2, r3, w1, w2, w3, inv), blend_patches(g1, g2, g3, w1, w2, w3, inv),
+            blend_patches(b1, b2, b3, w1, w2, w3, inv), blend_patches(a1, a2, a3, w1, w2, w3, inv))
+
+
+@_jit_inline
+def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key, snap, cell_rows, lut, row0, basis,
+                           origin, k, off_k, px, py, lamw, lr, lg, lb, la, m):
     """Section 6b on ``m`` samples of a row (the fast path's sampler state): layer ``k``'s
     histogram-preserving sample at the world lambda plus ``off_k``, the numbers of
     :func:`~spectex.shading.stochastic.sample_stochastic_at_lod` (to float rounding), with the
-    Gaussian levels ``gflat`` (laid out as the texel store) read by :func:`bilinear_repeat`."""
+    Gaussian levels ``gflat`` (laid out as the texel store) read by :func:`bilinear_repeat`;
+    ``snap[k]``: the layer's snap counts, ``cell_rows[k]`` its cell-map row (-1: none)."""
     q = offsets.shape[0] - 1
     qf = np.float64(q)
     w0 = np.float64(size0)
@@ -298,6 +324,8 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
     bj = np.int64(anchor[k, 5])
     nx = snap[k, 0]
     ny = snap[k, 1]
+    cell_row = cell_rows[k]
+    gk = grid[k]
     for x in range(m):
         dx = px[x]
         dy = py[x]
@@ -312,20 +340,24 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         fd = math.floor(lam)
         beta = np.float32(lam - fd)
         d1 = np.int64(fd)
-        i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
-        w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
-        ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0, nx, ny)
-        r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
-        ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0, nx, ny)
-        r2, g2, b2, a2 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
-        ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, w0, nx, ny)
-        r3, g3, b3, a3 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
-        inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
-        mu = GAUSS_MEAN
-        v0 = keep_between(mu + (w1 * (r1 - mu) + w2 * (r2 - mu) + w3 * (r3 - mu)) * inv, r1, r2, r3)
-        v1 = keep_between(mu + (w1 * (g1 - mu) + w2 * (g2 - mu) + w3 * (g3 - mu)) * inv, g1, g2, g3)
-        v2 = keep_between(mu + (w1 * (b1 - mu) + w2 * (b2 - mu) + w3 * (b3 - mu)) * inv, b1, b2, b3)
-        v3 = keep_between(mu + (w1 * (a1 - mu) + w2 * (a2 - mu) + w3 * (a3 - mu)) * inv, a1, a2, a3)
+        # weights at the cell's centre (stochastic.cell_point) up to SHARP_LOD, at the point from SHARP_LOD + 1
+        tm = min(max(lam - SHARP_LOD, 0.0), 1.0)
+        cells = cell_row >= 0.0 and tm < 1.0
+        v0 = v1 = v2 = v3 = 0.0
+        if cells:
+            gx, gy = cell_point(lut, cell_row, s, t, kx, ky, gk, w0, w0)
+            v0, v1, v2, v3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0,
+                                          nx, ny, lam, True)
+        if not cells or tm > 0.0:
+            u0, u1, u2, u3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, kx, ky, bi, bj, key, w0,
+                                          nx, ny, lam, False)
+            if cells:
+                v0 += tm * (u0 - v0)
+                v1 += tm * (u1 - v1)
+                v2 += tm * (u2 - v2)
+                v3 += tm * (u3 - v3)
+            else:
+                v0, v1, v2, v3 = u0, u1, u2, u3
         # the table level of LINEAR_MIPMAP_LINEAR (stochastic.lut_level): lambda itself, 0 in magnification
         x0 = lut_lookup(lut, row0, lam, v0, 0)
         x1 = lut_lookup(lut, row0, lam, v1, 1)
@@ -346,7 +378,7 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
     ``lam_lo`` and ``lam_hi`` on the ground); colours into ``cr, cg, cb``
     (not clamped); ``lr .. la`` are float32 scratch; ``fade_bias`` as in
     :func:`shade_ground`. ``stochastic`` is
-    ``(tiling, gflat, grid, key, snap, lut, lut_rows, basis, origin)`` (one tuple:
+    ``(tiling, gflat, grid, key, snap, cell_row, lut, lut_rows, basis, origin)`` (one tuple:
     CPython passes a call of more than 30 arguments as ``*args``, which
     numba cannot inline): stochastic layers (``tiling``) read the Gaussian
     levels ``gflat`` and the tables ``lut`` (:func:`_sample_row_stochastic`).
@@ -361,14 +393,14 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
         cg[x] = 0.0
         cb[x] = 0.0
     q = offsets.shape[0] - 1
-    tiling, gflat, grid, key, snap, lut, lut_rows, basis, origin = stochastic
+    tiling, gflat, grid, key, snap, cell_row, lut, lut_rows, basis, origin = stochastic
     for k in range(tile.shape[0]):
         if on[k] == 0:
             continue
         if tiling[k] == TILING_STOCHASTIC:
-            _sample_row_stochastic(gflat, tile[k] * stride, offsets, size0, mats, anchor, grid, key[k], snap, lut,
-                                   tile[k] * lut_rows, basis, origin, k, lod_off[k], px, py, lamw, lr, lg, lb, la,
-                                   m)
+            _sample_row_stochastic(gflat, tile[k] * stride, offsets, size0, mats, anchor, grid, key[k], snap,
+                                   cell_row, lut, tile[k] * lut_rows, basis, origin, k, lod_off[k], px, py, lamw, lr,
+                                   lg, lb, la, m)
         else:
             two = 0 if lam_hi + lod_off[k] <= 0.0 or lam_lo + lod_off[k] >= q else 1
             _sample_row(flat, tile[k] * stride, offsets, size0, mats, anchor, k, lod_off[k], px, py, lamw,

@@ -256,6 +256,10 @@ SNAP = Input("u_snap", "vec2", "layer", "texture",
              gl=lambda g: [_floats(s) for s in g.tables.snap], host=lambda h: _snap(h),
              js="[].concat(...L.map((l) => pick(l, 'snap', [texture.tile_shape[1], texture.tile_shape[0]])))",
              stochastic=True, fold=True)
+CELL_ROW = Input("u_cell_row", "float", "layer", "texture",
+                 "per layer: first row of its tile's cell map in the tables (resources.cell_rows), -1: none",
+                 gl=lambda g: [float(v) for v in g.tables.cell_row], host=_field("cell_row", float, -1.0),
+                 js=_JS_PICK.format("cell_row", "-1"), stochastic=True, fold=True)
 LUT_ROW = Input("u_lut_row", "float", "layer", "texture", "per layer: first table row of its tile",
                 gl=lambda g: [float(t * g.tables.lut_rows) for t in g.tables.tile],
                 host=_field("lut_row", float, 0),
@@ -275,7 +279,7 @@ ORIGIN = Input("u_origin", "vec3", "layer", "texture", "per layer: its tile's de
 #: Every input of the ground shader, in the order of its declarations.
 INPUTS = (SIZE, HEIGHT, FWD, RIGHT, UP, TAN, DDX, DDY, HORIZON, ZENITH, HAZE, FAR, FADE_BIAS, TILE, TEX_SIZE,
           MAX_ANISO, ANCHOR, MAT, MEAN, OPACITY, LOD_OFF, GAUSS, LUT, LUT_ROWS, LUT_Q, GRID, GANCHOR, GBASE, KEY,
-          SNAP, LUT_ROW, BASIS, ORIGIN)
+          SNAP, CELL_ROW, LUT_ROW, BASIS, ORIGIN)
 
 
 def inputs(*rates: str, stochastic: bool | None = None) -> tuple[Input, ...]:

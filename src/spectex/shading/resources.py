@@ -11,14 +11,18 @@ function                   what it gives
 :func:`mean_colours`       per tile, the mean RGB (its 1 x 1 level)
 :func:`texel_store`        every tile's levels as one array (the kernels')
 :func:`stochastic_tables`  per tile, its stochastic tiling's tables
+:func:`cell_maps`          per tile, its structural cells for the snap of
+                           its snapped stochastic layers (``_cells``)
 :func:`stochastic_store`   the Gaussianised levels and expanded look-up
-                           tables as one array each (the kernels')
+                           tables (and the cell maps after them) as one
+                           array each (the kernels')
+:func:`cell_rows`          per tile, where its cell map starts in them
 :func:`shading_resources`  those of them that ``shading.tables.pack``
                            reads, handed down in one bundle
 =========================  ===============================================
 
 Caching. The results depend on the tiles' texels and the texture's bits
-only (not on the layers), so they are kept in one small least-recently-used
+(and the cell maps on the snapped layers' ``snap``), so they are kept in one small least-recently-used
 cache of this module, keyed on content: a BLAKE2 digest of each tile's
 texels (taken once per tile array, remembered while the array lives) and
 the bits. Textures with the same tiles share their entries (a fit builds
@@ -41,8 +45,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "clear_cache", "mean_colours", "mip_levels",
-           "shading_resources", "stochastic_store", "stochastic_tables", "texel_store", "tile_digest"]
+__all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "cell_maps", "cell_rows", "cell_snaps",
+           "clear_cache", "mean_colours", "mip_levels", "shading_resources", "stochastic_store", "stochastic_tables",
+           "texel_store", "tile_digest"]
 
 #: Entries kept (a tile's levels, a tile's stochastic tables, a texture's store: one entry each).
 KEPT = 16
@@ -66,7 +71,9 @@ class StochasticStore(NamedTuple):
     """The stochastic layers' texels as the kernels take them."""
 
     gauss: np.ndarray     #: every tile's Gaussianised levels, laid out as :attr:`TexelStore.data`
-    lut: np.ndarray       #: (tiles * lut_rows, LUT_SIZE, 4) float32, tile ``i``'s expanded table from ``i * lut_rows``
+    #: (tiles * lut_rows + cell rows, LUT_SIZE, 4) float32, tile ``i``'s expanded table from ``i * lut_rows``,
+    #: then the cell maps (:func:`cell_rows`)
+    lut: np.ndarray
     lut_rows: int
 
 
@@ -181,13 +188,69 @@ def stochastic_tables(texture) -> list:
     return [_kept(("tables", tile_digest(tile)), lambda tile=tile: build(tile)) for tile in texture.tiles]
 
 
+def cell_snaps(texture) -> tuple:
+    """Per tile, the ``snap`` its cell map is made for: that of the first stochastic layer drawing it snapped
+    (``Layer.snap`` not (0, 0)), or None (no snapped layer, no map)."""
+    out = [None] * len(texture.tiles)
+    for layer in texture.layers:
+        snap = tuple(int(v) for v in getattr(layer, "snap", (0, 0)))
+        if getattr(layer, "tiling", "periodic") == "stochastic" and max(snap) > 0 and out[layer.tile] is None:
+            out[layer.tile] = snap
+    return tuple(out)
+
+
+def cell_maps(texture) -> list:
+    """Per tile, its cell map (``shading._cells.cell_map``: per level-0 texel the vector to the centre of its
+    brick or floor tile) for :func:`cell_snaps`' snap, or None (no snapped layer, or no separate cells)."""
+    from ._cells import cell_map
+
+    return [None if snap is None else _kept(("cells", tile_digest(tile), snap),
+                                            lambda tile=tile, snap=snap: _Maybe(cell_map(tile, snap))).value
+            for tile, snap in zip(texture.tiles, cell_snaps(texture))]
+
+
+class _Maybe(NamedTuple):
+    """A cached value that may be None (the cache takes None for a miss)."""
+
+    value: object
+
+
+def cell_rows(texture) -> tuple:
+    """Per tile, the first row of its cell map in :func:`stochastic_store`'s ``lut`` (``stochastic.cell_rows``
+    lays it out), or -1 without a map. The maps follow every tile's expanded table, in tile order."""
+    row = len(texture.tiles) * _lut_rows(texture)
+    out = []
+    for cells in cell_maps(texture):
+        if cells is None:
+            out.append(-1)
+        else:
+            out.append(row)
+            row += -(-cells.shape[0] * cells.shape[1] // _lut_size())
+    return tuple(out)
+
+
+def _lut_size() -> int:
+    from .constants import LUT_SIZE
+
+    return LUT_SIZE
+
+
+def _lut_rows(texture) -> int:
+    """Rows of one tile's expanded table (``stochastic.expand_lut``)."""
+    from .constants import LUT_SUBROWS
+
+    return (len(stochastic_tables(texture)[0].gaussian) - 1) * LUT_SUBROWS + 1
+
+
 def stochastic_store(texture, *, mipmaps=True) -> StochasticStore:
     """The stochastic layers' texels as one :class:`StochasticStore`.
 
     ``gauss`` holds every tile's Gaussianised levels laid out exactly as
     :func:`texel_store`'s ``data`` (level 0 only without ``mipmaps``);
     ``lut`` every tile's expanded table
-    (``spectex.shading.stochastic.expand_lut``), ``lut_rows`` rows each.
+    (``spectex.shading.stochastic.expand_lut``), ``lut_rows`` rows each,
+    and after them the tiles' cell maps (:func:`cell_maps`, laid out by
+    ``stochastic.cell_rows``; where :func:`cell_rows` says).
     """
     mipmaps = bool(mipmaps)
 
@@ -198,7 +261,10 @@ def stochastic_store(texture, *, mipmaps=True) -> StochasticStore:
         textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]
         gauss = np.ascontiguousarray(np.concatenate([t.data for t in textures]))
         rows = [tb.expanded() for tb in tables]
-        lut = np.ascontiguousarray(np.concatenate(rows), dtype=np.float32)
+        from .stochastic import cell_rows as layout
+
+        cells = [layout(c) for c in cell_maps(texture) if c is not None]
+        lut = np.ascontiguousarray(np.concatenate(rows + cells), dtype=np.float32)
         return StochasticStore(gauss, lut, rows[0].shape[0])
 
-    return _kept(("stochastic_store", _texture_key(texture), mipmaps), make)
+    return _kept(("stochastic_store", _texture_key(texture), mipmaps, cell_snaps(texture)), make)

@@ -73,6 +73,8 @@ __all__ = [
     "LUT_SIZE",
     "StochasticTables",
     "snap_counts",
+    "cell_rows",
+    "cell_point",
     "stochastic_tables",
     "gaussianize",
     "decorrelation",
@@ -269,6 +271,22 @@ def expand_lut(lut: np.ndarray) -> np.ndarray:
             f = k / LUT_SUBROWS
             out[r] = (1.0 - f) * lut[d] + f * lut[d + 1]
     return np.ascontiguousarray(_half(out))
+
+
+def cell_rows(cells: np.ndarray) -> np.ndarray:
+    """A cell map (``shading._cells.cell_map``, ``(h, w, 2)``) as rows of the expanded table, ``(rows, LUT_SIZE, 4)``.
+
+    Texel ``(x, y)``'s entry is at index ``idx = y w + x``: row ``idx //
+    LUT_SIZE``, entry ``idx mod LUT_SIZE``, ``dx, dy`` in channels 0 and 1
+    (2 and 3 are 0); ``ceil(h w / LUT_SIZE)`` rows, appended after the
+    tables (the samplers read them from the layer's ``cell_row``:
+    :func:`cell_point`). Its values are multiples of 1/2, exact in half floats.
+    """
+    flat = np.asarray(cells, dtype=np.float32).reshape(-1, 2)
+    rows = -(-flat.shape[0] // LUT_SIZE)
+    out = np.zeros((rows * LUT_SIZE, 4), dtype=np.float32)
+    out[:flat.shape[0], :2] = flat
+    return _half(out.reshape(rows, LUT_SIZE, 4))
 
 
 def _half(values: np.ndarray) -> np.ndarray:
@@ -474,26 +492,65 @@ def lut_lookup(lut, row0, level, g, c):
 
 
 @_jit_inline
-def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin, s, t, kx, ky,
-                             bi, bj, key, snap, lam, min_filter, mag_filter, wrap_s, wrap_t):
-    """One histogram-preserving sample at a clamped level of detail; returns RGBA in [0, 1].
+def cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0):
+    """Where a snapped layer takes its patches' weights: the centre of the structural cell holding ``(s, t)``.
 
-    ``(s, t)``: the un-offset tile coordinates; ``(kx, ky)``: the same
-    point in skewed grid coordinates relative to the grid vertex ``(bi,
-    bj)`` (integers; the host splits a far-away position into this vertex
-    and a small remainder); ``key``: the layer's hash key; ``snap``: its
-    snap counts ``(nx, ny)`` (:func:`vertex_offset`; one argument: a call of more
-    than 30 cannot be inlined by numba). ``data, base,
-    offsets, widths, heights``: the Gaussian tile's levels in a texel store
-    (as in :func:`sampling.sample_at_lod`); ``lut[row0:]``: the tile's
-    expanded table (:func:`expand_lut`); ``basis``, ``origin``: the
-    decorrelation.
+    The texel under ``(s, t)`` (level 0, ``w0 x h0``) reads its cell map
+    entry (``shading._cells.cell_map``: ``(dx, dy)``), stored in the
+    expanded table ``lut`` from row ``cell_row`` on: texel ``idx = y w0 +
+    x`` at row ``cell_row + idx // LUT_SIZE``, entry ``idx mod LUT_SIZE``
+    (:func:`cell_rows`). The cell's centre ``((x + 1/2 + dx) / w0, (y +
+    1/2 + dy) / h0)`` is the same for every texel of the cell; returned in
+    the skewed grid (``grid``: tile -> grid; ``(kx, ky)`` is ``(s, t)``
+    there, as the samplers hold it).
     """
-    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+    x = math.floor(s * w0)
+    y = math.floor(t * h0)
+    iw = np.int64(w0)
+    idx = (np.int64(y) % np.int64(h0)) * iw + np.int64(x) % iw
+    n = np.int64(lut.shape[1])
+    r = np.int64(cell_row) + idx // n
+    c = idx % n
+    cs = (x + 0.5 + lut[r, c, 0]) / w0 - s
+    ct = (y + 0.5 + lut[r, c, 1]) / h0 - t
+    return kx + (grid[0, 0] * cs + grid[0, 1] * ct), ky + (grid[1, 0] * cs + grid[1, 1] * ct)
+
+
+@_jit_inline
+def winner(w1, w2, w3):
+    """1, 2 or 3: the vertex with the largest weight (the first of equals): the nearest vertex."""
+    if w1 >= w2 and w1 >= w3:
+        return 1
+    return 2 if w2 >= w3 else 3
+
+
+@_jit_inline
+def blend_patches(x1, x2, x3, w1, w2, w3, inv):
+    """The variance-preserving blend of three Gaussian values (``inv = 1 / |w|``), kept between them."""
+    m = GAUSS_MEAN
+    return keep_between(m + (w1 * (x1 - m) + w2 * (x2 - m) + w3 * (x3 - m)) * inv, x1, x2, x3)
+
+
+@_jit_inline
+def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam, min_filter,
+               mag_filter, wrap_s, wrap_t, one_patch):
+    """The blended Gaussian RGBA at ``(s, t)`` of the patches whose weights are taken at grid point ``(gx, gy)``.
+
+    The vertices of ``(gx, gy)``'s triangle (relative to vertex ``(bi, bj)``)
+    with their weights sharpened at ``lam`` (:func:`sharpen_weights`), the
+    three patches sampled at ``(s, t)`` plus their offsets and blended
+    (:func:`blend_patches`); ``one_patch``: the one patch of the nearest vertex
+    (:func:`winner`), its own value.
+    """
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
+    if one_patch:
+        win = winner(w1, w2, w3)
+        ci = i1 if win == 1 else (i2 if win == 2 else i3)
+        cj = j1 if win == 1 else (j2 if win == 2 else j3)
+        ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
+        return sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter, mag_filter,
+                             wrap_s, wrap_t)
     w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
-    nx, ny = snap
-    w0 = np.float64(widths[0])
-    h0 = np.float64(heights[0])
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
     r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
@@ -504,11 +561,54 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     r3, g3, b3, a3 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
     inv = 1.0 / math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
-    m = GAUSS_MEAN
-    v0 = keep_between(m + (w1 * (r1 - m) + w2 * (r2 - m) + w3 * (r3 - m)) * inv, r1, r2, r3)
-    v1 = keep_between(m + (w1 * (g1 - m) + w2 * (g2 - m) + w3 * (g3 - m)) * inv, g1, g2, g3)
-    v2 = keep_between(m + (w1 * (b1 - m) + w2 * (b2 - m) + w3 * (b3 - m)) * inv, b1, b2, b3)
-    v3 = keep_between(m + (w1 * (a1 - m) + w2 * (a2 - m) + w3 * (a3 - m)) * inv, a1, a2, a3)
+    return (blend_patches(r1, r2, r3, w1, w2, w3, inv), blend_patches(g1, g2, g3, w1, w2, w3, inv),
+            blend_patches(b1, b2, b3, w1, w2, w3, inv), blend_patches(a1, a2, a3, w1, w2, w3, inv))
+
+
+@_jit_inline
+def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin, s, t, kx, ky,
+                             bi, bj, key, snap, lam, min_filter, mag_filter, wrap_s, wrap_t, grid):
+    """One histogram-preserving sample at a clamped level of detail; returns RGBA in [0, 1].
+
+    ``(s, t)``: the un-offset tile coordinates; ``(kx, ky)``: the same
+    point in skewed grid coordinates relative to the grid vertex ``(bi,
+    bj)`` (integers; the host splits a far-away position into this vertex
+    and a small remainder); ``key``: the layer's hash key; ``snap``: its
+    snap counts and cell-map row ``(nx, ny, cell_row)`` (:func:`vertex_offset`;
+    one argument: a call of more than 30 cannot be inlined by numba). ``data, base,
+    offsets, widths, heights``: the Gaussian tile's levels in a texel store
+    (as in :func:`sampling.sample_at_lod`); ``lut[row0:]``: the tile's
+    expanded table (:func:`expand_lut`); ``basis``, ``origin``: the
+    decorrelation; ``grid``: the tile -> skewed grid map.
+
+    A snapped layer whose tile has a cell map (``cell_row >= 0``;
+    ``shading._cells``) takes, up to ``lam = SHARP_LOD``, the one patch of
+    the vertex nearest its cell's centre (:func:`cell_point`; its own value,
+    one fetch): a brick or floor tile whole from one patch, the patches
+    changing on the grout, where they agree (their offsets are whole
+    periods); from ``SHARP_LOD + 1`` on the blend at the point; in between,
+    the linear mix of the two (no popping).
+    """
+    nx, ny, cell_row = snap
+    w0 = np.float64(widths[0])
+    h0 = np.float64(heights[0])
+    tm = min(max(lam - SHARP_LOD, 0.0), 1.0)
+    cells = cell_row >= 0.0 and tm < 1.0
+    v0 = v1 = v2 = v3 = 0.0
+    if cells:
+        gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
+        v0, v1, v2, v3 = patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny,
+                                    lam, min_filter, mag_filter, wrap_s, wrap_t, True)
+    if not cells or tm > 0.0:
+        u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
+                                    lam, min_filter, mag_filter, wrap_s, wrap_t, False)
+        if cells:  # SHARP_LOD < lambda < SHARP_LOD + 1: towards the blend at the point
+            v0 += tm * (u0 - v0)
+            v1 += tm * (u1 - v1)
+            v2 += tm * (u2 - v2)
+            v3 += tm * (u3 - v3)
+        else:
+            v0, v1, v2, v3 = u0, u1, u2, u3
     level = lut_level(lam, min_filter, np.float64(widths.shape[0] - 1))
     x0 = lut_lookup(lut, row0, level, v0, 0)
     x1 = lut_lookup(lut, row0, level, v1, 1)
@@ -545,7 +645,7 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
         f = i / (n + 1.0) - 0.5 if n > 1 else 0.0
         r1, g1, b1, a1 = sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin,
                                                   s + f * ds, t + f * dt, kx + f * dkx, ky + f * dky, bi, bj, key,
-                                                  snap, lam, min_filter, mag_filter, wrap_s, wrap_t)
+                                                  snap, lam, min_filter, mag_filter, wrap_s, wrap_t, grid)
         r += r1
         g += g1
         b += b1
@@ -556,8 +656,8 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
 
 @numba.njit(cache=True, nogil=True)  # serial: split over threads by the caller (_parallel.in_parts)
 def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
-                       min_lod, max_lod, lut, basis, origin, grid, key, nx, ny, mode, s, t, dsdx, dtdx, dsdy, dtdy,
-                       lod, out):
+                       min_lod, max_lod, lut, basis, origin, grid, key, nx, ny, cell_row, mode, s, t, dsdx, dtdx,
+                       dsdy, dtdy, lod, out):
     n = s.shape[0]
     for k in range(n):
         kx = grid[0, 0] * s[k] + grid[0, 1] * t[k]
@@ -565,13 +665,13 @@ def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filte
         if mode == 1:
             r, g, b, a = sample_stochastic_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
                                                 mag_filter, max_aniso, bias, min_lod, max_lod, lut, 0, basis,
-                                                origin, grid, 0, 0, key, (nx, ny), s[k], t[k], kx, ky, dsdx[k],
-                                                dtdx[k], dsdy[k], dtdy[k])
+                                                origin, grid, 0, 0, key, (nx, ny, cell_row), s[k], t[k], kx, ky,
+                                                dsdx[k], dtdx[k], dsdy[k], dtdy[k])
         else:
             lam = clamp_lod(lod[k], bias, min_lod, max_lod)
             r, g, b, a = sample_stochastic_at_lod(data, 0, offsets, widths, heights, lut, 0, basis, origin,
-                                                  s[k], t[k], kx, ky, 0, 0, key, (nx, ny), lam, min_filter,
-                                                  mag_filter, wrap_s, wrap_t)
+                                                  s[k], t[k], kx, ky, 0, 0, key, (nx, ny, cell_row), lam,
+                                                  min_filter, mag_filter, wrap_s, wrap_t, grid)
         out[k, 0] = r
         out[k, 1] = g
         out[k, 2] = b
@@ -584,7 +684,7 @@ def layer_key(seed) -> int:
     return int(lowbias32(np.uint32(seed & 0xFFFFFFFF)))
 
 
-def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="trilinear", mipmaps=True,
+def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), cells=None, filter="trilinear", mipmaps=True,
                       anisotropy=1.0, dsdx=None, dtdx=None, dsdy=None, dtdy=None, lod=None):
     """Sample a tile by histogram-preserving tiling and blending at ``(s, t)``.
 
@@ -605,6 +705,9 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="t
     snap : (int, int)
         Whole structure periods the tile holds along s and t; the offsets
         are snapped to them (``Layer.snap``; 0: off along that axis).
+    cells : ndarray, shape (H, W, 2), optional
+        The tile's cell map for this snap (``shading._cells.cell_map``): whole
+        structural cells take one patch (:func:`cell_point`). None: off.
     filter : str
         Minification filter (``spectex.sampling.FILTERS`` or "trilinear");
         magnification is ``NEAREST`` under ``NEAREST``, else ``LINEAR``.
@@ -658,12 +761,20 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), filter="t
         s_, t_, lod_ = flat
         a_ = b_ = c_ = d_ = np.zeros(1)
     lut = tables.expanded()
+    cell_row = -1.0
+    if cells is not None:
+        cells = np.asarray(cells, dtype=np.float32)
+        if cells.shape != tables.gaussian[0].shape[:2] + (2,):
+            raise ValueError(f"cells must have shape {tables.gaussian[0].shape[:2] + (2,)}, got {cells.shape}")
+        cell_row = float(lut.shape[0])
+        lut = np.ascontiguousarray(np.concatenate([lut, cell_rows(cells)]))
     n = out.shape[0]
 
     def part(i, j):  # the per-point arrays cut, the length-1 placeholders whole
         _stochastic_kernel(tex.data, tex.offsets, tex.widths, tex.heights, 0, 0, code, 0 if code == 0 else 1,
                            anisotropy, 0.0, -1000.0, 1000.0, lut, tables.basis, tables.origin, grid, key, nx, ny,
-                           mode, *(x[i:j] if x.shape[0] == n else x for x in (s_, t_, a_, b_, c_, d_, lod_, out)))
+                           cell_row, mode, *(x[i:j] if x.shape[0] == n else x for x in (s_, t_, a_, b_, c_, d_, lod_,
+                                                                                        out)))
 
     in_parts(n, part)
     return out.reshape(shape + (4,))

@@ -33,7 +33,7 @@ from .constants import (
     TILINGS,
     WRAP_REPEAT,
 )
-from .resources import shading_resources
+from .resources import cell_rows, cell_snaps, shading_resources
 from .sampler import filter_code
 
 __all__ = ["ShadingTables", "pack", "anchor_coords"]
@@ -79,6 +79,9 @@ class ShadingTables(NamedTuple):
     #: (L, 2) float64: what the patch offsets are snapped to along s, t, as a count per tile (whole
     #: numbers): ``Layer.snap``'s periods, or the level-0 width, height (whole texels) where it is 0
     snap: np.ndarray
+    #: (L,) float64: the first row of the layer's tile's cell map in ``lut`` (``resources.cell_rows``) for a
+    #: snapped layer whose snap the map was made for, else -1 (no cells: the triangle grid's patches)
+    cell_row: np.ndarray
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
     origin: np.ndarray     #: (L, 3) float64
     shift: np.ndarray      #: (L, 2) float64: the layer's offset (``Layer.offset``), world metres (for the anchors)
@@ -166,6 +169,7 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     grid = np.zeros((n, 2, 2), dtype=np.float64)
     key = np.zeros(n, dtype=np.int64)
     snap = np.tile(np.array([w0, h0], dtype=np.float64), (n, 1))
+    cell_row = np.full(n, -1.0)
     for k, layer in enumerate(layers):
         tile[k] = layer.tile
         blend[k] = BLENDS.index(layer.blend)
@@ -193,9 +197,12 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
     origin = np.zeros((n, 3), dtype=np.float64)
     if stochastic:
         gauss, lut, lut_rows = res.stochastic
+        rows, snaps = cell_rows(texture), cell_snaps(texture)
         for k in np.flatnonzero(tiling == TILING_STOCHASTIC):
             basis[k] = res.tables[tile[k]].basis
             origin[k] = res.tables[tile[k]].origin
+            if rows[tile[k]] >= 0 and tuple(int(v) for v in getattr(layers[k], "snap", (0, 0))) == snaps[tile[k]]:
+                cell_row[k] = rows[tile[k]]
     else:
         gauss = np.zeros((1, 4), dtype=np.float32)
         lut = np.zeros((1, 2, 4), dtype=np.float32)
@@ -206,4 +213,4 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         min_lod=DEFAULT_MIN_LOD, max_lod=DEFAULT_MAX_LOD, tile=tile, mats=mats, blend=blend, tiling=tiling,
         mean=np.ascontiguousarray(res.means[tile], dtype=np.float64), opacity=opacity, on=on, lod_off=lod_off,
         size0=size0, fast=fast, gauss=gauss, lut=lut, lut_rows=int(lut_rows), grid=grid, key=key,
-        snap=snap, basis=basis, origin=origin, shift=shift)
+        snap=snap, cell_row=cell_row, basis=basis, origin=origin, shift=shift)

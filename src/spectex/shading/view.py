@@ -245,7 +245,8 @@ def render_kernel_fast(T, anchor, V, rows, out):
     opacity = T.opacity
     on = T.on
     lod_off = T.lod_off
-    stochastic = (T.tiling, T.gauss.reshape(-1), T.grid, T.key, T.snap, T.lut, T.lut_rows, T.basis, T.origin)
+    stochastic = (T.tiling, T.gauss.reshape(-1), T.grid, T.key, T.snap, T.cell_row, T.lut, T.lut_rows, T.basis,
+                  T.origin)
     height = V.height
     right = V.right
     tan_x = V.tan_x

@@ -52,11 +52,13 @@ void shade_layer_stochastic(int k, int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lu
     float lam = lam_w + u_lod_off[k];
     vec4 x = spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), u_anchor[k] + rel, g, u_gbase[k].x, u_gbase[k].y,
                                        u_key[k], u_snap[k], u_tex_size, lam, MIN_FILTER, u_lut_q, u_lut_row[k],
-                                       u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k]);
+                                       u_lut_rows, u_basis[k][0], u_basis[k][1], u_basis[k][2], u_origin[k], gm,
+                                       u_cell_row[k]);
     c = spectex_blend(blend, c, x, u_opacity[k], u_mean[k], lam + u_fade_bias);
 #else
     c = spectex_layer_stochastic(blend, SPX_TEX(gauss), SPX_TEX(lut), c, u_anchor[k], u_ganchor[k], u_gbase[k].x,
-                                 u_gbase[k].y, u_mat[k], u_grid[k], u_key[k], u_snap[k], u_lut_row[k], u_basis[k][0],
+                                 u_gbase[k].y, u_mat[k], u_grid[k], u_key[k], u_snap[k], u_cell_row[k], u_lut_row[k],
+                                 u_basis[k][0],
                                  u_basis[k][1], u_basis[k][2], u_origin[k], u_opacity[k], u_mean[k], p, jx, jy,
                                  u_tex_size, u_max_aniso, MIN_FILTER, u_lut_q, u_lut_rows, u_fade_bias);
 #endif

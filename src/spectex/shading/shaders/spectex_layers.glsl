@@ -138,22 +138,45 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
-// One stochastic sample at lambda: st the tile coordinates, g the same point
-// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
-// tex_size the level-0 width and height, snap the layer's snap counts
-// (spectex_hash_offset);
-// three patches of the Gaussianised tile `gauss`, each offset by its
-// vertex's hash, blended with the barycentric weights preserving the
-// variance, then the layer's row `lut_row0` (+ level) of the tables and the
-// inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2, b0..b2 the
-// basis's columns). RGBA in [0, 1].
-vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
-                               SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
-                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
-    // The triangle (docs/sampling.md, 6b): lower (f.x + f.y < 1) with vertices
-    // (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1), (0, 1), (1, 0);
-    // as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
-    // share their row's hash. The weights as |.| of one expression for both.
+// The offset of the patch a snapped layer's structural cell takes whole
+// (stochastic.cell_point, patches_at): the texel under st reads its cell map entry
+// (dx, dy: channels 0 and 1 of the table texture from row cell_row, texel idx = y w + x
+// at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE); its cell's centre
+// (xy + 1/2 + (dx, dy)) / tex_size, the same for every texel of the cell, moved into
+// the skewed grid (grid: the tile -> grid map; g: st there, relative to the vertex
+// (base_i, base_j)), and the vertex of its triangle with the largest weight (the first
+// of equals, as stochastic.winner) gives the offset.
+vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                         vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
+    vec2 xy = floor(st * tex_size);
+    int sx = int(tex_size.x);
+    int sy = int(tex_size.y);
+    int idx = ((int(xy.y) % sy + sy) % sy) * sx + (int(xy.x) % sx + sx) % sx;
+    int row = idx / SPX_LUT_SIZE;
+    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
+    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
+    vec2 rel = (xy + 0.5 + vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x)) / tex_size
+        - st;
+    vec2 gc = g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+    vec2 c = floor(gc);
+    vec2 f = gc - c;
+    // the triangle's vertices and weights as in stochastic.triangle_vertices
+    bool lower = f.x + f.y < 1.0;
+    vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
+    vec2 win = (w.x >= w.y && w.x >= w.z) ? (lower ? vec2(0.0, 0.0) : vec2(1.0, 1.0))
+        : ((w.y >= w.z) ? (lower ? vec2(1.0, 0.0) : vec2(0.0, 1.0)) : (lower ? vec2(0.0, 1.0) : vec2(1.0, 0.0)));
+    SPX_UINT i = SPX_UINT(int(c.x + win.x)) + base_i;
+    SPX_UINT j = SPX_UINT(int(c.y + win.y)) + base_j;
+    return spectex_vertex_offset(i, j, key, tex_size, 1.0 / tex_size, snap);
+}
+
+// The blended Gaussian value at st of the three patches of the triangle holding grid
+// point g (relative to the vertex (base_i, base_j)) (docs/sampling.md, 6b): lower
+// (f.x + f.y < 1) with vertices (0, 0), (1, 0), (0, 1) of the cell, upper with (1, 1),
+// (0, 1), (1, 0); as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
+// share their row's hash; the weights as |.| of one expression for both.
+vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                        vec2 snap, vec2 tex_size, float lam) {
     vec2 c = floor(g);
     vec2 f = g - c;
     float fs = f.x + f.y;
@@ -180,7 +203,37 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     // the weights sum to 1: sum w_i (x_i - m) = sum w_i x_i - m
     vec4 gb = (w.x * x1 + w.y * x2 + w.z * x3 - SPX_GAUSS_MEAN) * (1.0 / length(w)) + SPX_GAUSS_MEAN;
     // kept between the three sources per channel (stochastic.keep_between): no value none of them has
-    gb = clamp(gb, min(x1, min(x2, x3)), max(x1, max(x2, x3)));
+    return clamp(gb, min(x1, min(x2, x3)), max(x1, max(x2, x3)));
+}
+
+// One stochastic sample at lambda: st the tile coordinates, g the same point
+// in skewed grid coordinates relative to the grid vertex (base_i, base_j),
+// tex_size the level-0 width and height, snap the layer's snap counts
+// (spectex_hash_offset); three patches of the Gaussianised tile `gauss`, each
+// offset by its vertex's hash, blended with the barycentric weights preserving
+// the variance (spectex_patches_at), then the layer's row `lut_row0` (+ level) of
+// the tables and the inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2,
+// b0..b2 the basis's columns). RGBA in [0, 1]. A snapped layer with a cell map
+// (cell_row >= 0; grid: the tile -> grid map) takes its structural cell's one
+// patch whole (spectex_cell_offset) up to lambda = SPX_SHARP_LOD, the blend at the
+// point from SPX_SHARP_LOD + 1 on, the linear mix of the two between.
+vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
+                               SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
+                               float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, vec4 grid,
+                               float cell_row) {
+    float tm = clamp(lam - SPX_SHARP_LOD, 0.0, 1.0);
+    bool cells = cell_row >= 0.0 && tm < 1.0;
+    vec4 gb = vec4(0.0);
+    if (cells) {
+        // (a macro's arguments on one line: Godot's preprocessor takes no line break inside them)
+        vec2 off = spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
+                                       lut_rows);
+        gb = SPX_LOD(gauss, st + off, lam);
+    }
+    if (!cells || tm > 0.0) {
+        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam);
+        gb = cells ? gb + tm * (gp - gb) : gp;
+    }
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
     return clamp(vec4(origin + v.x * b0 + v.y * b1 + v.z * b2, v.w), 0.0, 1.0);
 }
@@ -192,7 +245,7 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
 vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                     SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 dx, vec2 dy, vec2 tex_size,
                                     float max_aniso, vec4 grid, int min_filter, float q, float lut_row0,
-                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin) {
+                                    float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float cell_row) {
     float lam;
     vec2 d;
     float n = spectex_footprint(dx, dy, tex_size, max_aniso, lam, d);
@@ -204,13 +257,13 @@ vec4 spectex_sample_stochastic_grad(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 s
             float fi = i / (n + 1.0) - 0.5;
             acc += spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st + fi * d, g + fi * dg, base_i,
                                              base_j, key, snap, tex_size, lam, min_filter, q, lut_row0, lut_rows,
-                                             b0, b1, b2, origin);
+                                             b0, b1, b2, origin, grid, cell_row);
         }
         return acc / n;
     }
 #endif
     return spectex_sample_stochastic(SPX_TEX(gauss), SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size,
-                                     lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin);
+                                     lam, min_filter, q, lut_row0, lut_rows, b0, b1, b2, origin, grid, cell_row);
 }
 #endif
 
@@ -280,7 +333,7 @@ vec3 spectex_layer(int blend, SPX_TEX_ARG(tile), vec3 c, vec2 anchor, vec4 m, fl
 // channel lut_rows.
 vec3 spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec3 c, vec2 anchor, vec2 ganchor,
                               SPX_UINT base_i, SPX_UINT base_j, vec4 m, vec4 gm, SPX_UINT key, vec2 snap,
-                              float lut_row, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float opacity, vec3 mean,
+                              float cell_row, float lut_row, vec3 b0, vec3 b1, vec3 b2, vec3 origin, float opacity, vec3 mean,
                               vec2 p, vec2 jx, vec2 jy, vec2 tex_size, float max_aniso, int min_filter, float lut_q,
                               float lut_rows, float fade_bias) {
     vec2 rel = spectex_layer_deriv(m, p);  // tile coordinates relative to the anchor
@@ -288,7 +341,7 @@ vec3 spectex_layer_stochastic(int blend, SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), v
     vec4 x = spectex_sample_stochastic_grad(SPX_TEX(gauss), SPX_TEX(lut), anchor + rel, g, base_i, base_j, key,
                                             snap, spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size,
                                             (blend == SPX_BLEND_FINE) ? 1.0 : max_aniso, gm, min_filter, lut_q,
-                                            lut_row, lut_rows, b0, b1, b2, origin);
+                                            lut_row, lut_rows, b0, b1, b2, origin, cell_row);
     float lam = (blend == SPX_BLEND_FINE || blend == SPX_BLEND_COVER)
         ? spectex_fade_lod(spectex_layer_deriv(m, jx), spectex_layer_deriv(m, jy), tex_size) : 0.0;
     return spectex_blend(blend, c, x, opacity, mean, lam + fade_bias);

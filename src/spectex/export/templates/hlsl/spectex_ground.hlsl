@@ -21,6 +21,7 @@ static const float4 SPECTEX_GRID[{{n_layers}}] = {{GRID}};
 static const uint SPECTEX_KEY[{{n_layers}}] = {{KEY}};
 static const float2 SPECTEX_SNAP[{{n_layers}}] = {{SNAP}};
 static const float SPECTEX_LUT_ROW[{{n_layers}}] = {{LUT_ROW}};
+static const float SPECTEX_CELL_ROW[{{n_layers}}] = {{CELL_ROW}};
 static const float3 SPECTEX_B0[{{n_layers}}] = {{BASIS0}};
 static const float3 SPECTEX_B1[{{n_layers}}] = {{BASIS1}};
 static const float3 SPECTEX_B2[{{n_layers}}] = {{BASIS2}};
@@ -61,7 +62,7 @@ void {{entry_point}}(float2 Ground, {{texture_params}}, out float3 Color, out fl
 {{#if stochastic}}
     c = spectex_layer_stochastic({{blend}}, SPX_TEX(Gauss{{tile}}), SPX_TEX(Lut), c, SPECTEX_ST_ANCHOR({{k}}),
         SPECTEX_G_ANCHOR({{k}}), SPECTEX_G_BASE({{k}}).x, SPECTEX_G_BASE({{k}}).y, SPECTEX_MAT[{{k}}], SPECTEX_GRID[{{k}}],
-        SPECTEX_KEY[{{k}}], SPECTEX_SNAP[{{k}}], SPECTEX_LUT_ROW[{{k}}], SPECTEX_B0[{{k}}], SPECTEX_B1[{{k}}], SPECTEX_B2[{{k}}], SPECTEX_ORIGIN_RGB[{{k}}],
+        SPECTEX_KEY[{{k}}], SPECTEX_SNAP[{{k}}], SPECTEX_CELL_ROW[{{k}}], SPECTEX_LUT_ROW[{{k}}], SPECTEX_B0[{{k}}], SPECTEX_B1[{{k}}], SPECTEX_B2[{{k}}], SPECTEX_ORIGIN_RGB[{{k}}],
         SPECTEX_OPACITY[{{k}}], SPECTEX_MEAN[{{k}}], p, jx, jy, SPECTEX_TEX_SIZE, SPECTEX_MAX_ANISOTROPY,
         SPX_FILTER_LINEAR_MIPMAP_LINEAR, SPECTEX_LUT_Q, SPECTEX_LUT_ROWS, 0.0);
 {{/if}}

@@ -1,0 +1,156 @@
+"""The structural cells of a snapped tile: which brick or floor tile each texel belongs to.
+
+A stochastic layer snapped to its tile's structure (``Layer.snap = (nx, ny)``)
+draws patches offset by whole periods, so the grout lines of every patch
+fall on the same places; but the triangle grid's patch boundaries would
+still run through the middle of bricks, so one brick would change colour
+partway across. The *cell map* says, per level-0 texel, where the centre of
+its structural cell is, so that the sampler can give a whole cell one patch
+(``shading.stochastic.cell_point``) and let the patches change on the grout.
+
+It is a deterministic function of the tile and its snap (a derived resource:
+texture files do not hold it):
+
+1. the tile is cut into its ``nx x ny`` period cells and averaged: the mean
+   period cell keeps what is the same in every period (the grout, sharp) and
+   flattens what is not (each brick its own colour);
+2. its colours along their principal axis, lightly smoothed on the torus,
+   split in two classes by Otsu's threshold; the class whose connected
+   components (on the period cell taken as a *torus*: a brick straddling its
+   edge is one component, running bond's half bricks) run around the torus
+   along more axes (a grid of lines), or the smaller one where both run along
+   as many (stripes), is the grout, the other the cells' interiors;
+3. every texel (grout too) takes the interior component nearest to it, and
+   the map holds the vector from the texel to that component's centre (the
+   mean position of its texels, unwrapped, rounded to half texels: exact in
+   half floats), tiled over the tile.
+
+Where the structure is weak (the mean period cell varies less than
+``MIN_CONTRAST`` times as much as the texels about it), the interiors cover
+too little of the period cell, or an interior component runs around the torus
+(a band, not a cell: the columns of a wall whose bricks have no period along
+them, snapped along x only), there is no map (None) and the layer is sampled
+as without one. (Bands were tried, their patches blended at the point moved
+onto the band's centre line: brick's bake was no better by eye or by
+``metrics.cell_splits``, and the GL frame paid for two samplings.)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
+
+#: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
+#: texels' variance about it: a structure repeated in every period, not a texture averaged out.
+MIN_CONTRAST = 0.5
+#: The interiors must cover at least this fraction of the period cell.
+MIN_INTERIOR = 0.25
+#: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
+MIN_CELL = 0.02
+
+
+def _otsu(values: np.ndarray) -> float:
+    """Otsu's threshold of a 1-D sample (256 bins): the split that maximises the between-class variance."""
+    hist, edges = np.histogram(values, bins=256)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    w0 = np.cumsum(hist).astype(np.float64)
+    w1 = w0[-1] - w0
+    s0 = np.cumsum(hist * centres)
+    m0 = s0 / np.maximum(w0, 1.0)
+    m1 = (s0[-1] - s0) / np.maximum(w1, 1.0)
+    between = w0 * w1 * (m0 - m1) ** 2
+    return float(edges[int(np.argmax(between[:-1])) + 1])
+
+
+def _torus_components(mask: np.ndarray):
+    """Components of ``mask`` on the torus: ``(labels, count, ids, wraps)`` of its 3 x 3 mosaic.
+
+    ``ids``: the labels met in the centre copy; ``wraps[i]``: (along y, along x) whether component ``i``
+    runs around the torus (its extent in the mosaic at least one period).
+    """
+    from scipy import ndimage
+
+    ph, pw = mask.shape
+    labels, count = ndimage.label(np.tile(mask, (3, 3)))
+    centre = labels[ph:2 * ph, pw:2 * pw]
+    ids = np.unique(centre[centre > 0])
+    wraps = np.zeros((count + 1, 2), dtype=bool)
+    for i, sl in enumerate(ndimage.find_objects(labels), start=1):
+        if sl is not None:
+            wraps[i] = (sl[0].stop - sl[0].start >= ph + 1, sl[1].stop - sl[1].start >= pw + 1)
+    return labels, count, ids, wraps
+
+
+def cell_map(tile, snap) -> np.ndarray | None:
+    """Per texel of ``tile``, the vector to the centre of its structural cell, or None.
+
+    Parameters
+    ----------
+    tile : ndarray, shape (H, W, 3) or (H, W, 4)
+        A tile in [0, 1]; alpha is ignored.
+    snap : (int, int)
+        ``(nx, ny)``: the whole structure periods the tile holds along x and y
+        (``Layer.snap``; 0: the whole tile is one period along that axis, as
+        where the offsets are not snapped along it). No map unless the counts
+        divide the tile's width and height and there are at least 4 periods in
+        all (the mean period cell needs them).
+
+    Returns
+    -------
+    ndarray, shape (H, W, 2), float32, or None
+        ``(dx, dy)``: the centre of texel ``(x, y)``'s cell is at texel
+        position ``(x + dx, y + dy)`` (unwrapped: near the texel, possibly
+        outside the tile; multiples of 1/2). None where the tile shows no
+        separate cells (see the module's text).
+    """
+    from scipy import ndimage
+
+    tile = np.asarray(tile)
+    nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
+    h, w = tile.shape[:2]
+    if w % nx or h % ny or nx * ny < 4:
+        return None
+    ph, pw = h // ny, w // nx
+    if min(ph, pw) < 4:
+        return None
+    rgb = tile[:, :, :3].astype(np.float64)
+    mean = rgb.reshape(ny, ph, nx, pw, 3).mean(axis=(0, 2))
+    flat = mean.reshape(-1, 3) - mean.reshape(-1, 3).mean(axis=0)
+    axis = np.linalg.svd(flat, full_matrices=False)[2][0]
+    level = (mean @ axis)
+    level = sum(np.roll(np.roll(level, dy, axis=0), dx, axis=1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)) / 9.0
+    high = level > _otsu(level.ravel())
+    if high.all() or not high.any():
+        return None
+    classes = []
+    for mask in (high, ~high):
+        labels, count, ids, wraps = _torus_components(mask)
+        classes.append((int(wraps[ids].any(axis=0).sum()), mask.mean(), mask, labels, count, ids, wraps))
+    # the grout: runs around along more axes, or the smaller class where both run along as many
+    grout = max(range(2), key=lambda c: (classes[c][0], -classes[c][1]))
+    _, area, _, labels, count, ids, wraps = classes[1 - grout]
+    # the structure's strength: the mean period cell's variance against the texels' own about it
+    values = (rgb @ axis).reshape(ny, ph, nx, pw)
+    structure = float(np.var(mean @ axis))
+    residual = float(np.mean((values - (mean @ axis)[None, :, None, :]) ** 2))
+    if area < MIN_INTERIOR or structure < MIN_CONTRAST * residual:
+        return None
+    sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
+    keep = np.zeros(count + 1, dtype=bool)
+    keep[ids] = sizes[ids] >= MIN_CELL * ph * pw
+    if not keep.any() or wraps[keep].any():
+        return None  # no cells, or bands running around the torus
+    kept = keep[labels]
+    yy, xx = np.indices(labels.shape, dtype=np.float64)
+    index = np.arange(count + 1)
+    n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
+    cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
+    cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
+    # every texel's nearest kept interior texel (itself inside one), on the mosaic so that it wraps
+    _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
+    owner = labels[iy, ix][ph:2 * ph, pw:2 * pw]
+    py, px = np.indices((ph, pw), dtype=np.float64)
+    d = np.stack([cx[owner] - (px + pw), cy[owner] - (py + ph)], axis=2)
+    d = np.round(2.0 * d) / 2.0
+    return np.ascontiguousarray(np.tile(d, (ny, nx, 1)), dtype=np.float32)

@@ -1,0 +1,232 @@
+"""Snapped stochastic layers keep whole bricks and floor tiles (issue 22): the cell map, the samplers, the measure."""
+
+import numpy as np
+import pytest
+
+from helpers import SIZE, VIEWS, psnr
+
+
+def _floor(side=512, period=64, grout=5, rng=11, spread=0.035, mottle=0.05):
+    """Square floor tiles of random terracottas with mottling, in light grout lines centred on the periods'
+    edges (a crop from 0 wraps on the grout); RGB float32 (benchmarks/exemplars.py's ``tiles``)."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side]
+    k = (yy // period) * (side // period + 1) + xx // period
+    colour = np.array([0.62, 0.42, 0.30]) + rng.normal(0.0, spread, (k.max() + 1, 3))
+    noise = ndimage.gaussian_filter(rng.standard_normal((side, side)), 3.0, mode="wrap")
+    img = colour[k] * (1.0 + mottle * noise[:, :, None] / noise.std())
+    fy, fx = yy % period, xx % period
+    g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
+    img[g] = (0.78 + 0.02 * rng.standard_normal(int(g.sum())))[:, None] * np.array([1.0, 0.97, 0.92])
+    return np.clip(img, 0.0, 1.0).astype(np.float32), g
+
+
+def _running_bond(periods=4, rng=2):
+    """Bricks 32 x 8 texels (mortar 2 texels at their left and top), every second course shifted by half a
+    brick: a period cell of 32 x 16 texels whose second course's brick straddles its edge."""
+    rng = np.random.default_rng(rng)
+    n = 32 * periods
+    yy, xx = np.mgrid[0:n, 0:n]
+    course = yy // 8
+    shift = np.where(course % 2 == 1, 16, 0)
+    brick = course * 64 + (xx + shift) // 32
+    colour = rng.uniform(0.2, 0.6, brick.max() + 1)[brick]
+    mortar = ((xx + shift) % 32 < 2) | (yy % 8 < 2)
+    img = np.where(mortar, 0.9, colour)[:, :, None] + 0.01 * rng.standard_normal((n, n, 3))
+    return np.clip(img, 0.0, 1.0).astype(np.float32), mortar
+
+
+# ------------------------------------------------------------------ the cell map
+def test_cell_map_points_every_texel_of_a_floor_tile_to_its_centre():
+    from spectex.shading._cells import cell_map
+
+    tile, grout = _floor(256, 64)
+    cells = cell_map(tile, (4, 4))
+    assert cells.shape == (256, 256, 2) and cells.dtype == np.float32
+    yy, xx = np.mgrid[0:256, 0:256]
+    cx, cy = xx + cells[:, :, 0], yy + cells[:, :, 1]
+    # interior texels: the centre of their own floor tile (its interior's mean position, 31.5 in its period)
+    inside = ~grout
+    assert np.all(np.abs(cx[inside] - (xx[inside] // 64 * 64 + 31.5)) <= 0.5)
+    assert np.all(np.abs(cy[inside] - (yy[inside] // 64 * 64 + 31.5)) <= 0.5)
+    # the grout goes to its nearest floor tile: no texel further than half a period from its centre
+    assert np.abs(cells).max() <= 32.5
+    # half texels, exact in half floats
+    assert np.array_equal(cells, cells.astype(np.float16).astype(np.float32))
+    assert np.array_equal(2 * cells, np.round(2 * cells))
+
+
+def test_cell_map_joins_a_brick_across_the_period_cells_edge():
+    """Running bond: the shifted course's brick straddles the period cell's edge; on the torus it is one
+    cell, so its two ends (left and right of the period cell) point to one centre, a period apart."""
+    from spectex.shading._cells import cell_map
+
+    tile, mortar = _running_bond()
+    cells = cell_map(tile, (4, 8))
+    assert cells is not None
+    y = 8 + 4  # the shifted course
+    left = 4 + cells[y, 4, 0]
+    right = 28 + cells[y, 28, 0]
+    assert abs((right - left) - 32.0) <= 0.5, (left, right)
+    # an unshifted course's brick is whole inside the period cell: one centre for both ends
+    assert abs((4 + cells[4, 4, 0]) - (28 + cells[4, 28, 0])) <= 0.5
+
+
+def test_cell_map_refuses_a_tile_without_grout_or_with_stripes():
+    from spectex.shading._cells import cell_map
+
+    rng = np.random.default_rng(0)
+    noise = rng.random((256, 256, 3)).astype(np.float32)
+    assert cell_map(noise, (4, 4)) is None
+    assert cell_map(_floor(256, 64)[0], (0, 0)) is None  # one period: no mean over periods
+    assert cell_map(_floor(256, 64)[0], (3, 4)) is None  # 3 periods do not divide 256 texels
+    # horizontal grout only: the interiors run around along x, bands, not cells to keep whole
+    tile, grout = _floor(256, 64)
+    stripes = tile.copy()
+    yy = np.arange(256)[:, None] % 64
+    stripes[(np.minimum(yy, 63 - yy) >= 2.5) & np.broadcast_to(grout, grout.shape)] = tile[10, 10]
+    assert cell_map(stripes, (4, 4)) is None
+    assert cell_map(tile, (4, 4)) is not None  # (the control: the same floor with its vertical grout)
+
+
+# ------------------------------------------------------------------ the sampler
+def _sample(tile, cells, shape=(768, 768), lod=0.0, seed=3):
+    from spectex.shading.stochastic import sample_stochastic, stochastic_tables
+
+    n = tile.shape[0]
+    s, t = np.meshgrid((np.arange(shape[1]) + 0.5) / n, (np.arange(shape[0]) + 0.5) / n)
+    return sample_stochastic(stochastic_tables(tile), s, t, patch=0.5, seed=seed, snap=(4, 4), cells=cells,
+                             lod=np.full(s.shape, lod))[:, :, :3]
+
+
+def _tile_spread(image, period=64, margin=6):
+    """Per floor tile of a picture on the tile's grid, the largest distance of its quadrants' mean colours."""
+    h, w = image.shape[:2]
+    out = []
+    for y0 in range(0, h - period + 1, period):
+        for x0 in range(0, w - period + 1, period):
+            cell = image[y0 + margin:y0 + period - margin, x0 + margin:x0 + period - margin]
+            m = cell.shape[0] // 2
+            q = [cell[:m, :m], cell[:m, m:], cell[m:, :m], cell[m:, m:]]
+            means = np.array([c.reshape(-1, 3).mean(axis=0) for c in q])
+            out.append(np.linalg.norm(means[:, None] - means[None], axis=2).max())
+    return np.array(out)
+
+
+def test_snapped_sample_draws_each_floor_tile_from_one_patch():
+    from spectex.shading._cells import cell_map
+
+    tile, _ = _floor(256, 64, spread=0.12, mottle=0.01)
+    cells = cell_map(tile, (4, 4))
+    whole = _tile_spread(_sample(tile, cells))
+    split = _tile_spread(_sample(tile, None))
+    own = _tile_spread(tile)
+    # with cells, a floor tile's quadrants differ no more than the tile's own (its mottling); without,
+    # the triangle grid's patch boundaries cross tiles: some are made of two (the control)
+    assert whole.max() <= 1.2 * own.max() + 0.005, (whole.max(), own.max())
+    assert np.mean(split > 2.0 * own.max()) >= 0.05, np.mean(split > 2.0 * own.max())
+    # from SHARP_LOD + 1 on the cells are not used: the same numbers as without them
+    from spectex.shading.constants import SHARP_LOD
+
+    far = SHARP_LOD + 1.0
+    np.testing.assert_array_equal(_sample(tile, cells, (64, 64), far), _sample(tile, None, (64, 64), far))
+    # in between, a mix of the two: between them (no popping)
+    mid = _sample(tile, cells, (128, 128), SHARP_LOD + 0.5)
+    lo, hi = _sample(tile, cells, (128, 128), SHARP_LOD), _sample(tile, None, (128, 128), SHARP_LOD + 0.5)
+    assert np.abs(mid - lo).mean() < np.abs(lo - hi).mean() and np.abs(mid - hi).mean() < np.abs(lo - hi).mean()
+
+
+def _texture(tile, snap):
+    from spectex.texture import Layer, SpectralTexture
+
+    coarse = np.full(tile.shape[:2] + (4,), 0.5, np.float32)
+    rgba = np.concatenate([tile, np.ones(tile.shape[:2] + (1,), np.float32)], axis=2)
+    return SpectralTexture([rgba, coarse], [Layer(size=2.0, tile=0, tiling="stochastic", patch=0.5, snap=snap),
+                                            Layer(size=8.0, tile=1, opacity=0.2)])
+
+
+def test_pack_uses_cells_only_for_the_snapped_layers_tile():
+    from spectex.shading.resources import cell_rows, stochastic_store
+    from spectex.shading.tables import pack
+
+    tile, _ = _floor(256, 64)
+    snapped = _texture(tile, (4, 4))
+    plain = _texture(tile, (0, 0))
+    t1, t0 = pack(snapped), pack(plain)
+    assert t1.cell_row[0] == cell_rows(snapped)[0] == t0.lut.shape[0] and t1.cell_row[1] == -1.0
+    assert np.all(t0.cell_row == -1.0)
+    assert t1.lut.shape[0] == t0.lut.shape[0] + 256 * 256 // 1024
+    np.testing.assert_array_equal(t1.lut[: t0.lut.shape[0]], t0.lut)
+    # a snapped layer on a tile without cells: no rows, no cells
+    noise = np.random.default_rng(1).random((256, 256, 3)).astype(np.float32)
+    assert pack(_texture(noise, (4, 4))).cell_row[0] == -1.0
+    assert stochastic_store(_texture(noise, (4, 4))).lut.shape == stochastic_store(_texture(noise, (0, 0))).lut.shape
+
+
+@pytest.mark.gl
+def test_gl_matches_cpu_on_a_snapped_floor(gl):
+    from spectex.render.cpu import render_cpu
+    from spectex.render.gl import GLRenderer
+
+    tile, _ = _floor(256, 64)
+    tex = _texture(tile, (4, 4))
+    with GLRenderer(tex, ctx=gl) as r:
+        for name, cam in VIEWS.items():
+            c = render_cpu(tex, cam, SIZE)
+            g = r.render(cam, SIZE)
+            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+    # the cells changed the picture (the control: the same texture unsnapped differs)
+    cam = VIEWS["close"]
+    assert psnr(render_cpu(tex, cam, SIZE), render_cpu(_texture(tile, (0, 0)), cam, SIZE)) < 35.0
+
+
+# ------------------------------------------------------------------ the measure
+def test_cell_splits_sees_floor_tiles_made_of_two():
+    from spectex.metrics import cell_splits
+    from spectex.shading._cells import cell_map
+
+    photo, _ = _floor(512, 64)
+    period = (64.0, 64.0)
+    # the photo against a disjoint crop of itself: about 1
+    own = cell_splits(photo[:, :256], photo[:, 256:], period=period)
+    assert 0.75 <= own.ratio <= 1.3, own  # (its noise: 0.97-1.21 over three floors)
+    tile = photo[:256, :256]
+    today = cell_splits(_sample(tile, None, (512, 512)), photo, period=period)
+    new = cell_splits(_sample(tile, cell_map(tile, (4, 4)), (512, 512)), photo, period=period)
+    # the triangle grid's patches cross the tiles (2.1-2.8 over three floors and two seeds); with the
+    # cells within the measure's noise of the photo's own (1.0-1.3; the tile itself 1.06-1.17)
+    assert today.ratio >= 1.6, today
+    assert new.ratio <= 1.35 and new.ratio <= today.ratio - 0.5, (new, today)
+    assert today.cells_image >= 40 and new.cells_image >= 40
+    # no structure: no number
+    noise = np.random.default_rng(0).random((256, 256, 3)).astype(np.float32)
+    assert cell_splits(noise, noise, period=None) is None
+    assert cell_splits(noise, noise, period=(32.0, 32.0)) is None  # no grout to find cells by
+    with pytest.raises(ValueError, match="period"):
+        cell_splits(photo, photo, period=64)
+
+
+def test_compare_prints_the_cells_of_a_structured_reference(tmp_path, capsys):
+    from spectex.cli import main
+    from spectex.io import write_image
+    from spectex.shading._cells import cell_map
+
+    photo, _ = _floor(512, 64)
+    tile = photo[:256, :256]
+    write_image(tmp_path / "photo.png", photo)
+    write_image(tmp_path / "split.png", _sample(tile, None, (512, 512)))
+    write_image(tmp_path / "whole.png", _sample(tile, cell_map(tile, (4, 4)), (512, 512)))
+    ratios = {}
+    for name in ("split", "whole"):
+        assert main(["compare", str(tmp_path / f"{name}.png"), "--reference", str(tmp_path / "photo.png")]) == 0
+        line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("cells split")]
+        assert len(line) == 1, line
+        ratios[name] = float(line[0].split("=")[1].split("x")[0])
+    assert ratios["split"] >= 1.6 and ratios["whole"] <= 1.35, ratios
+    # an unstructured reference: no line
+    noise = np.random.default_rng(0).random((256, 256, 3)).astype(np.float32)
+    write_image(tmp_path / "noise.png", noise)
+    assert main(["compare", str(tmp_path / "noise.png"), "--reference", str(tmp_path / "noise.png")]) == 0
+    assert "cells split" not in capsys.readouterr().out
