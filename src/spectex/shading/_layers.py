@@ -288,15 +288,20 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam, one_patch):
+def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny):
+    """:func:`~spectex.shading.stochastic.winner_patch_at` with the fast path's trilinear sampler."""
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
+    win = winner(w1, w2, w3)
+    ci = i1 if win == 1 else (i2 if win == 2 else i3)
+    cj = j1 if win == 1 else (j2 if win == 2 else j3)
+    ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, w0, nx, ny)
+    return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+
+
+@_jit_inline
+def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam):
     """:func:`~spectex.shading.stochastic.patches_at` with the fast path's trilinear sampler."""
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    if one_patch:
-        win = winner(w1, w2, w3)
-        ci = i1 if win == 1 else (i2 if win == 2 else i3)
-        cj = j1 if win == 1 else (j2 if win == 2 else j3)
-        ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, w0, nx, ny)
-        return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
     w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0, nx, ny)
     r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
@@ -346,11 +351,11 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         v0 = v1 = v2 = v3 = 0.0
         if cells:
             gx, gy = cell_point(lut, cell_row, s, t, kx, ky, gk, w0, w0)
-            v0, v1, v2, v3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0,
-                                          nx, ny, lam, True)
+            v0, v1, v2, v3 = _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0,
+                                         nx, ny)
         if not cells or tm > 0.0:
             u0, u1, u2, u3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, kx, ky, bi, bj, key, w0,
-                                          nx, ny, lam, False)
+                                          nx, ny, lam)
             if cells:
                 v0 += tm * (u0 - v0)
                 v1 += tm * (u1 - v1)

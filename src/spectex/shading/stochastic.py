@@ -532,24 +532,35 @@ def blend_patches(x1, x2, x3, w1, w2, w3, inv):
 
 
 @_jit_inline
+def winner_patch_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam,
+                    min_filter, mag_filter, wrap_s, wrap_t):
+    """The Gaussian RGBA at ``(s, t)`` of the one patch of the vertex nearest grid point ``(gx, gy)``.
+
+    :func:`winner` among the vertices of ``(gx, gy)``'s triangle (relative
+    to vertex ``(bi, bj)``); its patch sampled at ``(s, t)`` plus its
+    offset, its own value (one fetch). Apart from :func:`patches_at` so
+    that each kernel inlines the texel sampler once per fetch it makes.
+    """
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
+    win = winner(w1, w2, w3)
+    ci = i1 if win == 1 else (i2 if win == 2 else i3)
+    cj = j1 if win == 1 else (j2 if win == 2 else j3)
+    ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
+    return sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter, mag_filter,
+                         wrap_s, wrap_t)
+
+
+@_jit_inline
 def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam, min_filter,
-               mag_filter, wrap_s, wrap_t, one_patch):
+               mag_filter, wrap_s, wrap_t):
     """The blended Gaussian RGBA at ``(s, t)`` of the patches whose weights are taken at grid point ``(gx, gy)``.
 
     The vertices of ``(gx, gy)``'s triangle (relative to vertex ``(bi, bj)``)
     with their weights sharpened at ``lam`` (:func:`sharpen_weights`), the
     three patches sampled at ``(s, t)`` plus their offsets and blended
-    (:func:`blend_patches`); ``one_patch``: the one patch of the nearest vertex
-    (:func:`winner`), its own value.
+    (:func:`blend_patches`); the one patch of a cell: :func:`winner_patch_at`.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    if one_patch:
-        win = winner(w1, w2, w3)
-        ci = i1 if win == 1 else (i2 if win == 2 else i3)
-        cj = j1 if win == 1 else (j2 if win == 2 else j3)
-        ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
-        return sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter, mag_filter,
-                             wrap_s, wrap_t)
     w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
     r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
@@ -597,11 +608,11 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     v0 = v1 = v2 = v3 = 0.0
     if cells:
         gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
-        v0, v1, v2, v3 = patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny,
-                                    lam, min_filter, mag_filter, wrap_s, wrap_t, True)
+        v0, v1, v2, v3 = winner_patch_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0,
+                                         nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
     if not cells or tm > 0.0:
         u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
-                                    lam, min_filter, mag_filter, wrap_s, wrap_t, False)
+                                    lam, min_filter, mag_filter, wrap_s, wrap_t)
         if cells:  # SHARP_LOD < lambda < SHARP_LOD + 1: towards the blend at the point
             v0 += tm * (u0 - v0)
             v1 += tm * (u1 - v1)
