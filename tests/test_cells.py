@@ -230,3 +230,46 @@ def test_compare_prints_the_cells_of_a_structured_reference(tmp_path, capsys):
     write_image(tmp_path / "noise.png", noise)
     assert main(["compare", str(tmp_path / "noise.png"), "--reference", str(tmp_path / "noise.png")]) == 0
     assert "cells split" not in capsys.readouterr().out
+
+
+def _hexagons(side=512, radius=30.0, grout=2.0, rng=5):
+    """Hexagonal floor tiles, each its own colour, in light grout: no straight line runs along its grout."""
+    from scipy.spatial import cKDTree
+
+    gen = np.random.default_rng(rng)
+    dx, dy = radius * np.sqrt(3.0), 1.5 * radius
+    centres = np.array([(i * dx + (j % 2) * dx / 2, j * dy)
+                        for j in range(-2, int(side / dy) + 3) for i in range(-2, int(side / dx) + 3)])
+    y, x = np.mgrid[0:side, 0:side].astype(np.float64)
+    d, idx = cKDTree(centres).query(np.stack([x.ravel(), y.ravel()], 1), k=2)
+    colours = gen.uniform(0.25, 0.6, (len(centres), 3))
+    image = colours[idx[:, 0]].reshape(side, side, 3) + 0.02 * gen.standard_normal((side, side, 1))
+    inside = np.clip(((d[:, 1] - d[:, 0]).reshape(side, side) - grout) / 2.0, 0.0, 1.0)[..., None]
+    return np.clip(image * inside + (1.0 - inside) * 0.8, 0.0, 1.0).astype(np.float32)
+
+
+def _wrap_jumps(tile):
+    """The mean colour step across the tile's wrap edges (last column to first, last row to first) between
+    texels both inside cells (every channel under the grout's 0.8): the noise's alone where every cell there is
+    one hexagon, a step between two hexagons' colours where a cell is made of two."""
+    a = np.concatenate([tile[:, -1, :3], tile[-1, :, :3]])
+    b = np.concatenate([tile[:, 0, :3], tile[0, :, :3]])
+    inside = (a.max(axis=1) < 0.68) & (b.max(axis=1) < 0.68)
+    assert inside.sum() > 100
+    return float(np.abs(a - b)[inside].mean())
+
+
+def test_period_tile_keeps_the_cells_across_its_wrap_edges_whole(monkeypatch):
+    """A hexagon floor's period tile cannot be cut along its grout: the cells its wrap edges cross are read
+    whole from the photo (one colour each), where the plain cut made them of two hexagons (control)."""
+    from spectex.fitting import _auto
+
+    photo = _hexagons()
+    period = _auto.structure_period(photo)
+    assert period is not None
+    tile, *_ = _auto._period_tile(photo, period)
+    fixed = _wrap_jumps(tile)
+    monkeypatch.setattr(_auto, "_whole_edge_cells", lambda tile, *args: tile)
+    plain, *_ = _auto._period_tile(photo, period)
+    split = _wrap_jumps(plain)
+    assert fixed < 0.05 < split, (fixed, split)

@@ -314,9 +314,47 @@ def _period_tile(exemplar, period):
     gy, gx = np.meshgrid(yy, xx, indexing="ij")
     tile = np.stack([ndimage.map_coordinates(crop[:, :, c], [gy, gx], order=3, mode="nearest")
                      for c in range(3)], axis=2)
+    tile = _whole_edge_cells(tile, exemplar, (kx, ky), (y0, x0), spans)
     # the cubic's overshoot at sharp edges (mortar) kept inside the crop's own range
     tile = np.clip(tile, crop.min(axis=(0, 1)), crop.max(axis=(0, 1)))
     return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
+
+
+def _whole_edge_cells(tile, exemplar, snap, origin, spans):
+    """The period tile with its cells across the wrap edges made whole from the photo.
+
+    A straight cut runs along the grout only where the grout is straight
+    (a grid of floor tiles); across hexagons or staggered cells it crosses
+    cells, and a cell across the tile's wrap edge is then made of two of the
+    photo's cells (two colours, split by a straight line, in every patch).
+    Each texel whose cell's centre (:func:`spectex.shading._cells.cell_map`)
+    lies in a neighbouring copy of the tile is read instead from the photo
+    where that copy continues the crop (cubic), so the cell is the one
+    photo cell its larger part is; texels whose place falls off the photo
+    keep their value. Unchanged where the tile has no cell map.
+    """
+    from scipy import ndimage
+
+    from ..shading._cells import cell_map
+
+    side = tile.shape[0]
+    cells = cell_map(tile, snap)
+    if cells is None:
+        return tile
+    h, w = exemplar.shape[:2]
+    i, j = np.meshgrid(np.arange(side, dtype=np.float64), np.arange(side, dtype=np.float64), indexing="ij")
+    copy_y = np.floor((i + 0.5 + cells[:, :, 1]) / side)
+    copy_x = np.floor((j + 0.5 + cells[:, :, 0]) / side)
+    py = origin[0] + (i - side * copy_y + 0.5) * (spans[0] / side) - 0.5
+    px = origin[1] + (j - side * copy_x + 0.5) * (spans[1] / side) - 0.5
+    move = ((copy_y != 0) | (copy_x != 0)) & (py >= 0) & (py <= h - 1) & (px >= 0) & (px <= w - 1)
+    if not move.any():
+        return tile
+    out = tile.copy()
+    photo = exemplar.astype(np.float64)
+    for c in range(3):
+        out[:, :, c][move] = ndimage.map_coordinates(photo[:, :, c], [py[move], px[move]], order=3, mode="nearest")
+    return out
 
 
 def _coarse_tile(exemplar, n, ratio, slope_db, rng):
