@@ -335,7 +335,7 @@ def _whole_edge_cells(tile, exemplar, snap, origin, spans):
     """
     from scipy import ndimage
 
-    from ..shading._cells import cell_map
+    from ..shading.resources import cell_map
 
     side = tile.shape[0]
     cells = cell_map(tile, snap)

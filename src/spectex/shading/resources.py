@@ -45,9 +45,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "cell_maps", "cell_rows", "cell_snaps",
-           "clear_cache", "mean_colours", "mip_levels", "shading_resources", "stochastic_store", "stochastic_tables",
-           "texel_store", "tile_digest"]
+from ._cells import cell_map
+
+__all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "cell_map", "cell_maps", "cell_rows",
+           "cell_snaps", "clear_cache", "mean_colours", "mip_levels", "shading_resources", "stochastic_store",
+           "stochastic_tables", "texel_store", "tile_digest"]
 
 #: Entries kept (a tile's levels, a tile's stochastic tables, a texture's store: one entry each).
 KEPT = 16
@@ -202,7 +204,6 @@ def cell_snaps(texture) -> tuple:
 def cell_maps(texture) -> list:
     """Per tile, its cell map (``shading._cells.cell_map``: per level-0 texel the vector to the centre of its
     brick or floor tile) for :func:`cell_snaps`' snap, or None (no snapped layer, or no separate cells)."""
-    from ._cells import cell_map
 
     return [None if snap is None else _kept(("cells", tile_digest(tile), snap),
                                             lambda tile=tile, snap=snap: _Maybe(cell_map(tile, snap))).value
