@@ -121,19 +121,29 @@ def test_cli_bake_killed_and_run_again_gives_the_same_bytes(texture_file, whole_
 @pytest.mark.slow
 def test_cli_bake_a_second_writer_while_the_first_runs_is_refused_and_the_store_exact(texture_file,
                                                                                      whole_slow_bake, tmp_path):
-    """Two writers that surely overlap: the second starts once the first has written shards."""
+    """Two writers that surely overlap: once the first has written shards it is paused (SIGSTOP)
+    while the second runs, so that the overlap does not hang on how fast either is on a loaded
+    machine (the second, started only then, once took longer than the whole first bake); it goes on
+    (SIGCONT) after the second was refused. A paused process holds its lock like a running one."""
     args = [str(texture_file), *SLOW_BAKE]
     out = tmp_path / "t.zarr"
     first = _run_cli([*args, "-o", str(out)])
-    _wait_for_markers(first, out / ".spectex-progress", 5)
-    lock = json.loads((out / "spectex.lock").read_text())
-    assert lock["pid"] == first.pid  # the lock names its owner
-    second = _run_cli([*args, "-o", str(out)])
-    _, err = second.communicate(timeout=120)
-    assert first.poll() is None, "the first bake ended before the second was refused; make it larger"
-    assert second.returncode == 2 and f"is being baked by process {first.pid} on" in err, err
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    stdout, stderr = first.communicate(timeout=300)
+    try:
+        _wait_for_markers(first, out / ".spectex-progress", 5)
+        first.send_signal(signal.SIGSTOP)
+        lock = json.loads((out / "spectex.lock").read_text())
+        assert lock["pid"] == first.pid  # the lock names its owner
+        second = _run_cli([*args, "-o", str(out)])
+        _, err = second.communicate(timeout=120)
+        assert first.poll() is None  # paused, not ended
+        assert second.returncode == 2 and f"is being baked by process {first.pid} on" in err, err
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+        first.send_signal(signal.SIGCONT)
+        stdout, stderr = first.communicate(timeout=300)
+    finally:  # a failed assertion leaves no paused bake and no open pipes behind
+        if first.poll() is None:
+            first.kill()
+            first.communicate()
     assert first.returncode == 0, stderr
     assert snapshot(out) == whole_slow_bake  # the refused writer changed nothing
     assert not (out / "spectex.lock").exists()
