@@ -183,11 +183,15 @@ def stochastic_tables(texture) -> list:
 
     The Gaussianised tile's mip levels, the per-level inverse look-up tables
     and the colour decorrelation: a deterministic function of the tile's
-    texels (what a file stores rebuilds them exactly).
+    texels (what a file stores rebuilds them exactly). A tile with a cell map
+    (:func:`cell_maps`) has its levels Gaussianised one by one
+    (``stochastic_tables(..., per_level=True)``: exact tables at every level).
     """
     from .stochastic import stochastic_tables as build
 
-    return [_kept(("tables", tile_digest(tile)), lambda tile=tile: build(tile)) for tile in texture.tiles]
+    return [_kept(("tables", tile_digest(tile), cells is not None),
+                  lambda tile=tile, per_level=cells is not None: build(tile, per_level=per_level))
+            for tile, cells in zip(texture.tiles, cell_maps(texture))]
 
 
 def cell_snaps(texture) -> tuple:

@@ -294,7 +294,7 @@ def _half(values: np.ndarray) -> np.ndarray:
     return np.asarray(values, dtype=np.float32).astype(np.float16).astype(np.float32)
 
 
-def stochastic_tables(tile) -> StochasticTables:
+def stochastic_tables(tile, *, per_level: bool = False) -> StochasticTables:
     """Build the Gaussian tile, its mip chain and the per-level inverse tables of a tile.
 
     Parameters
@@ -302,6 +302,13 @@ def stochastic_tables(tile) -> StochasticTables:
     tile : ndarray, shape (H, W, 4) or (H, W, 3)
         A tile in [0, 1] (RGB gets alpha 1): the texels the periodic
         sampling would show (already quantised, for an 8-bit texture).
+    per_level : bool
+        False (the paper's prefiltering): level ``d`` of the Gaussian tile is
+        the mip chain of its level 0, and the table of level ``d`` the
+        monotone regression of the colour's level ``d`` on it. True (a tile
+        with a cell map, ``shading.resources``): level ``d`` >= 1 is the
+        colour's level ``d`` Gaussianised by its own ranks, and its table
+        that Gaussianisation's exact inverse; level 0 is the same either way.
 
     Returns
     -------
@@ -314,6 +321,20 @@ def stochastic_tables(tile) -> StochasticTables:
     least-squares regression of the decorrelated colour's level ``d`` on
     it (see the module's text). Deterministic: the same tile gives the same
     tables.
+
+    Why ``per_level`` for tiles of floor tiles or bricks: one monotone
+    function per channel cannot take a filtered Gaussian value back to the
+    filtered colour where the colours are two populations (light grout, a
+    few per cent of the texels, in the Gaussian's tail, and the cells): a
+    level-1 texel that mixes grout into a dark cell has the filtered
+    Gaussian value of a lighter cell, and the regression maps both to one
+    colour, shifting every cell's. On a fitted floor the mapped levels 1-3
+    were 30, 27 and 26 dB from the colour's mip levels (a gravel tile:
+    42-44 dB), and a mip-mapped view's floor tiles took other colours than
+    the supersampled level 0 (``docs/fitting.md``, "GL = CPU and
+    aliasing"). Gaussianised per level, every level's table is exact (to
+    half floats), and the three patches' blend at level ``d`` still has the
+    level's own Gaussian statistics.
 
     References
     ----------
@@ -335,6 +356,12 @@ def stochastic_tables(tile) -> StochasticTables:
         gauss0[:, :, c] = gaussianize(values[:, :, c])
     gauss_levels = [_half(level) for level in mip_chain(_half(gauss0))]
     value_levels = mip_chain(values.astype(np.float32))
+    if per_level:
+        for d in range(1, len(value_levels)):
+            level = np.empty(value_levels[d].shape, dtype=np.float64)
+            for c in range(4):
+                level[:, :, c] = gaussianize(value_levels[d][:, :, c])
+            gauss_levels[d] = _half(level)
     grid = np.linspace(0.0, 1.0, LUT_SIZE)
     lut = np.empty((len(gauss_levels), LUT_SIZE, 4), dtype=np.float32)
     for d, (gl, vl) in enumerate(zip(gauss_levels, value_levels)):
