@@ -57,6 +57,42 @@ def psnr(image, reference) -> float:
     return float("inf") if mse == 0 else 10.0 * np.log10(1.0 / mse)
 
 
+def psnr_low(image, reference, sigma: float = 1.0) -> float:
+    """:func:`psnr` of ``image`` and ``reference`` both low-passed by a Gaussian of ``sigma`` pixels.
+
+    The alias measure of a mip-mapped render against a supersampled one: with ``sigma = 1`` it keeps
+    the frequencies below about a quarter of the pixel's Nyquist (at 1/8 cycle per pixel 0.73 of the
+    amplitude, at 1/4 0.29, at 1/2 none), where aliasing (energy from above the Nyquist folded down)
+    lands as much as anywhere, and where a filter's shape does not count: the trilinear filter and the
+    reference's box over the pixel differ by design near the Nyquist, on a sharp edge by several dB
+    (``docs/fitting.md``, "GL = CPU and aliasing")."""
+    from scipy import ndimage
+
+    def low(a):
+        a = np.asarray(a, np.float64)
+        return ndimage.gaussian_filter(a, (sigma, sigma) + (0,) * (a.ndim - 2), mode="nearest")
+
+    return psnr(low(image), low(reference))
+
+
+def floor_photo(side=512, period=64, grout=5, rng=11, spread=0.035, mottle=0.05):
+    """Square floor tiles of random terracottas with mottling, in light grout lines centred on the periods'
+    edges (a crop from 0 wraps on the grout); RGB float32 (benchmarks/exemplars.py's ``tiles``), and the
+    grout's mask."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side]
+    k = (yy // period) * (side // period + 1) + xx // period
+    colour = np.array([0.62, 0.42, 0.30]) + rng.normal(0.0, spread, (k.max() + 1, 3))
+    noise = ndimage.gaussian_filter(rng.standard_normal((side, side)), 3.0, mode="wrap")
+    img = colour[k] * (1.0 + mottle * noise[:, :, None] / noise.std())
+    fy, fx = yy % period, xx % period
+    g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
+    img[g] = (0.78 + 0.02 * rng.standard_normal(int(g.sum())))[:, None] * np.array([1.0, 0.97, 0.92])
+    return np.clip(img, 0.0, 1.0).astype(np.float32), g
+
+
 def error_line(capsys) -> str:
     """The one line a refused command wrote on standard error."""
     err = capsys.readouterr().err.strip().splitlines()

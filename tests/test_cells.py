@@ -4,23 +4,7 @@ import numpy as np
 import pytest
 
 from helpers import SIZE, VIEWS, psnr
-
-
-def _floor(side=512, period=64, grout=5, rng=11, spread=0.035, mottle=0.05):
-    """Square floor tiles of random terracottas with mottling, in light grout lines centred on the periods'
-    edges (a crop from 0 wraps on the grout); RGB float32 (benchmarks/exemplars.py's ``tiles``)."""
-    from scipy import ndimage
-
-    rng = np.random.default_rng(rng)
-    yy, xx = np.mgrid[0:side, 0:side]
-    k = (yy // period) * (side // period + 1) + xx // period
-    colour = np.array([0.62, 0.42, 0.30]) + rng.normal(0.0, spread, (k.max() + 1, 3))
-    noise = ndimage.gaussian_filter(rng.standard_normal((side, side)), 3.0, mode="wrap")
-    img = colour[k] * (1.0 + mottle * noise[:, :, None] / noise.std())
-    fy, fx = yy % period, xx % period
-    g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
-    img[g] = (0.78 + 0.02 * rng.standard_normal(int(g.sum())))[:, None] * np.array([1.0, 0.97, 0.92])
-    return np.clip(img, 0.0, 1.0).astype(np.float32), g
+from helpers import floor_photo as _floor
 
 
 def _running_bond(periods=4, rng=2):
@@ -127,14 +111,18 @@ def test_snapped_sample_draws_each_floor_tile_from_one_patch():
     # the triangle grid's patch boundaries cross tiles: some are made of two (the control)
     assert whole.max() <= 1.2 * own.max() + 0.005, (whole.max(), own.max())
     assert np.mean(split > 2.0 * own.max()) >= 0.05, np.mean(split > 2.0 * own.max())
-    # from SHARP_LOD + 1 on the cells are not used: the same numbers as without them
-    from spectex.shading.constants import SHARP_LOD
+    # the cells hold while a period (64 texels) spans 4 pixels or more, lambda <= 6 - CELL_LOD_MARGIN; from
+    # one level further on they are not used: the same numbers as without them
+    from spectex.shading.constants import CELL_LOD_MARGIN, SHARP_LOD
 
-    far = SHARP_LOD + 1.0
+    lc = max(SHARP_LOD, 6.0 - CELL_LOD_MARGIN)
+    assert lc > SHARP_LOD  # (a floor tile of 64 texels is 16 pixels wide at SHARP_LOD: kept whole there)
+    far = lc + 1.0
     np.testing.assert_array_equal(_sample(tile, cells, (64, 64), far), _sample(tile, None, (64, 64), far))
+    assert not np.array_equal(_sample(tile, cells, (64, 64), lc), _sample(tile, None, (64, 64), lc))
     # in between, a mix of the two: between them (no popping)
-    mid = _sample(tile, cells, (128, 128), SHARP_LOD + 0.5)
-    lo, hi = _sample(tile, cells, (128, 128), SHARP_LOD), _sample(tile, None, (128, 128), SHARP_LOD + 0.5)
+    mid = _sample(tile, cells, (128, 128), lc + 0.5)
+    lo, hi = _sample(tile, cells, (128, 128), lc), _sample(tile, None, (128, 128), lc + 0.5)
     assert np.abs(mid - lo).mean() < np.abs(lo - hi).mean() and np.abs(mid - hi).mean() < np.abs(lo - hi).mean()
 
 
@@ -158,7 +146,10 @@ def test_pack_uses_cells_only_for_the_snapped_layers_tile():
     assert t1.cell_row[0] == cell_rows(snapped)[0] == t0.lut.shape[0] and t1.cell_row[1] == -1.0
     assert np.all(t0.cell_row == -1.0)
     assert t1.lut.shape[0] == t0.lut.shape[0] + 256 * 256 // 1024
-    np.testing.assert_array_equal(t1.lut[: t0.lut.shape[0]], t0.lut)
+    # the tile with cells has its levels Gaussianised one by one (stochastic_tables(per_level=True)):
+    # the same level-0 table, the coarser ones its own
+    np.testing.assert_array_equal(t1.lut[0], t0.lut[0])
+    assert not np.array_equal(t1.lut[1: t0.lut.shape[0]], t0.lut[1:])
     # a snapped layer on a tile without cells: no rows, no cells
     noise = np.random.default_rng(1).random((256, 256, 3)).astype(np.float32)
     assert pack(_texture(noise, (4, 4))).cell_row[0] == -1.0
@@ -273,3 +264,37 @@ def test_period_tile_keeps_the_cells_across_its_wrap_edges_whole(monkeypatch):
     plain, *_ = _auto._period_tile(photo, period)
     split = _wrap_jumps(plain)
     assert fixed < 0.05 < split, (fixed, split)
+
+
+# ------------------------------------------------------------------ the tables of a tile with cells
+def _mapped_levels(tables):
+    """Each Gaussian level taken back to RGB through its own table (as the samplers read a texel of it)."""
+    from spectex.shading.constants import LUT_SIZE
+
+    out = []
+    for d, g in enumerate(tables.gaussian):
+        idx = np.floor(np.clip(g[..., :3], 0.0, 1.0) * (LUT_SIZE - 1) + 0.5).astype(int)
+        v = np.stack([tables.lut[d, idx[..., c], c] for c in range(3)], axis=-1)
+        out.append(np.clip(tables.origin + v @ tables.basis.T, 0.0, 1.0))
+    return out
+
+
+def test_tables_of_a_tile_with_cells_are_exact_at_every_level():
+    """Gaussianised level by level (stochastic_tables(per_level=True), what a tile with a cell map gets), every
+    level's texels go back to the colour's own mip level; the pooled regression of the filtered colour on the
+    filtered Gaussian (the paper's prefiltering, the control) cannot: the grout in the Gaussian's tail mixed
+    into a dark floor tile reads as a lighter tile, and one monotone table per channel shifts the tiles' colours."""
+    from spectex.shading.stochastic import stochastic_tables
+    from spectex.tiles import mip_chain
+
+    tile, _ = _floor(256, 64)
+    colour = mip_chain(tile)
+    exact = _mapped_levels(stochastic_tables(tile, per_level=True))
+    pooled = _mapped_levels(stochastic_tables(tile))
+    for d in range(1, 4):
+        assert psnr(exact[d], colour[d]) >= 50.0, (d, psnr(exact[d], colour[d]))
+        assert psnr(pooled[d], colour[d]) <= 36.0, (d, psnr(pooled[d], colour[d]))
+    # level 0 is the same either way
+    a, b = stochastic_tables(tile, per_level=True), stochastic_tables(tile)
+    np.testing.assert_array_equal(a.gaussian[0], b.gaussian[0])
+    np.testing.assert_array_equal(a.lut[0], b.lut[0])

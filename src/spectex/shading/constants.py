@@ -18,7 +18,7 @@ __all__ = [
     "FADE_START", "FADE_END", "DEFAULT_ANISOTROPY",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
-    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD",
+    "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD", "CELL_LOD_MARGIN",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -75,6 +75,14 @@ WEIGHT_SQUARINGS = 3
 #: ``SHARP_LOD + 1`` (linearly in lambda): where a pixel covers 8 texels or more, a transition of
 #: a few texels would alias, and the footprint's average hides the double images anyway.
 SHARP_LOD = 2.0
+#: A snapped layer's cells (each brick or floor tile from one patch, ``docs/sampling.md`` 6b) hold
+#: up to ``lambda = log2(period) - CELL_LOD_MARGIN`` (``period``: the snap's shorter period in level-0
+#: texels; where it spans 4 pixels) and give way to the blend at the point one level further (2
+#: pixels), never before ``SHARP_LOD``: ``SHARP_LOD`` is a few texels' transition, a cell's edge
+#: aliases only where the cells themselves shrink to a pixel or two, and a floor tile of 64 texels
+#: is still 8 to 16 pixels wide at ``SHARP_LOD`` (it was cut by the triangle grid's cross-fades
+#: there, unlike the same floor seen closer: 28 dB from a supersampled render of it).
+CELL_LOD_MARGIN = 2.0
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -149,6 +157,7 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_HASH_MUL2 {HASH_MUL2:#x}u")
     lines.append(f"#define SPX_WEIGHT_SQUARINGS {WEIGHT_SQUARINGS}")
     lines.append(f"#define SPX_SHARP_LOD {_glsl_number(SHARP_LOD)}")
+    lines.append(f"#define SPX_CELL_LOD_MARGIN {_glsl_number(CELL_LOD_MARGIN)}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")
     lines.append(f"#define SPX_FADE_END {_glsl_number(FADE_END)}")

@@ -65,7 +65,17 @@ import numpy as np
 
 from .._parallel import in_parts
 from .._validate import check_float, check_image, check_seed
-from .constants import GAUSS_MEAN, GAUSS_SCALE, HASH_MUL1, HASH_MUL2, LUT_SIZE, LUT_SUBROWS, SHARP_LOD, WEIGHT_SQUARINGS
+from .constants import (
+    CELL_LOD_MARGIN,
+    GAUSS_MEAN,
+    GAUSS_SCALE,
+    HASH_MUL1,
+    HASH_MUL2,
+    LUT_SIZE,
+    LUT_SUBROWS,
+    SHARP_LOD,
+    WEIGHT_SQUARINGS,
+)
 from .sampler import MipTexture, anisotropic_footprint, clamp_lod, filter_code, sample_at_lod
 
 __all__ = [
@@ -620,17 +630,20 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     decorrelation; ``grid``: the tile -> skewed grid map.
 
     A snapped layer whose tile has a cell map (``cell_row >= 0``;
-    ``shading._cells``) takes, up to ``lam = SHARP_LOD``, the one patch of
+    ``shading._cells``) takes, up to ``lam = l_c``, the one patch of
     the vertex nearest its cell's centre (:func:`cell_point`; its own value,
     one fetch): a brick or floor tile whole from one patch, the patches
     changing on the grout, where they agree (their offsets are whole
-    periods); from ``SHARP_LOD + 1`` on the blend at the point; in between,
-    the linear mix of the two (no popping).
+    periods); from ``l_c + 1`` on the blend at the point; in between,
+    the linear mix of the two (no popping). ``l_c = max(SHARP_LOD,
+    log2(p) - CELL_LOD_MARGIN)``, ``p = min(w0 / nx, h0 / ny)`` the
+    snap's shorter period in texels: the cells hold while they are 4
+    pixels wide or more.
     """
     nx, ny, cell_row = snap
     w0 = np.float64(widths[0])
     h0 = np.float64(heights[0])
-    tm = min(max(lam - SHARP_LOD, 0.0), 1.0)
+    tm = min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, h0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
     if cells:
@@ -640,7 +653,7 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     if not cells or tm > 0.0:
         u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
                                     lam, min_filter, mag_filter, wrap_s, wrap_t)
-        if cells:  # SHARP_LOD < lambda < SHARP_LOD + 1: towards the blend at the point
+        if cells:  # l_c < lambda < l_c + 1: towards the blend at the point
             v0 += tm * (u0 - v0)
             v1 += tm * (u1 - v1)
             v2 += tm * (u2 - v2)
