@@ -49,6 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._otsu import otsu
 from ._results import AsDict
 from ._texture_stats import (  # structural measures (issue 22), in their own module
     Clipping,
@@ -765,20 +766,6 @@ class CellSplits(AsDict):
     cells_reference: int
 
 
-def _otsu(values: np.ndarray) -> tuple[float, float]:
-    """Otsu's threshold of a sample (256 bins) and the fraction of its variance the split explains."""
-    hist, edges = np.histogram(values, bins=256)
-    centres = 0.5 * (edges[:-1] + edges[1:])
-    w0 = np.cumsum(hist).astype(np.float64)
-    w1 = w0[-1] - w0
-    s0 = np.cumsum(hist * centres)
-    m0 = s0 / np.maximum(w0, 1.0)
-    m1 = (s0[-1] - s0) / np.maximum(w1, 1.0)
-    between = w0 * w1 * (m0 - m1) ** 2 / w0[-1] ** 2
-    k = int(np.argmax(between[:-1]))
-    return float(edges[k + 1]), float(between[k] / max(values.var(), 1e-12))
-
-
 def _lattice_strength(level, period) -> float:
     """The smallest, over the axes with a period, of the variance of ``level``'s mean line profile folded by
     the period (``round(p)`` phases) as a fraction of ``level``'s variance."""
@@ -806,7 +793,7 @@ def _cell_split(image, period):
     level = (centred @ axis).reshape(rgb.shape[:2])
     if _lattice_strength(level, period) < LATTICE_STRENGTH:
         return None
-    threshold, explained = _otsu(level.ravel())
+    threshold, explained = otsu(level.ravel())
     if explained < CELL_SEPARATION:
         return None
     high = level > threshold
