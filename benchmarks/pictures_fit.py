@@ -16,10 +16,11 @@ without a period (main's code before the strips were cut at their joints: the fi
 * the fit's seconds (the machine's CPU named; the two ways one after the other, so compare them
   only within one run);
 * the period tile's cut bricks: the share of the tile's wrap edge (along the strips) inside bricks
-  whose two sides differ by more than ``--step`` (a brick made of two photo bricks), the mean colour
-  step there against the mean step between neighbours inside bricks elsewhere (the noise's), and
-  per texel across the tile how many places along the strips (wrap edge included) step by more than
-  ``--step`` inside bricks (on brick mostly its bricks' own marks; a straight cut adds its row). Inside
+  whose two sides differ by more than ``--step`` (a brick made of two photo bricks), and the mean
+  colour step there against the mean step between neighbours inside bricks elsewhere (the noise's).
+  (The strips cut at their joints have their cuts in the mortar, off the wrap edge; the count of such
+  steps over the whole tile, which ``tests/test_joints.py`` takes on walls of plain bricks, is on brick
+  mostly its bricks' own marks and is not printed.) Inside
   bricks: the grout's colour class of the photo's columns (``_grout_lines``) left out, eroded by
   three texels along the strip (the resampled mortar's edges);
 * :func:`spectex.metrics.structural_distance` ratios (distance / the photo's own floor) of
@@ -70,7 +71,7 @@ def _fit(photo, way):
 
 
 def _cut_bricks(tile, exemplar, period, step):
-    """``(breaks, wrap step, neighbours' step, wrap fraction)`` of a period tile whose photo has a period along
+    """``(wrap step, neighbours' step, wrap fraction)`` of a period tile whose photo has a period along
     one axis (see the module's text); None otherwise."""
     from spectex.fitting._auto import _grout_lines
 
@@ -89,10 +90,9 @@ def _cut_bricks(tile, exemplar, period, step):
     inside = np.logical_and.reduce([np.roll(inside_one, k, axis=0) for k in range(-3, 3)])
     below = np.roll(tile, -1, axis=0)
     jump = np.abs(below - tile).mean(axis=2)
-    breaks = float(np.sum(inside & (jump > step)) / tile.shape[1])
     wrap = float(jump[-1][inside[-1]].mean())
     rest = float(jump[:-1][inside[:-1]].mean())
-    return breaks, wrap, rest, float(np.mean(jump[-1][inside[-1]] > step))
+    return wrap, rest, float(np.mean(jump[-1][inside[-1]] > step))
 
 
 def _bakes(result, origins):
@@ -141,10 +141,9 @@ def main(argv=None) -> int:
             bakes = _bakes(result, args.origins)
             ones = [metrics.structural_distance(b[:h, :w], photo, prepared=reference).ratio for b in bakes]
             wholes = [metrics.structural_distance(b, photo, prepared=reference).ratio for b in bakes]
-            words = "" if cut is None else (f"; wrap edge inside bricks: {100 * cut[3]:.0f}% of its texels step "
-                                            f"over {args.step}, mean step {cut[1]:.4f} (neighbours elsewhere "
-                                            f"{cut[2]:.4f}); steps over {args.step} inside bricks over the whole "
-                                            f"tile {cut[0]:.2f} per texel across")
+            words = "" if cut is None else (f"; wrap edge inside bricks: {100 * cut[2]:.0f}% of its texels step "
+                                            f"over {args.step}, mean step {cut[0]:.4f} (neighbours elsewhere "
+                                            f"{cut[1]:.4f})")
             print(f"{name} {way}: fit {seconds:.1f} s{words}; structure / floor 1x "
                   + ", ".join(f"{v:.2f}" for v in ones) + f" (mean {np.mean(ones):.2f}); over the bake "
                   + ", ".join(f"{v:.2f}" for v in wholes) + f" (mean {np.mean(wholes):.2f}); "
