@@ -162,3 +162,16 @@ def test_strip_joints_are_thin_runs_of_mortar_off_the_photos_ends():
     profile[50] = 0.9
     profile[51] = 0.7  # a joint, centred towards its stronger line
     assert _strip_joints(profile, 4) == pytest.approx([11.0, 50.0 + 0.2 / 0.6])
+
+
+def test_fit_says_its_columns_were_cut_at_their_joints():
+    from spectex.fitting import fit_result
+
+    result = fit_result(column_wall(256, rng=5), pixel_size=0.01, layers=2, iterations=1)
+    assert result.params["period_px"][0] is None
+    assert "columns cut at their own joints" in result.params["tile_method"], result.params["tile_method"]
+    # the control: a wall with a period along both axes (floor tiles) is cut as before, nothing said
+    from test_cells import _floor
+
+    result = fit_result(_floor(256, 64)[0], pixel_size=0.01, layers=2, iterations=1)
+    assert result.params["period_px"][0] is not None and "joints" not in result.params["tile_method"]

@@ -283,7 +283,7 @@ def _tile_counts(h, w, period):
     return side, (qy, qx), (ky, kx), (sy, sx)
 
 
-def _period_tile(exemplar, period):
+def _period_tile(exemplar, period, words=None):
     """A square tile of whole periods, each a whole number of texels, cut where its wrap edges show least; or None.
 
     ``period = (py, px)`` in pixels (not necessarily whole), either may be
@@ -294,7 +294,10 @@ def _period_tile(exemplar, period):
     wrapping: the crop is periodic) to ``L x L`` texels. Returns
     ``(tile (L, L, 3) float64, L, (ky, kx), (qy, qx), scale)``: ``scale``
     the texels per photo pixel along x (y where x has no period; the other
-    axis is stretched by at most ``PERIOD_STRETCH`` more).
+    axis is stretched by at most ``PERIOD_STRETCH`` more). A photo with a
+    period along one axis only has each strip cut at its own joints
+    instead of one straight crop along the other (:func:`_strip_tile`);
+    a list ``words`` gets the phrase that says how.
     """
     from scipy import ndimage
 
@@ -314,8 +317,13 @@ def _period_tile(exemplar, period):
     if (period[0] is None) != (period[1] is None):
         # a period along one axis only (columns or courses of bricks of random lengths): each strip between
         # the grout lines cut at its own joints, where the straight cut along the other axis crossed bricks
-        tile = _strip_tile(exemplar, period, side, (y0, x0), spans)
-        if tile is not None:
+        found = _strip_tile(exemplar, period, side, (y0, x0), spans)
+        if found is not None:
+            tile, (one, two, strips, most) = found
+            if words is not None:
+                kind = "columns" if period[1] is not None else "courses"
+                words.append(f"{one + two} of its {strips} {kind} cut at their own joints ({one} at one stretch, "
+                             f"{two} at two; stretched by at most {100 * most:.0f}%)")
             return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
     crop = exemplar[y0:y0 + iy + 1, x0:x0 + ix + 1].astype(np.float64)
     # texel centres (i + 0.5) of the L-texel tile at photo places (i + 0.5) span / L - 0.5 of the crop
@@ -421,10 +429,10 @@ def _strip_cuts(photo, period, x0, span_x, y0, side):
     rows. The strips meet at the centres of the grout lines between them,
     where joints at different heights are what a wall has.
 
-    Returns ``(rows (side, side) float64, strips)``: ``rows[i, j]`` the
-    photo row texel ``(i, j)`` reads, and the number of strips cut at
-    their joints; None where no strip has such joints (or no grout is
-    found).
+    Returns ``(rows (side, side) float64, (one, two, strips, most))``:
+    ``rows[i, j]`` the photo row texel ``(i, j)`` reads; the strips cut at
+    one stretch and at two, the tile's strips and the most stretch; None
+    where no strip has such joints (or no grout is found).
     """
     h, w = photo.shape[:2]
     photo = photo.astype(np.float64)
@@ -458,7 +466,8 @@ def _strip_cuts(photo, period, x0, span_x, y0, side):
             tile_strip[tile_strip == last] = first
     v = y0 + (np.arange(side) + 0.5) - 0.5  # the straight cut's rows (one texel a pixel down)
     rows = np.repeat(v[:, None], side, axis=1)
-    cut = 0
+    counts = [0, 0]
+    most = 0.0
     for s in np.unique(tile_strip):
         inside = (strip_of == s) & ~grout
         if inside.sum() < 2:
@@ -474,16 +483,18 @@ def _strip_cuts(photo, period, x0, span_x, y0, side):
         u = np.mod(along - starts[0], total)
         k = np.minimum(np.searchsorted(before, u, side="right") - 1, len(segments) - 1)
         rows[:, tile_strip == s] = (starts[k] + u - before[k])[:, None]
-        cut += 1
-    if cut == 0:
+        counts[len(segments) - 1] += 1
+        most = max(most, abs(side / total - 1.0))
+    if sum(counts) == 0:
         return None
-    return rows, cut
+    return rows, (counts[0], counts[1], len(np.unique(tile_strip)), most)
 
 
 def _strip_tile(exemplar, period, side, origin, spans):
     """The period tile of a photo with a period along one axis only, its strips cut at their own joints
-    (:func:`_strip_cuts`), or None where no strip has joints to cut at. ``origin = (y0, x0)`` and ``spans``
-    are :func:`_period_tile`'s; a period along y (courses) is the same turned."""
+    (:func:`_strip_cuts`), and :func:`_strip_cuts`'s counts; or None where no strip has joints to cut at.
+    ``origin = (y0, x0)`` and ``spans`` are :func:`_period_tile`'s; a period along y (courses) is the same
+    turned."""
     from scipy import ndimage
 
     along_y = period[1] is None
@@ -494,7 +505,7 @@ def _strip_tile(exemplar, period, side, origin, spans):
     found = _strip_cuts(photo, p, x0, span_x, y0, side)
     if found is None:
         return None
-    rows, _ = found
+    rows, counts = found
     xs = x0 + (np.arange(side) + 0.5) * (span_x / side) - 0.5
     cols = np.broadcast_to(xs[None, :], rows.shape)
     source = photo.astype(np.float64)
@@ -503,7 +514,7 @@ def _strip_tile(exemplar, period, side, origin, spans):
     # the cubic's overshoot at sharp edges (mortar) kept inside the range of the photo's columns read
     read = source[:, max(0, int(math.floor(xs[0]))):int(math.ceil(xs[-1])) + 1]
     tile = np.clip(tile, read.min(axis=(0, 1)), read.max(axis=(0, 1)))
-    return np.swapaxes(tile, 0, 1) if along_y else tile
+    return (np.swapaxes(tile, 0, 1) if along_y else tile), counts
 
 
 def _whole_edge_cells(tile, exemplar, snap, origin, spans):
@@ -726,7 +737,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     period = structure_period(exemplar) if structure >= STRUCTURED_PEAK else None
     if period is not None and period == (None, None):
         period = None
-    cut = _period_tile(exemplar, period) if period is not None and tiling != "stochastic" else None
+    joint_words = []
+    cut = _period_tile(exemplar, period, joint_words) if period is not None and tiling != "stochastic" else None
     tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0)
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
@@ -741,7 +753,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         cut_tile = np.clip(crop, 0.0, 1.0).astype(np.float64)
         cut_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
                       f"{counts[0]} periods, 0 where none) where its wrap edges show least, resampled to "
-                      f"whole-texel periods (x {whole[1]}, y {whole[0]} texels)")
+                      f"whole-texel periods (x {whole[1]}, y {whole[0]} texels)"
+                      + "".join(f"; {w}" for w in joint_words))
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
             tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:
