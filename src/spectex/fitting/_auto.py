@@ -76,6 +76,8 @@ PERSPECTIVE_DRIFT = 1.5
 #: a photo with a period along one axis only, its strips cut at their own joints); a strip with no pair of joints
 #: that close keeps the straight cut.
 JOINT_STRETCH = 0.1
+#: A strip with more joints than this (its thin runs of the grout's colour) is not taken as bricks in mortar.
+MAX_JOINTS = 32
 #: Stretch a whole texel period along the tile's second axis may add before a fractional one is taken.
 PERIOD_FRACTION_COST = 0.02
 #: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
@@ -373,33 +375,33 @@ def _strip_segments(joints, side):
     brick made of two, or one brick twice in a row), then the least
     stretch; None where none is.
     """
-    pairs = [(a, b) for k, a in enumerate(joints) for b in joints[k + 1:]]
-    if not pairs:
+    if len(joints) < 2 or len(joints) > MAX_JOINTS:
         return None
-
-    def stretch(length):
-        return abs(side / length - 1.0)
-
-    one = min(pairs, key=lambda p: stretch(p[1] - p[0]))
-    if stretch(one[1] - one[0]) <= JOINT_STRETCH:
-        return [one]
-    found = []
-    for p in pairs:
-        for q in pairs:
-            if not (p[0] < q[0] or (p[0] == q[0] and p[1] < q[1])):
-                continue
-            total = p[1] - p[0] + q[1] - q[0]
-            if stretch(total) > JOINT_STRETCH:
-                continue
-            shared = min(p[1], q[1]) > max(p[0], q[0])
-            # the shared stretch's first line in p's part and in q's (q read after p), apart along the loop
-            apart = abs((p[1] - p[0]) + max(p[0], q[0]) - q[0] - (max(p[0], q[0]) - p[0]))
-            apart = min(apart, total - apart) if shared else total
-            if apart >= total / 3.0:
-                found.append((shared, -apart if shared else 0.0, stretch(total), p, q))
-    if not found:
+    j = np.asarray(joints, dtype=np.float64)
+    k, m = np.triu_indices(j.size, 1)
+    a, b = j[k], j[m]  # every stretch, joint to joint
+    stretch = np.abs(side / (b - a) - 1.0)
+    best = int(np.argmin(stretch))
+    if stretch[best] <= JOINT_STRETCH:
+        return [(float(a[best]), float(b[best]))]
+    # two stretches p and q (every unordered pair of them, p first), q read after p
+    p, q = np.meshgrid(np.arange(a.size), np.arange(a.size), indexing="ij")
+    p, q = p.ravel(), q.ravel()
+    order = (a[p] < a[q]) | ((a[p] == a[q]) & (b[p] < b[q]))
+    p, q = p[order], q[order]
+    total = (b[p] - a[p]) + (b[q] - a[q])
+    stretch = np.abs(side / total - 1.0)
+    shared = np.minimum(b[p], b[q]) > np.maximum(a[p], a[q])
+    # the shared stretch's first line in p's part and in q's, apart along the loop: |b_p - a_q|
+    apart = np.abs(b[p] - a[q])
+    apart = np.where(shared, np.minimum(apart, total - apart), total)
+    ok = (stretch <= JOINT_STRETCH) & (apart >= total / 3.0)
+    if not ok.any():
         return None
-    return list(min(found)[3:])
+    p, q, stretch, shared, apart = p[ok], q[ok], stretch[ok], shared[ok], apart[ok]
+    # those sharing no brick first, then the shared copies furthest apart, then the least stretch
+    pick = np.lexsort((stretch, np.where(shared, -apart, 0.0), shared))[0]
+    return [(float(a[p[pick]]), float(b[p[pick]])), (float(a[q[pick]]), float(b[q[pick]]))]
 
 
 def _strip_cuts(photo, period, x0, span_x, y0, side):
