@@ -55,8 +55,8 @@ def _fit(photo, way):
     seen = {}
     period_tile, strip_tile = _auto._period_tile, _auto._strip_tile
 
-    def spy(exemplar, period):
-        out = period_tile(exemplar, period)
+    def spy(exemplar, period, words=None):
+        out = period_tile(exemplar, period, words)
         seen.update(tile=None if out is None else out[0], exemplar=exemplar, period=period)
         return out
 
@@ -144,6 +144,7 @@ def main(argv=None) -> int:
             words = "" if cut is None else (f"; wrap edge inside bricks: {100 * cut[2]:.0f}% of its texels step "
                                             f"over {args.step}, mean step {cut[0]:.4f} (neighbours elsewhere "
                                             f"{cut[1]:.4f})")
+            print(f"{name} {way}: {result.params['tile_method']}")
             print(f"{name} {way}: fit {seconds:.1f} s{words}; structure / floor 1x "
                   + ", ".join(f"{v:.2f}" for v in ones) + f" (mean {np.mean(ones):.2f}); over the bake "
                   + ", ".join(f"{v:.2f}" for v in wholes) + f" (mean {np.mean(wholes):.2f}); "
