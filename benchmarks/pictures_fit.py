@@ -1,9 +1,16 @@
-"""Pictures and numbers of the fit's period tiles (issue 22): ``docs/images/fit_cells.jpg``.
+"""Pictures and numbers of the fit's period tiles (issue 22): ``docs/images/fit_cells.jpg`` and
+``docs/images/fit_snap.jpg``.
 
 Run from the repository root::
 
     python benchmarks/pictures_fit.py                                  # numbers only
     python benchmarks/pictures_fit.py --grid docs/images/fit_cells.jpg # and the picture
+    python benchmarks/pictures_fit.py --snap docs/images/fit_snap.jpg  # the snapped fit's picture only
+
+``--snap``: per photo (``--photos``), the photo, the default fit (snapped) and the fit forced
+periodic (``tiling="periodic"``), each a bake of twice the photo's side at its pixel size shown
+at half size, and the default fit zoomed out 8 times (a bake at 8 times the pixel size, filtered
+as the renderers filter it).
 
 On ``benchmarks/exemplars.py``'s tiles (a period along both axes) and scikit-image's brick
 (columns of bricks: a period across, none down), the default fit (``spectex.fitting.fit_result``,
@@ -116,6 +123,44 @@ def _label(image, text):
     return out
 
 
+def _snap_picture(names, path):
+    """``--snap``: photo | default fit | forced periodic | default fit 8x out, a row per photo."""
+    from PIL import Image
+
+    from spectex.fitting import fit_result
+    from spectex.render import bake
+
+    side = 256
+    rows = []
+    for name in names:
+        photo = exemplars.load(name)
+        h, w = photo.shape[:2]
+        shown = [("photo", photo)]
+        default = fit_result(photo)
+        periodic = fit_result(photo, tiling="periodic")
+        p = default.pixel_size
+        shown.append((f"fit (snap {default.texture.layers[0].snap})", bake(default.texture, (2 * h, 2 * w),
+                                                                           pixel_size=p)))
+        shown.append(("fit forced periodic", bake(periodic.texture, (2 * h, 2 * w), pixel_size=periodic.pixel_size)))
+        shown.append(("fit, 8x zoomed out", bake(default.texture, (side, side), pixel_size=8 * p)))
+        panels = []
+        for words, image in shown:
+            image = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
+            if image.ndim == 2:
+                image = np.repeat(image[:, :, None], 3, axis=2)
+            img = Image.fromarray((image[:, :, :3] * 255 + 0.5).astype(np.uint8)).resize((side, side),
+                                                                                        Image.LANCZOS)
+            panels.append(_label(img, f"{name}: {words}"))
+        rows.append(panels)
+    cw, ch = rows[0][0].width, rows[0][0].height
+    grid = Image.new("RGB", (4 * cw + 3 * 8, len(rows) * ch + (len(rows) - 1) * 8), (128, 128, 128))
+    for r, panels in enumerate(rows):
+        for c, panel in enumerate(panels):
+            grid.paste(panel, (c * (cw + 8), r * (ch + 8)))
+    grid.save(path, quality=90)
+    print(f"wrote {path}")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--grid", help="write the picture here (JPEG)")
@@ -124,7 +169,11 @@ def main(argv=None) -> int:
                     help="a step between neighbours inside bricks over this is two bricks (default 0.01: brick's "
                          "bricks differ by a few hundredths, its noise's steps 0.003)")
     ap.add_argument("--photos", default="tiles,brick", help="exemplars.py names (default tiles,brick)")
+    ap.add_argument("--snap", help="write only the snapped fit's picture here (JPEG): see the module's text")
     args = ap.parse_args(argv)
+    if args.snap:
+        _snap_picture(args.photos.split(","), args.snap)
+        return 0
     from spectex import metrics
 
     print(f"CPU: {cpu_name()}; bakes {BAKE} x {BAKE} at the photo's pixel size, {args.origins} places")
