@@ -88,14 +88,14 @@ def pytest_collection_modifyitems(config, items):
 
 # --- Spreading the cold compile of the shading kernels over the xdist workers -----------------
 # On a clean clone every numba kernel compiles on first use (cache=True keeps it on disk after);
-# the five kernels of the shading core take 5-55 s each on one core and are used by many test
+# the kernels of the shading core take 5-42 s each on one core and are used by many test
 # files (and by the command-line tests' subprocesses), so two workers, or a worker and a
 # subprocess, that reach one of them before it is on disk both compile it. Under xdist (the
 # README's ``-n 2``), each worker first goes through the kernels, each under a file lock shared by
 # the workers of the run: it compiles those no worker has compiled yet, and takes each other one
 # from numba's disk cache once the worker compiling it has finished (waiting for it: at most the
 # rest of one kernel's compile). So every kernel is compiled once, the workers share the work as
-# it comes, and no test or subprocess starts before all five are on disk. Tiny inputs, the same
+# it comes, and no test or subprocess starts before all of them are on disk. Tiny inputs, the same
 # argument types as every other call: one signature per kernel. Without xdist (a targeted run)
 # nothing is warmed: only the kernels the chosen tests use compile. SPECTEX_TEST_WARMUP=0 turns
 # it off.
@@ -116,14 +116,15 @@ def _warm_jobs():
     cam = Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=-20.0)
     st = np.linspace(0.0, 1.0, 8)
     d = np.full(8, 0.01)
-    # an order whose every other entry is half the compile time (cold, one core: render 49, bake 46,
-    # stochastic 21, fast 28, sample 8 CPU s: 78 and 74)
+    # Cold, one core: render 42 CPU s (with shade_ground, which the bake's kernel calls: 5 s after it;
+    # render and bake are one job, so that no two workers compile shade_ground at once), fast 34,
+    # stochastic 24, sample 6. Worker 0 starts with render and bake, worker 1 with fast then sample,
+    # and whichever is free first takes stochastic.
     return {
-        "render_kernel": lambda: render_cpu(tex, cam, (8, 8)),
-        "bake_kernel": lambda: bake(tex, (4, 4), pixel_size=0.1),
+        "render_and_bake_kernels": lambda: (render_cpu(tex, cam, (8, 8)), bake(tex, (4, 4), pixel_size=0.1)),
+        "render_kernel_fast": lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),
         "stochastic_kernel": lambda: sample_stochastic(stochastic_tables(tex)[0], st, st, dsdx=d, dtdx=d * 0,
                                                        dsdy=d * 0, dtdy=d),
-        "render_kernel_fast": lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),
         "sample_kernel": lambda: sample(MipTexture(mip_levels(tex)[0]), st, st, dsdx=d, dtdx=d * 0, dsdy=d * 0,
                                         dtdy=d),
     }

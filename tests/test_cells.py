@@ -266,6 +266,28 @@ def test_period_tile_keeps_the_cells_across_its_wrap_edges_whole(monkeypatch):
     assert fixed < 0.05 < split, (fixed, split)
 
 
+def test_cell_splits_sees_hexagons_made_of_two(monkeypatch):
+    """Grout of any shape: a hexagon floor's cells are found from the photo folded by both its periods, so
+    hexagons made of two (bands of another colouring of the same floor) score far above a disjoint crop of
+    the photo. The control: by straight grout lines alone (the measure before), the floor shows no cells."""
+    from spectex import metrics
+    from spectex.fitting import _auto
+
+    photo = _hexagons()
+    other = _hexagons(rng=9)  # the same hexagons, other colours
+    period = _auto.structure_period(photo)
+    own = metrics.cell_splits(photo[:, :256], photo[:, 256:], period=period)
+    banded = photo.copy()
+    for x0 in range(0, 512, 80):
+        banded[:, x0:x0 + 40] = other[:, x0:x0 + 40]
+    split = metrics.cell_splits(banded[:, :256], photo[:, 256:], period=period)
+    assert own is not None and split is not None
+    assert 0.5 < own.ratio < 2.0 and split.ratio > 3.0 * own.ratio, (own.ratio, split.ratio)
+    assert own.cells_image >= 30  # the hexagons themselves, not a few merged regions
+    monkeypatch.setattr(metrics, "_lattice_strength_2d", lambda level, period: 0.0)
+    assert metrics.cell_splits(photo[:, :256], photo[:, 256:], period=period) is None
+
+
 # ------------------------------------------------------------------ the tables of a tile with cells
 def _mapped_levels(tables):
     """Each Gaussian level taken back to RGB through its own table (as the samplers read a texel of it)."""

@@ -45,6 +45,7 @@ def test_options_given_are_noted_and_defaults_are_not():
 
     args = build_parser().parse_args(["noise", "fbm", "--gain", "0.4", "--tileable", "-o", "x.png"])
     assert args.given == {"gain": "--gain", "tileable": "--tileable", "output": "-o"}
+    assert args.long_names == {"gain": "--gain", "tileable": "--tileable", "output": "--output"}
     assert args.octaves == 6 and args.lacunarity == 2.0  # defaults still in place
 
 
@@ -109,3 +110,32 @@ def test_steps_show_on_a_terminal_only(monkeypatch, tty):
         assert "computing fbm 16x16" in shown and "writing PNG" in shown and "1/2" in shown
     else:
         assert shown == ""
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["tile", "--cutoff", "5", "-o", "{tmp}/x.png"], "--cutoff"),
+    (["text", "--order", "99", "-o", "{tmp}/x.txt", "{readme}"], "--order"),
+])
+def test_a_library_refusal_names_the_option_typed(argv, option, tmp_path, capsys):
+    """The library's check names its parameter (``cutoff``); the command line says the option
+    (``--cutoff``), with the rest of the message and nothing written."""
+    from pathlib import Path
+
+    readme = Path(__file__).resolve().parents[1] / "README.md"
+    code = main([a.format(tmp=tmp_path, readme=readme) for a in argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"spectex {argv[0]}: error: {option} must be"), err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_only_an_option_given_is_renamed():
+    from argparse import Namespace
+
+    from spectex.cli import _as_option
+
+    args = Namespace(long_names={"cutoff": "--cutoff", "pixel_size": "--pixel-size", "output": "--output"})
+    assert _as_option("pixel_size must be > 0, got -1.0", args) == "--pixel-size must be > 0, got -1.0"
+    assert _as_option("output must end in .png", args) == "--output must end in .png"
+    assert _as_option("order must be <= 12, got 99", args) == "order must be <= 12, got 99"  # not given: kept
+    assert _as_option("cutoff", None) == "cutoff"  # refused before the options were read

@@ -546,7 +546,7 @@ CASES = [
          setup=_tiny_layer),
     # --- bakes: cost, physical values, scheduler addresses, a store that checks itself, one writer
     Case("bake-pixel-size-1e300", ("bake", "tex.toml", "-o", "b.zarr", "--size", "8x8", "--pixel-size", "1e300"),
-         2, "pixel_size must be between"),
+         2, "--pixel-size must be between"),
     Case("bake-size-1e9-squared", ("bake", "tex.toml", "-o", "b.zarr", "--size", "1000000000x1000000000",
                                    "--pixel-size", "1"), 2, "over the limit of 1099511627776 bytes"),
     Case("bake-shards-over-limit", ("bake", "tex.toml", "-o", "b.zarr", "--size", "20000x20000", "--pixel-size",
@@ -562,7 +562,7 @@ CASES = [
                                          "tcp://nosuchhost.invalid:8786"), 2, "host 'nosuchhost.invalid' not found"),
     Case("bake-connect-timeout-denormal", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--scheduler",
                                            "tcp://127.0.0.1:9", "--connect-timeout", "1e-320"), 2,
-         "connect_timeout must be >= 0.001"),
+         "--connect-timeout must be >= 0.001"),
     Case("noise-gain-overflow-one-line", ("noise", "fbm", "--gain", "1e308", "--size", "16", "-o", "x.png"), 2,
          "^spectex noise: error: gain=1e\\+308 with octaves=6 overflows"),
     Case("bake-connect-timeout-alone", ("bake", "tex.toml", "-o", "b.zarr", *BAKE, "--connect-timeout", "3"), 2,
@@ -649,7 +649,7 @@ CASES = [
     Case("synth-quilting-small-control", ("synth", "img.png", "--block", "16", "--size", "24", "-o", "x.png"), 0,
          changes=("x.png",)),
     Case("bake-png-pixel-size-tiny", ("bake", "tex.toml", "-o", "x.png", "--size", "8", "--pixel-size", "1e-300"),
-         2, r"pixel_size must be between 1e-06 and 1e\+09 metres"),
+         2, r"--pixel-size must be between 1e-06 and 1e\+09 metres"),
 ]
 
 

@@ -49,6 +49,8 @@ def _noting(base):
             if option_string is not None:
                 given = vars(namespace).setdefault("given", {})
                 given[self.dest] = option_string
+                # its long name (--output for -o), for messages: see _as_option
+                vars(namespace).setdefault("long_names", {})[self.dest] = max(self.option_strings, key=len)
             super().__call__(parser, namespace, values, option_string)
 
     Noting.__name__ = f"Noting{base.__name__}"
@@ -108,6 +110,7 @@ def main(argv=None) -> int:
     from spectex._output import Terminated, check_interrupted, session
 
     who = "spectex"
+    args = None
     try:
         with session():
             parser = build_parser()
@@ -119,7 +122,7 @@ def main(argv=None) -> int:
             result = args.func(args)
             check_interrupted()  # a Ctrl-C that a library swallowed still ends the run as one
     except (UsageError, ValueError, TypeError) as exc:
-        print(f"{who}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"{who}: error: {_as_option(_one_line(exc), args)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # the reader went away (spectex text | head): stop quietly, as C tools do
         import os
@@ -140,6 +143,19 @@ def main(argv=None) -> int:
         print(f"{who}: interrupted", file=sys.stderr)
         return 130
     return 0 if result is None else int(result)
+
+
+def _as_option(message: str, args) -> str:
+    """``message`` with a leading library parameter name (``cutoff must be <= 0.5``) written as the
+    option the user gave for it, by its long name (``--cutoff must be <= 0.5``; ``--output`` for
+    ``-o``): the library's errors name its parameters, and on the command line the option is the
+    name the user knows. Only an option given on the command line is renamed, so a library message
+    about a parameter the user did not set keeps its own words."""
+    names = getattr(args, "long_names", None) or {}
+    word = message.split(" ", 1)[0]
+    if word in names:
+        return names[word] + message[len(word):]
+    return message
 
 
 def _one_line(exc: BaseException) -> str:

@@ -72,6 +72,12 @@ STRAIGHTEN_MAX = 10.0
 #: The orientation of a structured photo's halves (left and right, top and bottom) differing by more than
 #: this (degrees) says the photo is in perspective (its lines fan out).
 PERSPECTIVE_DRIFT = 1.5
+#: Most stretch of a strip's stretch of the photo, joint to joint, to the period tile's side (:func:`_strip_cuts`:
+#: a photo with a period along one axis only, its strips cut at their own joints); a strip with no pair of joints
+#: that close keeps the straight cut.
+JOINT_STRETCH = 0.1
+#: A strip with more joints than this (its thin runs of the grout's colour) is not taken as bricks in mortar.
+MAX_JOINTS = 32
 #: Stretch a whole texel period along the tile's second axis may add before a fractional one is taken.
 PERIOD_FRACTION_COST = 0.02
 #: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
@@ -279,7 +285,7 @@ def _tile_counts(h, w, period):
     return side, (qy, qx), (ky, kx), (sy, sx)
 
 
-def _period_tile(exemplar, period):
+def _period_tile(exemplar, period, words=None):
     """A square tile of whole periods, each a whole number of texels, cut where its wrap edges show least; or None.
 
     ``period = (py, px)`` in pixels (not necessarily whole), either may be
@@ -290,7 +296,10 @@ def _period_tile(exemplar, period):
     wrapping: the crop is periodic) to ``L x L`` texels. Returns
     ``(tile (L, L, 3) float64, L, (ky, kx), (qy, qx), scale)``: ``scale``
     the texels per photo pixel along x (y where x has no period; the other
-    axis is stretched by at most ``PERIOD_STRETCH`` more).
+    axis is stretched by at most ``PERIOD_STRETCH`` more). A photo with a
+    period along one axis only has each strip cut at its own joints
+    instead of one straight crop along the other (:func:`_strip_tile`);
+    a list ``words`` gets the phrase that says how.
     """
     from scipy import ndimage
 
@@ -307,6 +316,17 @@ def _period_tile(exemplar, period):
     x0 = min(x0, w - ix - 1)
     y0 = _best_cut(exemplar[:, x0:x0 + ix], int(round(spans[0])), period[0])
     y0 = min(y0, h - iy - 1)
+    if (period[0] is None) != (period[1] is None):
+        # a period along one axis only (columns or courses of bricks of random lengths): each strip between
+        # the grout lines cut at its own joints, where the straight cut along the other axis crossed bricks
+        found = _strip_tile(exemplar, period, side, (y0, x0), spans)
+        if found is not None:
+            tile, (one, two, strips, most) = found
+            if words is not None:
+                kind = "columns" if period[1] is not None else "courses"
+                words.append(f"{one + two} of its {strips} {kind} cut at their own joints ({one} at one stretch, "
+                             f"{two} at two; stretched by at most {100 * most:.0f}%)")
+            return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
     crop = exemplar[y0:y0 + iy + 1, x0:x0 + ix + 1].astype(np.float64)
     # texel centres (i + 0.5) of the L-texel tile at photo places (i + 0.5) span / L - 0.5 of the crop
     yy = (np.arange(side) + 0.5) * (spans[0] / side) - 0.5
@@ -318,6 +338,185 @@ def _period_tile(exemplar, period):
     # the cubic's overshoot at sharp edges (mortar) kept inside the crop's own range
     tile = np.clip(tile, crop.min(axis=(0, 1)), crop.max(axis=(0, 1)))
     return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
+
+
+def _strip_joints(profile, width):
+    """The joints along one strip: the centres (sub-pixel) of its runs of mortar, or an empty list.
+
+    ``profile`` (n,): per line along the strip, how much its colour is the
+    grout's (0: the bricks' mean colour, 1: the grout's); a joint is a run of
+    lines over 0.5, at most ``width`` lines long (thin: a run longer is a
+    light brick, not mortar) and not touching the photo's ends (where it may
+    be cut); its centre is the run's centroid weighted by the excess over 0.5.
+    """
+    n = profile.shape[0]
+    above = np.concatenate([[False], profile > 0.5, [False]])
+    edges = np.flatnonzero(np.diff(above.astype(np.int8)))
+    joints = []
+    for start, stop in zip(edges[::2], edges[1::2]):
+        if start == 0 or stop == n or stop - start > width:
+            continue
+        weights = profile[start:stop] - 0.5
+        joints.append(float(np.sum(np.arange(start, stop) * weights) / np.sum(weights)))
+    return joints
+
+
+def _strip_segments(joints, side):
+    """The stretches of a strip, joint to joint, that one strip of the tile reads in turn: ``[(a, b), ...]``
+    or None.
+
+    One stretch ``(a, b)`` (two of ``joints``) whose length is closest to
+    ``side``, if within ``JOINT_STRETCH`` of it; else two, one after the
+    other, whose lengths add up to it within ``JOINT_STRETCH``: those that
+    share no brick first, then those whose shared bricks' two copies lie
+    furthest apart along the strip (taken as a loop), at least a third of
+    its length (a strip with too few whole bricks in the photo for the
+    tile's side shows one of its bricks twice, far apart, rather than a
+    brick made of two, or one brick twice in a row), then the least
+    stretch; None where none is.
+    """
+    if len(joints) < 2 or len(joints) > MAX_JOINTS:
+        return None
+    j = np.asarray(joints, dtype=np.float64)
+    k, m = np.triu_indices(j.size, 1)
+    a, b = j[k], j[m]  # every stretch, joint to joint
+    stretch = np.abs(side / (b - a) - 1.0)
+    best = int(np.argmin(stretch))
+    if stretch[best] <= JOINT_STRETCH:
+        return [(float(a[best]), float(b[best]))]
+    # two stretches p and q (every unordered pair of them, p first), q read after p
+    p, q = np.meshgrid(np.arange(a.size), np.arange(a.size), indexing="ij")
+    p, q = p.ravel(), q.ravel()
+    order = (a[p] < a[q]) | ((a[p] == a[q]) & (b[p] < b[q]))
+    p, q = p[order], q[order]
+    total = (b[p] - a[p]) + (b[q] - a[q])
+    stretch = np.abs(side / total - 1.0)
+    shared = np.minimum(b[p], b[q]) > np.maximum(a[p], a[q])
+    # the shared stretch's first line in p's part and in q's, apart along the loop: |b_p - a_q|
+    apart = np.abs(b[p] - a[q])
+    apart = np.where(shared, np.minimum(apart, total - apart), total)
+    ok = (stretch <= JOINT_STRETCH) & (apart >= total / 3.0)
+    if not ok.any():
+        return None
+    p, q, stretch, shared, apart = p[ok], q[ok], stretch[ok], shared[ok], apart[ok]
+    # those sharing no brick first, then the shared copies furthest apart, then the least stretch
+    pick = np.lexsort((stretch, np.where(shared, -apart, 0.0), shared))[0]
+    return [(float(a[p[pick]]), float(b[p[pick]])), (float(a[q[pick]]), float(b[q[pick]]))]
+
+
+def _strip_cuts(photo, period, x0, span_x, y0, side):
+    """Per tile column, the photo row each texel row reads: every strip cut at its own joints; or None.
+
+    ``photo`` (h, w, 3) has its period ``period`` (pixels) along x only:
+    strips (columns of bricks) between grout lines, their joints (mortar
+    across the strip) at heights of their own. The tile's ``side`` texels
+    across cover ``span_x`` photo pixels from ``x0`` (the cut along x, in
+    the grout); down, the straight cut reads ``side`` rows from ``y0``. The
+    grout is the colour class :func:`_grout_lines` finds across the
+    strips; each strip (its interior, between the centres of its grout
+    lines) has a profile down its length (how much each row's colour is the
+    grout's, :func:`_strip_joints`) whose thin runs are its joints. Per
+    strip, the stretch of the photo from one joint's centre ``a`` to
+    another's whose length ``L`` is closest to ``side`` (within
+    ``JOINT_STRETCH``; else two such stretches in turn,
+    :func:`_strip_segments`) is read as a period of the strip, resampled
+    along its length by ``side / L``: texel row ``i`` reads row
+    ``a + (v - a) mod L`` with ``v = y0 + (i + 0.5) L / side - 0.5`` (the
+    strip where the straight cut had it, the rows past joint ``b`` read from
+    joint ``a`` on). So the tile's wrap edge runs through the bricks whole
+    (the strip continues across it) and each strip's cut lies in its mortar,
+    at the photo's own joint there: the cuts of neighbouring strips are
+    staggered as the photo's joints are, and every brick of the tile is one
+    of the photo's. A strip with no such joints reads the straight cut's
+    rows. The strips meet at the centres of the grout lines between them,
+    where joints at different heights are what a wall has.
+
+    Returns ``(rows (side, side) float64, (one, two, strips, most))``:
+    ``rows[i, j]`` the photo row texel ``(i, j)`` reads; the strips cut at
+    one stretch and at two, the tile's strips and the most stretch; None
+    where no strip has such joints (or no grout is found).
+    """
+    h, w = photo.shape[:2]
+    photo = photo.astype(np.float64)
+    grout = _grout_lines(np.moveaxis(photo, 1, 0), period)
+    if grout is None or grout.all() or not grout.any():
+        return None
+    columns = photo.mean(axis=0)
+    toward = columns[grout].mean(axis=0) - columns[~grout].mean(axis=0)
+    contrast = float(toward @ toward)
+    if contrast < 1e-6:
+        return None
+    # how much each pixel's colour is the grout's: 0 at the bricks' mean colour, 1 at the grout's
+    level = (photo - columns[~grout].mean(axis=0)) @ toward / contrast
+    # the strips' boundaries: the centres of the grout lines (the circular mean of the grout's phases)
+    phases = np.arange(w) % period
+    turn = np.exp(2j * np.pi * phases[grout] / period).mean()
+    centre = (np.angle(turn) / (2.0 * np.pi) * period) % period
+    # thin: a joint is at most twice as wide as the grout lines between the strips
+    width = max(2, int(math.ceil(2.0 * grout.sum() / (w / period))))
+    strip_of = np.floor((np.arange(w) - centre) / period).astype(np.int64)
+    # the tile's columns in the photo, and their strips
+    xs = x0 + (np.arange(side) + 0.5) * (span_x / side) - 0.5
+    tile_strip = np.floor((xs - centre) / period).astype(np.int64)
+    first, last = int(tile_strip[0]), int(tile_strip[-1])
+    if last > first:
+        # a strip the tile's wrap edge splits: its sliver (under half a strip, grout) reads as the strip it
+        # continues across the wrap edge, the one at the tile's other end
+        if np.sum(tile_strip == first) < 0.5 * period * side / span_x:
+            tile_strip[tile_strip == first] = last
+        elif np.sum(tile_strip == last) < 0.5 * period * side / span_x:
+            tile_strip[tile_strip == last] = first
+    v = y0 + (np.arange(side) + 0.5) - 0.5  # the straight cut's rows (one texel a pixel down)
+    rows = np.repeat(v[:, None], side, axis=1)
+    counts = [0, 0]
+    most = 0.0
+    for s in np.unique(tile_strip):
+        inside = (strip_of == s) & ~grout
+        if inside.sum() < 2:
+            continue
+        segments = _strip_segments(_strip_joints(level[:, inside].mean(axis=1), width), side)
+        if segments is None:
+            continue
+        starts = np.array([a for a, _ in segments])
+        lengths = np.array([b - a for a, b in segments])
+        before = np.concatenate([[0.0], np.cumsum(lengths)])
+        total = before[-1]
+        along = y0 + (np.arange(side) + 0.5) * (total / side) - 0.5
+        u = np.mod(along - starts[0], total)
+        k = np.minimum(np.searchsorted(before, u, side="right") - 1, len(segments) - 1)
+        rows[:, tile_strip == s] = (starts[k] + u - before[k])[:, None]
+        counts[len(segments) - 1] += 1
+        most = max(most, abs(side / total - 1.0))
+    if sum(counts) == 0:
+        return None
+    return rows, (counts[0], counts[1], len(np.unique(tile_strip)), most)
+
+
+def _strip_tile(exemplar, period, side, origin, spans):
+    """The period tile of a photo with a period along one axis only, its strips cut at their own joints
+    (:func:`_strip_cuts`), and :func:`_strip_cuts`'s counts; or None where no strip has joints to cut at.
+    ``origin = (y0, x0)`` and ``spans`` are :func:`_period_tile`'s; a period along y (courses) is the same
+    turned."""
+    from scipy import ndimage
+
+    along_y = period[1] is None
+    photo = np.swapaxes(exemplar, 0, 1) if along_y else exemplar
+    p = period[0] if along_y else period[1]
+    y0, x0 = origin[::-1] if along_y else origin
+    span_x = spans[0] if along_y else spans[1]
+    found = _strip_cuts(photo, p, x0, span_x, y0, side)
+    if found is None:
+        return None
+    rows, counts = found
+    xs = x0 + (np.arange(side) + 0.5) * (span_x / side) - 0.5
+    cols = np.broadcast_to(xs[None, :], rows.shape)
+    source = photo.astype(np.float64)
+    tile = np.stack([ndimage.map_coordinates(source[:, :, c], [rows, cols], order=3, mode="nearest")
+                     for c in range(3)], axis=2)
+    # the cubic's overshoot at sharp edges (mortar) kept inside the range of the photo's columns read
+    read = source[:, max(0, int(math.floor(xs[0]))):int(math.ceil(xs[-1])) + 1]
+    tile = np.clip(tile, read.min(axis=(0, 1)), read.max(axis=(0, 1)))
+    return (np.swapaxes(tile, 0, 1) if along_y else tile), counts
 
 
 def _whole_edge_cells(tile, exemplar, snap, origin, spans):
@@ -540,7 +739,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     period = structure_period(exemplar) if structure >= STRUCTURED_PEAK else None
     if period is not None and period == (None, None):
         period = None
-    cut = _period_tile(exemplar, period) if period is not None and tiling != "stochastic" else None
+    joint_words = []
+    cut = _period_tile(exemplar, period, joint_words) if period is not None and tiling != "stochastic" else None
     tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0)
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
@@ -555,7 +755,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         cut_tile = np.clip(crop, 0.0, 1.0).astype(np.float64)
         cut_method = (f"cut at the structure's period (x {period[1]}, y {period[0]} px; {counts[1]} x "
                       f"{counts[0]} periods, 0 where none) where its wrap edges show least, resampled to "
-                      f"whole-texel periods (x {whole[1]}, y {whole[0]} texels)")
+                      f"whole-texel periods (x {whole[1]}, y {whole[0]} texels)"
+                      + "".join(f"; {w}" for w in joint_words))
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
             tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:

@@ -39,6 +39,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._otsu import otsu
+
 __all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
 
 #: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
@@ -48,19 +50,6 @@ MIN_CONTRAST = 0.5
 MIN_INTERIOR = 0.25
 #: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
 MIN_CELL = 0.02
-
-
-def _otsu(values: np.ndarray) -> float:
-    """Otsu's threshold of a 1-D sample (256 bins): the split that maximises the between-class variance."""
-    hist, edges = np.histogram(values, bins=256)
-    centres = 0.5 * (edges[:-1] + edges[1:])
-    w0 = np.cumsum(hist).astype(np.float64)
-    w1 = w0[-1] - w0
-    s0 = np.cumsum(hist * centres)
-    m0 = s0 / np.maximum(w0, 1.0)
-    m1 = (s0[-1] - s0) / np.maximum(w1, 1.0)
-    between = w0 * w1 * (m0 - m1) ** 2
-    return float(edges[int(np.argmax(between[:-1])) + 1])
 
 
 def _torus_components(mask: np.ndarray):
@@ -120,7 +109,7 @@ def cell_map(tile, snap) -> np.ndarray | None:
     axis = np.linalg.svd(flat, full_matrices=False)[2][0]
     level = (mean @ axis)
     level = sum(np.roll(np.roll(level, dy, axis=0), dx, axis=1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)) / 9.0
-    high = level > _otsu(level.ravel())
+    high = level > otsu(level.ravel())[0]
     if high.all() or not high.any():
         return None
     classes = []

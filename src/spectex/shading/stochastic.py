@@ -682,10 +682,20 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
     a periodic layer; each of the ``N`` samples is a full
     :func:`sample_stochastic_at_lod` at its own point (its grid position
     moved by ``grid`` (2 x 2, tile -> skewed grid coordinates) times the
-    step), and the ``N`` RGBA results are averaged.
+    step), and the ``N`` RGBA results are averaged
+    (:func:`_sample_stochastic_along`).
     """
     lam, n, ds, dt = anisotropic_footprint(widths, heights, min_filter, max_aniso, bias, min_lod, max_lod,
                                            dsdx, dtdx, dsdy, dtdy)
+    return _sample_stochastic_along(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter,
+                                    lut, row0, basis, origin, grid, bi, bj, key, snap, s, t, kx, ky, lam, n, ds, dt)
+
+
+@_jit_inline
+def _sample_stochastic_along(data, base, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, lut,
+                             row0, basis, origin, grid, bi, bj, key, snap, s, t, kx, ky, lam, n, ds, dt):
+    """The mean of ``n`` :func:`sample_stochastic_at_lod` samples at ``lam``, evenly along ``(ds, dt)``
+    (tile coordinates) around ``(s, t)`` (one sample at ``(s, t)`` itself when ``n`` is 1)."""
     dkx = grid[0, 0] * ds + grid[0, 1] * dt
     dky = grid[1, 0] * ds + grid[1, 1] * dt
     r = 0.0
@@ -709,20 +719,23 @@ def sample_stochastic_grad(data, base, offsets, widths, heights, wrap_s, wrap_t,
 def _stochastic_kernel(data, offsets, widths, heights, wrap_s, wrap_t, min_filter, mag_filter, max_aniso, bias,
                        min_lod, max_lod, lut, basis, origin, grid, key, nx, ny, cell_row, mode, s, t, dsdx, dtdx,
                        dsdy, dtdy, lod, out):
-    n = s.shape[0]
-    for k in range(n):
+    # one inlined sampler for both modes (each inlined copy of the sampler costs seconds of compile): the
+    # explicit lod is the anisotropic recipe's one sample (n = 1, no step), the same numbers as calling
+    # sample_stochastic_at_lod at the clamped lod directly
+    for k in range(s.shape[0]):
         kx = grid[0, 0] * s[k] + grid[0, 1] * t[k]
         ky = grid[1, 0] * s[k] + grid[1, 1] * t[k]
         if mode == 1:
-            r, g, b, a = sample_stochastic_grad(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
-                                                mag_filter, max_aniso, bias, min_lod, max_lod, lut, 0, basis,
-                                                origin, grid, 0, 0, key, (nx, ny, cell_row), s[k], t[k], kx, ky,
-                                                dsdx[k], dtdx[k], dsdy[k], dtdy[k])
+            lam, n, ds, dt = anisotropic_footprint(widths, heights, min_filter, max_aniso, bias, min_lod, max_lod,
+                                                   dsdx[k], dtdx[k], dsdy[k], dtdy[k])
         else:
             lam = clamp_lod(lod[k], bias, min_lod, max_lod)
-            r, g, b, a = sample_stochastic_at_lod(data, 0, offsets, widths, heights, lut, 0, basis, origin,
-                                                  s[k], t[k], kx, ky, 0, 0, key, (nx, ny, cell_row), lam,
-                                                  min_filter, mag_filter, wrap_s, wrap_t, grid)
+            n = 1
+            ds = 0.0
+            dt = 0.0
+        r, g, b, a = _sample_stochastic_along(data, 0, offsets, widths, heights, wrap_s, wrap_t, min_filter,
+                                              mag_filter, lut, 0, basis, origin, grid, 0, 0, key,
+                                              (nx, ny, cell_row), s[k], t[k], kx, ky, lam, n, ds, dt)
         out[k, 0] = r
         out[k, 1] = g
         out[k, 2] = b
