@@ -189,6 +189,20 @@ def test_render_cpu_fast_path_matches_general_stochastic(blend):
         assert general.std() > 0.01  # a textured picture, not a blank one
 
 
+def _views_against_reference(texture, gl):
+    """For each of VIEWS: ``(name, camera, CPU render, GL render, reference, render without mip-maps)``,
+    the reference 16 x 16 supersampled without mip-maps; GL = CPU >= 40 dB asserted on the way."""
+    from spectex.render.gl import GLRenderer
+
+    with GLRenderer(texture, ctx=gl) as r:
+        for name, cam in VIEWS.items():
+            c = render_cpu(texture, cam, SIZE)
+            g = r.render(cam, SIZE)
+            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+            ref = render_cpu(texture, cam, SIZE, filter="linear", supersample=16)
+            yield name, cam, c, g, ref, render_cpu(texture, cam, SIZE, filter="linear")
+
+
 @pytest.fixture(scope="module")
 def fitted():
     """spectex.fit's default on a gravel crop (a sharpened stochastic finest layer, periodic coarse
@@ -216,22 +230,15 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
     agrees with an independent one (8 x 8 mip-mapped samples) to 45 dB. The controls: a single
     sample per pixel without mip-maps is far worse (17-26 dB), and so is the 8 x 8 reference on the
     high view."""
-    from spectex.render.gl import GLRenderer
-
     assert fitted.layers[0].tiling == "stochastic" and len(fitted.tiles) == 2
     mip, gl_mip, plain = {}, {}, {}
-    with GLRenderer(fitted, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(fitted, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
-            ref = render_cpu(fitted, cam, SIZE, filter="linear", supersample=16)
-            mip[name], gl_mip[name] = psnr(c, ref), psnr(g, ref)
-            plain[name] = psnr(render_cpu(fitted, cam, SIZE, filter="linear"), ref)
-            if name == "high":
-                ref8 = render_cpu(fitted, cam, SIZE, filter="linear", supersample=8)
-                # the 8 x 8 reference aliases here: further from the 16 x 16 one than the render is
-                assert psnr(ref8, ref) < min(mip[name], 39.0), (psnr(ref8, ref), mip[name])
+    for name, cam, c, g, ref, no_mip in _views_against_reference(fitted, gl):
+        mip[name], gl_mip[name] = psnr(c, ref), psnr(g, ref)
+        plain[name] = psnr(no_mip, ref)
+        if name == "high":
+            ref8 = render_cpu(fitted, cam, SIZE, filter="linear", supersample=8)
+            # the 8 x 8 reference aliases here: further from the 16 x 16 one than the render is
+            assert psnr(ref8, ref) < min(mip[name], 39.0), (psnr(ref8, ref), mip[name])
     assert min(mip.values()) >= 38.0 and min(gl_mip.values()) >= 38.0, (mip, gl_mip)
     assert all(plain[k] <= mip[k] - 3.0 for k in VIEWS if k != "close"), (mip, plain)
 
@@ -262,22 +269,16 @@ def test_fitted_tiles_gl_matches_cpu_and_is_alias_free(gl, fitted_tiles):
     4-pixel period, this floor scored 37.8 / 37.3 / 39.0 low-passed (full band 31.1 / 30.9 / 32.5): floor
     tiles in other colours than the supersampled level 0, and cut by the triangle grid's cross-fades where
     they were still 8 to 16 pixels wide."""
-    from spectex.render.gl import GLRenderer
     from spectex.shading.resources import cell_maps
 
     layer = fitted_tiles.layers[0]
     assert layer.tiling == "stochastic" and max(layer.snap) > 0
     assert cell_maps(fitted_tiles)[layer.tile] is not None  # the cells' path is what is measured
     low, gl_low, full, plain = {}, {}, {}, {}
-    with GLRenderer(fitted_tiles, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(fitted_tiles, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
-            ref = render_cpu(fitted_tiles, cam, SIZE, filter="linear", supersample=16)
-            low[name], gl_low[name] = psnr_low(c, ref), psnr_low(g, ref)
-            full[name] = min(psnr(c, ref), psnr(g, ref))
-            plain[name] = psnr_low(render_cpu(fitted_tiles, cam, SIZE, filter="linear"), ref)
+    for name, _, c, g, ref, no_mip in _views_against_reference(fitted_tiles, gl):
+        low[name], gl_low[name] = psnr_low(c, ref), psnr_low(g, ref)
+        full[name] = min(psnr(c, ref), psnr(g, ref))
+        plain[name] = psnr_low(no_mip, ref)
     assert min(low.values()) >= 40.0 and min(gl_low.values()) >= 40.0, (low, gl_low)
     assert min(full.values()) >= 32.0, full
     # the control: without mip-maps the low-passed figure is far worse wherever the view minifies

@@ -31,16 +31,15 @@ from .constants import (
     BLEND_DETAIL,
     BLEND_FINE,
     BLEND_FIRST,
-    CELL_LOD_MARGIN,
     FADE_END,
     FADE_START,
     LOD_FLOOR,
-    SHARP_LOD,
     TILING_STOCHASTIC,
 )
 from .sampler import sample_grad
 from .stochastic import (
     blend_patches,
+    cell_mix,
     cell_point,
     lut_lookup,
     sample_stochastic_grad,
@@ -353,9 +352,8 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         fd = math.floor(lam)
         beta = np.float32(lam - fd)
         d1 = np.int64(fd)
-        # weights at the cell's centre (stochastic.cell_point) up to l_c, at the point from l_c + 1
-        # (stochastic.sample_stochastic_at_lod: l_c = max(SHARP_LOD, log2(shorter period) - CELL_LOD_MARGIN))
-        tm = min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, w0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
+        # weights at the cell's centre (stochastic.cell_point) up to l_c, at the point from l_c + 1 (cell_mix)
+        tm = cell_mix(lam, w0, w0, nx, ny)
         cells = cell_row >= 0.0 and tm < 1.0
         v0 = v1 = v2 = v3 = 0.0
         if cells:

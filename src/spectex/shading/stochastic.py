@@ -85,6 +85,7 @@ __all__ = [
     "snap_counts",
     "cell_rows",
     "cell_point",
+    "cell_mix",
     "stochastic_tables",
     "gaussianize",
     "decorrelation",
@@ -614,6 +615,15 @@ def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, 
 
 
 @_jit_inline
+def cell_mix(lam, w0, h0, nx, ny):
+    """How far a snapped layer with cells has gone from the cell's one patch (0) to the blend at the point (1)
+    at level ``lam``: 0 up to ``l_c = max(SHARP_LOD, log2(p) - CELL_LOD_MARGIN)``, ``p = min(w0 / nx, h0 /
+    ny)`` the snap's shorter period in level-0 texels (the cells hold while they span 4 pixels), 1 from
+    ``l_c + 1``, linear in between (no popping). The one formula of the reference and the fast path."""
+    return min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, h0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
+
+
+@_jit_inline
 def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, basis, origin, s, t, kx, ky,
                              bi, bj, key, snap, lam, min_filter, mag_filter, wrap_s, wrap_t, grid):
     """One histogram-preserving sample at a clamped level of detail; returns RGBA in [0, 1].
@@ -643,7 +653,7 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     nx, ny, cell_row = snap
     w0 = np.float64(widths[0])
     h0 = np.float64(heights[0])
-    tm = min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, h0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
+    tm = cell_mix(lam, w0, h0, nx, ny)
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
     if cells:
