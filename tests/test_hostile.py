@@ -1062,6 +1062,14 @@ LIGHT_REFUSALS = [
     ("tile", "--size", "4", "-o", "x.png"),
     ("render", "tex.toml", *CAMERA, "--anisotropy", "99", "-o", "x.png"),
     ("render", "tex.toml", *CAMERA, "--size", "100000x100000", "-o", "x.png"),
+    # a texture is loaded without numba (the tiles' package loads it lazily), and so are the inputs
+    # that the text, tile and demo commands check
+    ("render", "tex.toml", *CAMERA, "-o", "tex.tile.png"),
+    ("export", "tex.toml", "-o", "tex.tile.png"),
+    ("text", "c.txt", "-o", "c.txt"),
+    ("text", "c.txt", "--length", "1000000000000"),
+    ("tile", "--from", "tex.toml", "-o", "x.png"),
+    ("demo", "-o", "tex.toml"),
 ]
 HEAVY = ("numba", "zarr", "dask", "moderngl")
 
@@ -1083,6 +1091,7 @@ def light_folder(tmp_path_factory):
     folder = tmp_path_factory.mktemp("light")
     io.write_image(folder / "img.png", np.random.default_rng(26).random((32, 32, 3)).astype(np.float32))
     SpectralTexture.paper_preset(tile_size=16).save(folder / "tex.toml")
+    (folder / "c.txt").write_text("the cat sat on the mat. " * 20, encoding="utf-8")
     return folder
 
 

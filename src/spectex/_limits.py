@@ -16,7 +16,7 @@ import math
 import os
 
 __all__ = ["limit", "hint", "SYNTH_EXEMPLAR_PIXELS", "SYNTH_WORK", "check_exemplar_pixels", "check_work",
-           "check_quilting", "check_efros_leung", "efros_leung_work", "MAX_TILE_SIDE"]
+           "check_quilting", "check_efros_leung", "efros_leung_work", "MAX_TILE_SIDE", "MAX_TEXT_LENGTH"]
 
 
 def limit(name: str, default: int) -> int:
@@ -49,6 +49,11 @@ SYNTH_WORK = limit("SYNTH_WORK", 10 ** 11)
 #: Largest tile side (``spectex.tiles.MAX_SIZE``): a tile of 8192 x 8192 holds 1 GiB, about 3 GiB at the
 #: peak of its making. Not a variable: the renderers' textures stop there too.
 MAX_TILE_SIDE = 8192
+
+#: Most symbols one call of ``spectex.synthesis.generate_text`` makes (the text is built in memory: about
+#: 10 s and a few hundred MB). Here, not in the synthesis package, so that ``spectex text`` refuses a
+#: longer one before importing it (it imports numba).
+MAX_TEXT_LENGTH = 10_000_000
 
 
 def check_exemplar_pixels(name: str, shape, method: str) -> None:

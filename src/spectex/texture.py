@@ -290,7 +290,7 @@ class SpectralTexture:
         for i, layer in enumerate(layers):
             if layer.tile >= len(checked):
                 raise ValueError(f"layers[{i}].tile must be < {len(checked)} (the number of tiles), got {layer.tile}")
-        from .tiles.mipmap import quantize  # here, once everything is checked: the package of tiles imports numba
+        from .tiles.mipmap import quantize  # NumPy only (the tiles' package loads its numba modules lazily)
 
         for i, tile in enumerate(checked):
             checked[i] = np.ascontiguousarray(quantize(tile, bits))

@@ -66,11 +66,12 @@ def run(args) -> int:
     from spectex.render import render as _render
     from spectex.render.gl import GLUnavailable
     from spectex.texture import SpectralTexture
-    from spectex.tiles import make_tile
 
     # Every file checked before the work; the set replaces the earlier demo only when complete.
     outputs = OutputSet(args.output, _FILES, name="--output")
     out = outputs.path
+
+    from spectex.tiles import make_tile  # numba: after the outputs are checked
 
     t0 = time.perf_counter()
     tile = make_tile(512, rng=args.seed)

@@ -35,8 +35,8 @@ def register(subparsers) -> None:
 def run(args) -> int | None:
     from pathlib import Path
 
+    from spectex._limits import MAX_TEXT_LENGTH
     from spectex._output import note_input, plan_output, write_text
-    from spectex.synthesis import MAX_TEXT_LENGTH, markov_text
 
     if args.length > MAX_TEXT_LENGTH:
         raise ValueError(f"--length must be at most {MAX_TEXT_LENGTH} symbols (the text is built in memory), "
@@ -54,6 +54,8 @@ def run(args) -> int | None:
     if b"\x00" in data:
         raise ValueError(f"corpus is not a text file (it holds NUL bytes): '{args.corpus}'")
     corpus = data.decode("utf-8", errors="replace")
+    from spectex.synthesis import markov_text  # the synthesis package imports numba: after every check
+
     with _common.Progress("markov text") as bar:
         text = markov_text(corpus, unit=args.unit, order=args.order, length=args.length, rng=args.seed,
                            progress=bar)

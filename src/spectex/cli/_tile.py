@@ -92,14 +92,14 @@ def run(args) -> int | None:
     # Both files or neither, planned (and checked against the inputs) before the work.
     outputs = (OutputSet(output.parent, [output.name, preview.name], inputs=inputs, create=False)
                if preview is not None else None)
-    from spectex.tiles import make_seamless, make_tile
-    from spectex.tiles import preview as make_preview
-
     steps = _common.Steps((3 if args.source is not None else 2) + (preview is not None))
     with steps:
         if args.source is not None:
             steps.step(f"reading {args.source}")
             photo = _common.read_unit_image(args, args.source, "--from image")
+            # the tiles' package imports numba: after the photo is read, so that a bad one is refused first
+            from spectex.tiles import make_seamless
+
             steps.step("making it tileable")
             tile = make_seamless(photo, shape=args.size, alpha=args.alpha or "none", cutoff=args.cutoff,
                                  rng=args.seed, seam=args.seam, azimuth=args.azimuth,
@@ -109,6 +109,8 @@ def run(args) -> int | None:
         else:
             if args.alpha == "keep":
                 raise ValueError("--alpha keep needs --from EXEMPLAR (a photograph with an alpha channel)")
+            from spectex.tiles import make_tile
+
             steps.step(f"making {args.method} noise")
             tile = make_tile(512 if args.size is None else args.size, rng=args.seed, method=args.method,
                              alpha=args.alpha or "emboss", colormap=args.colormap,
@@ -122,6 +124,8 @@ def run(args) -> int | None:
             steps.step(f"writing {fmt}")
             write_image(output, tile, bit_depth=args.bit_depth)
         else:
+            from spectex.tiles import preview as make_preview
+
             with outputs as stage:
                 steps.step("writing the preview")
                 write_image(stage / preview.name, make_preview(tile))

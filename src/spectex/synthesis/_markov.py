@@ -8,11 +8,10 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
+from .._limits import MAX_TEXT_LENGTH
 from .._validate import check_choice, check_int, check_rng
 
 _UNITS = ("char", "word")
-#: Most symbols one call of :func:`generate_text` makes (the text is built in memory).
-MAX_TEXT_LENGTH = 10_000_000
 
 
 class _NgramTable:

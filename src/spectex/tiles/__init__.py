@@ -30,20 +30,36 @@ D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
 39(2), 2011. L. Williams, "Pyramidal parametrics", SIGGRAPH 1983 (mip-maps).
 """
 
-from .from_noise import ALPHAS, MAX_SIZE, METHODS, make_tile
-from .from_photo import SEAM_BAND, make_seamless
-from .mipmap import mip_chain
-from .ops import emboss, fit_range, preview
+# The names below are loaded from their modules on first use (PEP 562), not here: ``from_noise`` and
+# ``ops`` import numba, and every texture that is made or loaded goes through ``spectex.tiles.mipmap``
+# (its tiles quantized), so an eager import here made every command that reads a texture import numba
+# before it could refuse a bad argument, and ``spectex export`` import it without ever compiling.
+_HOMES = {
+    "ALPHAS": "from_noise",
+    "MAX_SIZE": "from_noise",
+    "METHODS": "from_noise",
+    "make_tile": "from_noise",
+    "SEAM_BAND": "from_photo",
+    "make_seamless": "from_photo",
+    "mip_chain": "mipmap",
+    "emboss": "ops",
+    "fit_range": "ops",
+    "preview": "ops",
+}
 
-__all__ = [
-    "ALPHAS",
-    "MAX_SIZE",
-    "METHODS",
-    "SEAM_BAND",
-    "emboss",
-    "fit_range",
-    "make_seamless",
-    "make_tile",
-    "mip_chain",
-    "preview",
-]
+__all__ = sorted(_HOMES)
+
+
+def __getattr__(name):
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(f"{__name__}.{home}"), name)
+    globals()[name] = value  # found directly from now on
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_HOMES))
