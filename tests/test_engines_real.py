@@ -398,30 +398,94 @@ engine.startGame({canvas: document.getElementById("c"),
 </script></body></html>"""
 
 
+class Site:
+    """A web server on 127.0.0.1 (a free port) for the pages the real clients run in: pages held in
+    memory and folders, each under its own path, with the headers Godot's build asks for.
+
+    Chromium fetches from it as from any server (three.js's modules, Godot's 38 MB ``index.wasm``,
+    streamed into WebAssembly's compiler). Playwright's ``page.route`` put every byte through its
+    driver instead, base64 in JSON: Godot's start took 20-30 s there, nearly all of it waiting on
+    the driver (17 CPU s in Playwright's node process, 3 in chromium); from here, 4-6 s. (For
+    three.js's pages, a few MB each, the two cost the same.)"""
+
+    TYPES = {"html": "text/html", "js": "text/javascript", "json": "application/json", "png": "image/png",
+             "mtlx": "application/xml", "wasm": "application/wasm"}
+    #: cross-origin isolation: Godot's web build may use threads (SharedArrayBuffer)
+    HEADERS = {"Cross-Origin-Opener-Policy": "same-origin", "Cross-Origin-Embedder-Policy": "require-corp",
+               "Cache-Control": "no-store"}
+
+    def __init__(self):
+        import http.server
+        import threading
+
+        self.pages: dict[str, str] = {}
+        self.folders: dict[str, Path] = {}
+        site = self
+
+        class Handler(http.server.BaseHTTPRequestHandler):
+            protocol_version = "HTTP/1.1"  # keep-alive: a page's dozens of modules over a few connections
+
+            def do_GET(self):  # http.server's name for it
+                status, body, kind = site.answer(self.path)
+                self.send_response(status)
+                for key, value in {**site.HEADERS, "Content-Type": kind, "Content-Length": str(len(body))}.items():
+                    self.send_header(key, value)
+                self.end_headers()
+                self.wfile.write(body)
+
+            def log_message(self, *args):  # quiet
+                pass
+
+        self.server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.server.daemon_threads = True
+        self.thread = threading.Thread(target=self.server.serve_forever, daemon=True)
+        self.thread.start()
+
+    def url(self, path: str) -> str:
+        return f"http://127.0.0.1:{self.server.server_address[1]}/{path}"
+
+    def answer(self, raw: str) -> tuple[int, bytes, str]:
+        """(status, body, content type) for a request's path: a page, a file under a folder, or 404."""
+        from urllib.parse import unquote, urlsplit
+
+        path = unquote(urlsplit(raw).path).lstrip("/")
+        if path in self.pages:
+            return 200, self.pages[path].encode("utf-8"), self.TYPES["html"]
+        prefix = max((p for p in self.folders if path.startswith(p)), key=len, default=None)
+        if prefix is not None:
+            base = self.folders[prefix].resolve()
+            file = (base / path[len(prefix):]).resolve()
+            if file.is_file() and base in file.parents:
+                return 200, file.read_bytes(), self.TYPES.get(file.suffix[1:], "application/octet-stream")
+        return 404, b"", "text/plain"
+
+    def close(self):
+        self.server.shutdown()
+        self.server.server_close()
+
+
 @pytest.fixture(scope="module")
-def godot(chromium):
-    """A page running the Godot 4 web build in Debian's chromium; yields ``compile(code) -> log lines``."""
+def site():
+    server = Site()
+    server.folders["three/"] = THREE
+    server.folders["godot/"] = GODOT_WEB
+    yield server
+    server.close()
+
+
+@pytest.fixture(scope="module")
+def godot(chromium, site):
+    """A page running the Godot 4 web build in Debian's chromium; yields ``compile(code) -> log lines``.
+
+    The engine starts once, and each shader goes to its compiler through the page (as the package's
+    viewer sends them)."""
     if not (GODOT_WEB / "index.wasm").is_file():
         _unavailable(f"no Godot web build at {GODOT_WEB} (cd tests/js && npm ci --ignore-scripts)")
-    page_text = GODOT_PAGE % ((GODOT_WEB / "index.pck").stat().st_size, (GODOT_WEB / "index.wasm").stat().st_size)
-    types = {"wasm": "application/wasm", "js": "text/javascript"}
-    # cross-origin isolation: the build uses threads (SharedArrayBuffer)
-    headers = {"Cross-Origin-Opener-Policy": "same-origin", "Cross-Origin-Embedder-Policy": "require-corp"}
-
-    def serve(route):
-        name = route.request.url.rsplit("/", 1)[-1].split("?")[0]
-        if name == "page.html":
-            return route.fulfill(body=page_text, content_type="text/html", headers=headers)
-        file = GODOT_WEB / name
-        if "/" in name or not file.is_file():
-            return route.fulfill(status=404, body="", headers=headers)
-        kind = types.get(name.rsplit(".", 1)[-1], "application/octet-stream")
-        route.fulfill(body=file.read_bytes(), content_type=kind, headers=headers)
-
+    site.pages["godot/page.html"] = GODOT_PAGE % ((GODOT_WEB / "index.pck").stat().st_size,
+                                                  (GODOT_WEB / "index.wasm").stat().st_size)
     page = chromium.new_page()
     try:
-        page.route("http://localhost:8765/**", serve)
-        page.goto("http://localhost:8765/page.html")
+        page.goto(site.url("godot/page.html"))
         page.wait_for_function("!!(window.GodotShaderViewer && window.godotLoadShaderCallback)", timeout=240_000)
 
         def compile_shader(code: str) -> list[str]:
@@ -473,7 +537,10 @@ def readme_js_blocks(readme: Path) -> list[str]:
 
 def threejs_page(readme: Path, cam, size, *, stochastic: bool, edit=None) -> str:
     """A page that runs the glsl README's three.js code as written (the stochastic block after the
-    first), with a renderer and a scene of its own, then draws ``cam`` with haze off."""
+    first), with a renderer and a scene of its own, then draws ``cam`` with haze off.
+
+    Its ``window.spectexShow(x, y, z, yaw, pitch, fov)`` draws another camera the same way (the
+    README's ``update``, "every frame"), and sets ``window.spectexShown`` to that camera once drawn."""
     blocks = readme_js_blocks(readme)
     assert len(blocks) == (2 if stochastic else 1), len(blocks)
     if edit is not None:  # a control: one of the README's settings changed
@@ -495,11 +562,15 @@ renderer.setSize({w}, {h}, false);
 const scene = new THREE.Scene();
 {blocks[0]}
 {blocks[1] if stochastic else ""}
-update({x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r});
-// haze off: the frame uniforms' last argument, the haze distance
-const off = spectexFrameUniforms(table, {x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r}, {w}, {h}, 0);
-uniforms.u_haze.value = off.u_haze; uniforms.u_far.value = off.u_far;
-renderer.render(scene, new THREE.Camera());
+window.spectexShow = (x, y, z, yaw, pitch, fov) => {{
+  update(x, y, z, yaw, pitch, fov);
+  // haze off: the frame uniforms' last argument, the haze distance
+  const off = spectexFrameUniforms(table, x, y, z, yaw, pitch, fov, {w}, {h}, 0);
+  uniforms.u_haze.value = off.u_haze; uniforms.u_far.value = off.u_far;
+  renderer.render(scene, new THREE.Camera());
+  window.spectexShown = [x, y, z, yaw, pitch, fov];
+}};
+window.spectexShow({x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r});
 document.title = "ready";
 </script></body></html>"""
 
@@ -522,15 +593,15 @@ def chromium():
         browser.close()
 
 
-def draw_threejs(browser, folder: Path, cam, size=SIZE, *, stochastic: bool, edit=None):
-    """The glsl export drawn by three.js in chromium, from the README's code; RGB floats."""
+def draw_threejs(pages, folder: Path, cam, size=SIZE, *, stochastic: bool, edit=None):
+    """The glsl export drawn by three.js in chromium, from the README's code; RGB floats.
 
-
+    ``pages`` (:class:`ThreePages`) keeps one page per export and page code."""
     if not (THREE / "build" / "three.module.js").is_file():
         _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
     glsl = folder / "glsl"
-    html = threejs_page(glsl / "README.md", cam, size, stochastic=stochastic, edit=edit)
-    return _three_page_screenshot(browser, html, glsl, size, 8766)
+    return pages.screenshot(("glsl", glsl, stochastic, edit, size), glsl, cam, size,
+                            lambda: threejs_page(glsl / "README.md", cam, size, stochastic=stochastic, edit=edit))
 
 
 @pytest.fixture(scope="module")
@@ -541,12 +612,12 @@ def glsl_exports(tmp_path_factory):
 
 @pytest.mark.parametrize("view", list(CAMERAS))
 @pytest.mark.parametrize("name", ["mixed", "mixed_stochastic"])
-def test_threejs_draws_the_glsl_export_as_spectex(chromium, glsl_exports, name, view):
+def test_threejs_draws_the_glsl_export_as_spectex(three_pages, glsl_exports, name, view):
     """three.js (npm) in chromium, running the glsl README's code word for word, haze off: the
     CPU render's picture, periodic and stochastic layers."""
     texture, folder = glsl_exports[name]
     cam = camera(view)
-    image = draw_threejs(chromium, folder, cam, stochastic=name.endswith("stochastic"))
+    image = draw_threejs(three_pages, folder, cam, stochastic=name.endswith("stochastic"))
     reference = cpu_reference(texture, cam)
     save_pair(f"threejs_{name}_{view}", image, reference)
     score = psnr(image, reference)
@@ -655,12 +726,12 @@ def test_blender_says_what_it_draws_for_stochastic_layers(blender_exports, tmp_p
     assert psnr(image, cpu_reference(texture, cam)) < psnr(image, as_drawn) - 5.0
 
 
-def test_threejs_control_premultiplied_tiles_fail(chromium, glsl_exports):
+def test_threejs_control_premultiplied_tiles_fail(three_pages, glsl_exports):
     """Control: the README's code with the tiles premultiplied by their alpha (what the README's
     ``premultiplyAlpha: 'none'`` prevents) is far from spectex's picture."""
     texture, folder = glsl_exports["mixed"]
     cam = camera("close")
-    image = draw_threejs(chromium, folder, cam, stochastic=False,
+    image = draw_threejs(three_pages, folder, cam, stochastic=False,
                          edit=("premultiplyAlpha: 'none'", "premultiplyAlpha: 'premultiply'"))
     assert psnr(image, cpu_reference(texture, cam)) < 30.0
 
@@ -678,7 +749,10 @@ def threejs_materialx_block() -> str:
 
 def threejs_materialx_page(cam, size, *, edit=None, output="THREE.SRGBColorSpace") -> str:
     """A page that runs the docs' block, then draws ``material`` on a ground plane (Y-up, spectex
-    x = X, y = -Z) seen by ``cam`` through ``WebGPURenderer``'s WebGL 2 back end."""
+    x = X, y = -Z) seen by ``cam`` through ``WebGPURenderer``'s WebGL 2 back end.
+
+    Its ``window.spectexShow(x, y, z, yaw, pitch, fov)`` (a promise) moves the plane and the camera
+    and draws again, and sets ``window.spectexShown`` to that camera once the GPU is done."""
     block = threejs_materialx_block()
     if edit is not None:  # a control: one of the docs' settings changed
         old, new = edit
@@ -706,39 +780,44 @@ const scene = new THREE.Scene();
 // subdivided: SwiftShader interpolates the world position of one huge triangle pair coarsely
 const ground = new THREE.Mesh(new THREE.PlaneGeometry(8000, 8000, 64, 64), material);
 ground.rotation.x = -Math.PI / 2;
-ground.position.set({x!r}, 0, {-y!r});
 scene.add(ground);
 const camera = new THREE.PerspectiveCamera({cam.fov!r}, {w} / {h}, 0.05, 20000);
-camera.position.set({x!r}, {z!r}, {-y!r});
 camera.rotation.order = "YXZ";  // yaw about Y (east of north), then pitch
-camera.rotation.set(THREE.MathUtils.degToRad({cam.pitch!r}), THREE.MathUtils.degToRad({-cam.yaw!r}), 0);
-renderer.render(scene, camera);
-await renderer.waitForGPU?.();
+window.spectexShow = async (x, y, z, yaw, pitch, fov) => {{
+  ground.position.set(x, 0, -y);  // under the camera
+  camera.fov = fov;
+  camera.updateProjectionMatrix();
+  camera.position.set(x, z, -y);
+  camera.rotation.set(THREE.MathUtils.degToRad(pitch), THREE.MathUtils.degToRad(-yaw), 0);
+  renderer.render(scene, camera);
+  await renderer.waitForGPU?.();
+  window.spectexShown = [x, y, z, yaw, pitch, fov];
+}};
+await window.spectexShow({x!r}, {y!r}, {z!r}, {cam.yaw!r}, {cam.pitch!r}, {cam.fov!r});
 document.title = "ready";
 </script></body></html>"""
 
 
-def draw_threejs_materialx(browser, folder: Path, cam, size=SIZE, **page_options):
+def draw_threejs_materialx(pages, folder: Path, cam, size=SIZE, **page_options):
     """The materialx export loaded by three.js's MaterialXLoader in chromium, as docs/export.md
-    says; the screenshot as RGB floats."""
-
-
+    says; the screenshot as RGB floats. ``pages`` (:class:`ThreePages`) keeps one page per export
+    and page options."""
     if not (THREE / "examples" / "jsm" / "loaders" / "MaterialXLoader.js").is_file():
         _unavailable(f"three.js is not installed in {JS} (cd tests/js && npm ci --ignore-scripts)")
-    html = threejs_materialx_page(cam, size, **page_options)
-    return _three_page_screenshot(browser, html, folder, size, 8767)
+    key = ("materialx", folder, tuple(sorted(page_options.items())), size)
+    return pages.screenshot(key, folder, cam, size, lambda: threejs_materialx_page(cam, size, **page_options))
 
 
 @pytest.mark.engines
 @pytest.mark.parametrize("view", list(CAMERAS))
 @pytest.mark.parametrize("name", ["paper", "mixed"])
-def test_threejs_materialx_loader_draws_spectex_picture(chromium, mtlx_exports, name, view):
+def test_threejs_materialx_loader_draws_spectex_picture(three_pages, mtlx_exports, name, view):
     """three.js's MaterialXLoader (npm three) in chromium, loading the materialx export as
     docs/export.md says, drawn by WebGPURenderer (WebGL 2 back end): the CPU render's picture with
     the haze off (three.js's own mip-maps and trilinear filter: anisotropy 1); measured 50-59 dB."""
     texture, folder = mtlx_exports[name]
     cam = camera(view)
-    image = draw_threejs_materialx(chromium, folder, cam)
+    image = draw_threejs_materialx(three_pages, folder, cam)
     reference = cpu_reference(texture, cam, anisotropy=1.0)
     save_pair(f"threejs_materialx_{name}_{view}", image, reference)
     score = psnr(image, reference)
@@ -747,7 +826,7 @@ def test_threejs_materialx_loader_draws_spectex_picture(chromium, mtlx_exports, 
 
 @pytest.mark.engines
 @pytest.mark.parametrize("control", ["uv_space", "premultiplied", "linear_output"])
-def test_threejs_materialx_loader_controls_fail(chromium, mtlx_exports, control):
+def test_threejs_materialx_loader_controls_fail(three_pages, mtlx_exports, control):
     """Controls: each of the docs' settings undone is far from spectex's picture: the loader's
     default uvSpace (v read downwards), its own image decoder (alpha premultiplied), the
     renderer's output left linear (no sRGB encoding for the screen)."""
@@ -756,13 +835,13 @@ def test_threejs_materialx_loader_controls_fail(chromium, mtlx_exports, control)
     options = {"uv_space": {"edit": ("{uvSpace: 'top-left'}", "{}")},
                "premultiplied": {"edit": ("premultiplyAlpha: 'none'", "premultiplyAlpha: 'default'")},
                "linear_output": {"output": "THREE.LinearSRGBColorSpace"}}[control]
-    image = draw_threejs_materialx(chromium, folder, cam, **options)
+    image = draw_threejs_materialx(three_pages, folder, cam, **options)
     assert psnr(image, cpu_reference(texture, cam, anisotropy=1.0)) < 30.0
 
 
 @pytest.mark.engines
 @pytest.mark.parametrize("view", list(CAMERAS))
-def test_threejs_materialx_loader_stochastic_layers_match_in_distribution(chromium, mtlx_exports, view):
+def test_threejs_materialx_loader_stochastic_layers_match_in_distribution(three_pages, mtlx_exports, view):
     """Stochastic layers through three.js's loader are its hextiledimage, not spectex's tiling: the
     colour distributions are compared (W1 per channel), as for MaterialX's own generator; measured
     0.04-0.13. Control: the renderer's output left linear is far off in distribution."""
@@ -771,48 +850,78 @@ def test_threejs_materialx_loader_stochastic_layers_match_in_distribution(chromi
     texture, folder = mtlx_exports["stochastic"]
     cam = camera(view)
     reference = cpu_reference(texture, cam, anisotropy=1.0)
-    image = draw_threejs_materialx(chromium, folder, cam)
+    image = draw_threejs_materialx(three_pages, folder, cam)
     save_pair(f"threejs_materialx_stochastic_{view}", image, reference)
     w1 = histogram_w1(image.reshape(1, -1, 3), reference.reshape(1, -1, 3).astype(np.float32))
     assert w1.max() <= 0.15, w1
     if view == "close":
-        linear = draw_threejs_materialx(chromium, folder, cam, output="THREE.LinearSRGBColorSpace")
+        linear = draw_threejs_materialx(three_pages, folder, cam, output="THREE.LinearSRGBColorSpace")
         dark = histogram_w1(linear.reshape(1, -1, 3), reference.reshape(1, -1, 3).astype(np.float32))
         assert dark.max() > 0.15, dark
 
 
-def _three_page_screenshot(browser, html, root, size, port):
-    """Serve ``html`` as index.html, three.js under ``three/`` and ``root``'s files; the page's screenshot.
+class ThreePages:
+    """The three.js pages of this module, kept open and drawn again at each test's camera.
 
-    The page sets ``document.title`` to ``"ready"`` when drawn (anything else but ``"loading"``
-    is its error). Returns float32 RGB in [0, 1].
+    One page per drawing set-up (``key``: the export, the page's code and options, its size). The
+    first draw of a set-up loads its page as a user's would (``make_html()``: modules, the export's
+    files, shaders, uploads, the first frame at the test's camera; the title says ``ready``, or
+    what went wrong). A later one calls the page's ``spectexShow`` at the new camera, which draws
+    it as the first frame was drawn (nothing else in the page depends on the camera), and the
+    screenshot is taken when that call has returned and ``window.spectexShown`` names the new
+    camera: after the new frame was drawn, so never a frame of the camera before. A page whose
+    draw failed is closed, and the next use of its set-up loads it again.
     """
-    import io
 
-    from PIL import Image
+    def __init__(self, browser, site: Site):
+        self.browser, self.site = browser, site
+        self.pages: dict = {}
 
-    types = {"js": "text/javascript", "json": "application/json", "png": "image/png", "mtlx": "application/xml"}
+    def screenshot(self, key, root: Path, cam, size, make_html) -> np.ndarray:
+        """Float32 RGB in [0, 1] of set-up ``key`` (served from ``root``) drawn at ``cam``."""
+        import io
 
-    def serve(route):
-        path = route.request.url.split("://", 1)[1].split("/", 1)[1].split("?")[0]
-        if path == "index.html":
-            return route.fulfill(body=html, content_type="text/html")
-        base, rel = (THREE, path[len("three/"):]) if path.startswith("three/") else (root, path)
-        file = (base / rel).resolve()
-        if not file.is_file() or base.resolve() not in file.parents:
-            return route.fulfill(status=404, body="")
-        route.fulfill(body=file.read_bytes(), content_type=types.get(file.suffix[1:], "application/octet-stream"))
+        from PIL import Image
 
-    h, w = size
-    page = browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
-    errors = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    try:
-        page.route(f"http://localhost:{port}/**", serve)
-        page.goto(f"http://localhost:{port}/index.html")
+        wanted = [float(v) for v in (*cam.position, cam.yaw, cam.pitch, cam.fov)]
+        page = self.pages.get(key)
+        try:
+            if page is None:
+                page = self._open(key, root, size, make_html())
+            else:
+                page.evaluate("camera => window.spectexShow(...camera)", wanted)
+            shown = page.evaluate("window.spectexShown")
+            assert shown == wanted, (shown, wanted)
+            image = Image.open(io.BytesIO(page.screenshot()))
+        except BaseException:
+            self.pages.pop(key, None)
+            if page is not None:
+                page.close()
+            raise
+        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
+
+    def _open(self, key, root: Path, size, html: str):
+        name = f"page{len(self.site.pages)}/"
+        self.site.pages[name + "index.html"] = html
+        self.site.folders[name] = root
+        h, w = size
+        page = self.browser.new_page(viewport={"width": w, "height": h}, device_scale_factor=1)
+        errors = []
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        self.pages[key] = page
+        page.goto(self.site.url(name + "index.html"))
         page.wait_for_function("document.title !== 'loading'", timeout=120_000)
         assert page.title() == "ready", (page.title(), errors)
-        image = Image.open(io.BytesIO(page.screenshot()))
-        return np.asarray(image.convert("RGB"), dtype=np.float32) / np.float32(255.0)
-    finally:
-        page.close()
+        return page
+
+    def close(self):
+        for page in self.pages.values():
+            page.close()
+        self.pages.clear()
+
+
+@pytest.fixture(scope="module")
+def three_pages(chromium, site):
+    pages = ThreePages(chromium, site)
+    yield pages
+    pages.close()

@@ -145,6 +145,99 @@ def wait_for_new_fragment(page, before: str) -> None:
     page.wait_for_function("before => location.hash !== before", arg=before, timeout=60_000)
 
 
+#: Set a page's fragment (the viewer's ``hashchange``: what a link typed into the address bar does);
+#: returns the number the next frame drawn will have, or the last one's where the page is there already
+#: (the same fragment fires no ``hashchange``, and no frame comes).
+SET_FRAGMENT = """hash => {
+    const frames = window.spectexDrawn.frames;
+    if (location.hash === hash) return frames;
+    location.hash = hash;
+    return frames + 1;
+}"""
+
+#: The frame of a view: drawn at or after frame ``frames``, at ``camera`` with ``anisotropy``, the
+#: overlay as asked, and presented (the title ``spectex:ready`` again).
+DRAWN_VIEW = """([frames, camera, anisotropy, hud]) => {
+    const d = window.spectexDrawn;
+    return !!d && d.frames >= frames && d.camera.length === 6 && d.camera.every((v, i) => v === camera[i])
+        && d.anisotropy === anisotropy && d.hud === hud && document.title === "spectex:ready";
+}"""
+
+
+def view_fragment(anisotropy: float) -> str:
+    """The fragment's options the screenshot tests use: overlay off, ``aniso`` unless the default 8."""
+    return "&hud=0" + ("" if anisotropy == 8.0 else f"&aniso={anisotropy:g}")
+
+
+def drawn_view(camera: Camera, anisotropy: float) -> list:
+    """``DRAWN_VIEW``'s camera, anisotropy and overlay for ``camera`` at ``view_fragment``."""
+    return [[float(v) for v in (*camera.position, camera.yaw, camera.pitch, camera.fov)], float(anisotropy), False]
+
+
+class ViewerPages:
+    """Viewer pages kept open between tests, one per export and window size, moved by a new fragment.
+
+    The first view of an export loads its page as a link does (:func:`open_page`: the page, the
+    inflated tiles and tables uploaded, the shaders compiled, the first frame). A later view sets
+    the page's fragment, as a link typed into the address bar: the viewer takes the camera, the
+    overlay and the anisotropy from it (``applyFragment``) and draws one frame. Nothing else a
+    frame depends on changes between views: the layer, mip-map, anisotropy-on and haze switches
+    change only by keys, the speed only by the wheel, the camera only by keys, drags and touches,
+    none of which the users of these pages send; there is no clock in a still frame (time enters
+    only while flying); the window keeps its size; the programs are cached by their switches, the
+    same source giving the same program.
+
+    A screenshot is taken once ``window.spectexDrawn`` says the last frame is the new one
+    (``DRAWN_VIEW``: its number is past the one before the fragment was set, its camera and its
+    anisotropy are the view's, its overlay hidden) and the title says ``spectex:ready`` again
+    (set a frame after it is drawn). The old frame fails the number, and the camera or the
+    anisotropy unless the view is the one shown already (then the fragment is the same, no frame
+    comes and none is awaited). The title alone would not do: the ``hashchange`` that draws the
+    new frame comes after the fragment is set, and until then the title still says ready
+    (``test_a_moved_page_waits_for_its_frame_and_matches_a_fresh_one``). A page whose wait
+    failed is closed; the next view of its export loads it again.
+    """
+
+    def __init__(self, browser):
+        self.browser = browser
+        self.pages: dict = {}
+
+    def show(self, html: Path, camera: Camera, anisotropy: float = 8.0, size=SIZE):
+        """The page of export ``html`` showing ``camera`` at ``anisotropy``, overlay off, drawn."""
+        url = view_url(html, camera, extra=view_fragment(anisotropy))
+        key = (html, size)
+        page = self.pages.get(key)
+        try:
+            if page is None:
+                page = self.pages[key] = open_page(self.browser, url, size)
+                frames = 1
+            else:
+                frames = page.evaluate(SET_FRAGMENT, url[url.index("#"):])
+            page.wait_for_function(DRAWN_VIEW, arg=[frames, *drawn_view(camera, anisotropy)], timeout=60_000)
+        except BaseException:
+            if page is not None:
+                self.forget(page)
+            raise
+        return page
+
+    def forget(self, page) -> None:
+        """Close ``page`` and load its export again at its next view (its state is unknown)."""
+        self.pages = {key: other for key, other in self.pages.items() if other is not page}
+        page.close()
+
+    def close(self):
+        for page in self.pages.values():
+            page.close()
+        self.pages.clear()
+
+
+@pytest.fixture(scope="module")
+def viewer_pages(browser):
+    pages = ViewerPages(browser)
+    yield pages
+    pages.close()
+
+
 def screenshot(page) -> np.ndarray:
     from PIL import Image
 
@@ -176,14 +269,10 @@ VIEWS = {
 @pytest.mark.parametrize("texture_name", list(MAKERS))
 @pytest.mark.parametrize("view", list(VIEWS))
 @pytest.mark.parametrize("anisotropy", [8.0, 1.0])
-def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name, view, anisotropy):
+def test_screenshot_matches_cpu_render(viewer_pages, exports, textures, texture_name, view, anisotropy):
+    """One page per texture (:class:`ViewerPages`): the first view loads it, the others set its fragment."""
     camera = VIEWS[view]
-    extra = "&hud=0" + ("" if anisotropy == 8.0 else f"&aniso={anisotropy:g}")
-    page = open_page(browser, view_url(exports[texture_name], camera, extra=extra))
-    try:
-        image = screenshot(page)
-    finally:
-        page.close()
+    image = screenshot(viewer_pages.show(exports[texture_name], camera, anisotropy))
     result = render(textures[texture_name], camera, SIZE, backend="cpu", anisotropy=anisotropy)
     reference = result.image
     assert result.backend == "cpu" and image.shape == reference.shape
@@ -195,15 +284,11 @@ def test_screenshot_matches_cpu_render(browser, exports, textures, texture_name,
 
 @pytest.mark.slow
 @pytest.mark.parametrize("view", ["closeup", "far_from_origin"])
-def test_stochastic_controls_score_far_below(browser, exports, textures, view):
+def test_stochastic_controls_score_far_below(viewer_pages, exports, textures, view):
     """Controls: the stochastic screenshot against the CPU render of the same texture with other
     seeds, and with periodic tiling, is far below the 40 dB it reaches against the right one."""
     camera = VIEWS[view]
-    page = open_page(browser, view_url(exports["paper_stochastic"], camera, extra="&hud=0"))
-    try:
-        image = screenshot(page)
-    finally:
-        page.close()
+    image = screenshot(viewer_pages.show(exports["paper_stochastic"], camera))
     right = render(textures["paper_stochastic"], camera, SIZE, backend="cpu", anisotropy=8.0).image
     assert psnr(image, right) >= 40.0
     for control in (paper_stochastic_texture(seed_shift=1), paper_stochastic_texture(tiling="periodic")):
@@ -259,14 +344,10 @@ def test_uniforms_js_anchors_are_pythons_far_from_the_origin(browser):
 
 
 @pytest.mark.slow
-def test_anisotropy_is_not_a_no_op(browser, exports, textures):
+def test_anisotropy_is_not_a_no_op(viewer_pages, exports, textures):
     """Control: the viewer's default (anisotropy 8) and the CPU without anisotropy differ visibly."""
     camera = VIEWS["closeup"]
-    page = open_page(browser, view_url(exports["paper"], camera, extra="&hud=0"))
-    try:
-        image = screenshot(page)
-    finally:
-        page.close()
+    image = screenshot(viewer_pages.show(exports["paper"], camera))
     reference = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0).image
     assert psnr(image, reference) < 52.0
 
@@ -323,12 +404,51 @@ def test_a_new_fragment_moves_the_camera_and_says_ready_again(browser, exports, 
     try:
         page.evaluate("url => { location.hash = url.slice(url.indexOf('#')); }",
                       view_url(exports["paper"], second, extra="&hud=0&aniso=1"))
-        page.wait_for_function("document.title === 'spectex:ready'", timeout=60_000)
+        # the title says ready again, for the frame at the new camera (right after the fragment is set,
+        # before the viewer has taken it, the title still says ready for the old one)
+        page.wait_for_function(DRAWN_VIEW, arg=[2, *drawn_view(second, 1.0)], timeout=60_000)
         image = screenshot(page)
     finally:
         page.close()
     reference = render(textures["paper"], second, SIZE, backend="cpu", anisotropy=1.0).image
     assert psnr(image, reference) >= 40.0
+
+
+@pytest.mark.slow
+def test_a_moved_page_waits_for_its_frame_and_matches_a_fresh_one(browser, viewer_pages, exports, textures):
+    """The shared pages' wait (:class:`ViewerPages`), against a stale frame. Right after a new
+    fragment is set (the same camera, anisotropy 8 -> 1: a change the 40 dB comparison barely
+    sees, the 8x frame scoring 41.2 dB against the 1x reference, measured), the old frame is
+    still the last one and the title still says ``spectex:ready``: a wait on the title alone
+    would take it; the wait's condition is false there. Once it holds, the screenshot is, bit
+    for bit, a fresh page's at that fragment (nothing else carried over), and the CPU's picture
+    at 1x, closer to it than the old frame."""
+    camera = VIEWS["closeup"]
+    page = viewer_pages.show(exports["paper"], camera, 8.0)
+    try:
+        before = screenshot(page)
+        before_frames = page.evaluate("window.spectexDrawn.frames")
+        url = view_url(exports["paper"], camera, extra=view_fragment(1.0))
+        view = drawn_view(camera, 1.0)
+        frames, stale, title = page.evaluate(
+            f"([hash, view]) => {{ const frames = ({SET_FRAGMENT})(hash);"
+            f" return [frames, ({DRAWN_VIEW})([frames, ...view]), document.title]; }}", [url[url.index("#"):], view])
+        assert frames == before_frames + 1  # a new fragment: a frame to wait for
+        assert not stale and title == "spectex:ready"
+        page.wait_for_function(DRAWN_VIEW, arg=[frames, *view], timeout=60_000)
+        image = screenshot(page)
+    except BaseException:
+        viewer_pages.forget(page)
+        raise
+    fresh = open_page(browser, url)
+    try:
+        fresh_image = screenshot(fresh)
+    finally:
+        fresh.close()
+    np.testing.assert_array_equal(image, fresh_image)
+    reference = render(textures["paper"], camera, SIZE, backend="cpu", anisotropy=1.0).image
+    assert psnr(image, reference) >= 40.0
+    assert psnr(before, reference) < psnr(image, reference) - 3.0
 
 
 @pytest.mark.slow
