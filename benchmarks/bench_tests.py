@@ -20,7 +20,9 @@ out, so spectex's dependencies must already be installed), and prints:
 
 ``tests/js/node_modules`` (the engine tests' npm packages, ``npm ci`` in
 ``.ci/run``) is linked into the clone from this checkout when it is here.
-``SPECTEX_BPY_PYTHON`` is passed on as it is. ``CI=true``, so a test that
+``SPECTEX_BPY_PYTHON`` is passed on as it is; where it is not set and this
+checkout has the ``.venv-bpy`` that ``.ci/run`` makes, its Python is used (else
+Blender's tests fail, as in CI without it). ``CI=true``, so a test that
 cannot run fails instead of skipping.
 
 Run: ``python benchmarks/bench_tests.py [--workers N] [--keep] [-- PYTEST ARGS]``
@@ -95,6 +97,9 @@ def main(argv=None) -> int:
     env = dict(os.environ, PYTHONPATH=str(clone / "src"), CI="true", SPECTEX_TEST_COMPILE_LOG=str(compile_log),
                SPECTEX_TEST_CPU_LOG=str(cpu_log))
     env.pop("NUMBA_CACHE_DIR", None)  # numba's cache beside the clone's sources: empty
+    bpy = ROOT / ".venv-bpy" / "bin" / "python"  # made by .ci/run
+    if "SPECTEX_BPY_PYTHON" not in env and bpy.is_file():
+        env["SPECTEX_BPY_PYTHON"] = str(bpy)
     command = readme_pytest(clone, args.workers) + ["-q", *args.pytest_args]
     print(f"bench_tests: {head}\n  {' '.join(command[1:])} in {clone}", flush=True)
     load_before = os.getloadavg()
