@@ -1102,6 +1102,15 @@ def test_refusals_come_before_the_heavy_imports(argv, light_folder):
     assert not names & set(HEAVY), sorted(names & set(HEAVY))
 
 
+def test_export_of_a_periodic_texture_imports_no_numba(light_folder):
+    """An export reads the texture's tiles and mip levels and writes shaders: no kernel runs, so no
+    numba (the texture object of the sampler lives apart from its kernels)."""
+    rc, names = _imports(("export", "tex.toml", "-o", "exp", "--format", "web,glsl,godot"), light_folder)
+    assert rc == 0
+    assert not names & set(HEAVY), sorted(names & set(HEAVY))
+    shutil.rmtree(light_folder / "exp")
+
+
 def test_heavy_imports_control(light_folder):
     """The control: the same command that does the work imports numba (so the test above can fail)."""
     rc, names = _imports(("synth", "img.png", "--block", "16", "--size", "16", "-o", "x.png"), light_folder)

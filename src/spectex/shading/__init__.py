@@ -12,6 +12,8 @@ module                    what lives there
 ``shading.constants``     the one table of codes and constants (blends,
                           tilings, filters, wraps, sky and haze, limits)
 ``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
+``shading._mip_texture``  its texture object, :class:`MipTexture` (plain
+                          data: no kernel, no numba)
 ``shading.resources``     derived data of a texture (mip levels, texel
                           stores, stochastic tables), cached by content
 ``shading.tables``        a texture as one typed structure for the kernels

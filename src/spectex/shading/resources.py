@@ -120,7 +120,7 @@ def _kept(key, make):
 
 def _tile_levels(tile: np.ndarray, bits) -> list[np.ndarray]:
     from ..tiles.mipmap import quantize
-    from .sampler import default_mip_chain
+    from ._mip_texture import default_mip_chain
 
     return _kept(("levels", tile_digest(tile), bits),
                  lambda: [quantize(level, bits) for level in default_mip_chain(tile)])
@@ -149,7 +149,7 @@ def texel_store(texture, *, mipmaps=True) -> TexelStore:
     mipmaps = bool(mipmaps)
 
     def make():
-        from .sampler import MipTexture
+        from ._mip_texture import MipTexture
 
         textures = [MipTexture(lv if mipmaps else lv[:1], bits=None) for lv in mip_levels(texture)]
         tex = textures[0]
@@ -260,7 +260,7 @@ def stochastic_store(texture, *, mipmaps=True) -> StochasticStore:
     mipmaps = bool(mipmaps)
 
     def make():
-        from .sampler import MipTexture
+        from ._mip_texture import MipTexture
 
         tables = stochastic_tables(texture)
         textures = [MipTexture(tb.gaussian if mipmaps else tb.gaussian[:1], bits=None) for tb in tables]

@@ -32,9 +32,9 @@ from .constants import (
     TILING_STOCHASTIC,
     TILINGS,
     WRAP_REPEAT,
+    filter_code,
 )
 from .resources import cell_rows, cell_snaps, shading_resources
-from .sampler import filter_code
 
 __all__ = ["ShadingTables", "pack", "anchor_coords"]
 
