@@ -1070,6 +1070,11 @@ LIGHT_REFUSALS = [
     ("text", "c.txt", "--length", "1000000000000"),
     ("tile", "--from", "tex.toml", "-o", "x.png"),
     ("demo", "-o", "tex.toml"),
+    # the library's own checks, reached without its kernels: the tile's cut-off, fBm's amplitudes, a
+    # texture file's tile outside its folder (checked before dask and zarr)
+    ("tile", "--cutoff", "1e-12", "-o", "x.png"),
+    ("noise", "fbm", "--gain", "1e308", "--size", "16", "-o", "x.png"),
+    ("bake", "abs.toml", "-o", "b.zarr", "--size", "16", "--pixel-size", "1"),
 ]
 HEAVY = ("numba", "zarr", "dask", "moderngl")
 
@@ -1091,6 +1096,8 @@ def light_folder(tmp_path_factory):
     folder = tmp_path_factory.mktemp("light")
     io.write_image(folder / "img.png", np.random.default_rng(26).random((32, 32, 3)).astype(np.float32))
     SpectralTexture.paper_preset(tile_size=16).save(folder / "tex.toml")
+    toml = (folder / "tex.toml").read_text(encoding="utf-8")
+    (folder / "abs.toml").write_text(toml.replace('"tex.tile.png"', f'"{folder / "tex.tile.png"}"'), encoding="utf-8")
     (folder / "c.txt").write_text("the cat sat on the mat. " * 20, encoding="utf-8")
     return folder
 

@@ -113,7 +113,7 @@ def test_grey_ramp_gives_grey_and_ramp_kernel_matches_apply_colormap():
     from scipy.special import ndtr
 
     from spectex.color import apply_colormap, get_ramp
-    from spectex.tiles.from_noise import _ramp_kernel
+    from spectex.tiles._kernels import ramp as _ramp_kernel
 
     t = make_tile(64, rng=0, colormap="grey")
     np.testing.assert_allclose(t[:, :, 0], t[:, :, 1], atol=1e-6)
@@ -343,8 +343,11 @@ def test_small_tile_numpy_steps_match_the_numba_kernels():
     """make_tile runs its pixel steps in NumPy below ``NUMPY_MAX`` values (no numba kernel to
     load or compile on the demo's first run): the same numbers as the kernels, to float32 rounding."""
     from spectex.color import get_ramp
-    from spectex.tiles.from_noise import _interleave_kernel, _interleave_numpy, _ramp_kernel, _ramp_numpy
-    from spectex.tiles.ops import _gradient_kernel, _gradient_numpy
+    from spectex.tiles._kernels import gradient as _gradient_kernel
+    from spectex.tiles._kernels import interleave as _interleave_kernel
+    from spectex.tiles._kernels import ramp as _ramp_kernel
+    from spectex.tiles.from_noise import _interleave_numpy, _ramp_numpy
+    from spectex.tiles.ops import _gradient_numpy
 
     rng = np.random.default_rng(5)
     x = rng.standard_normal((24, 40)).astype(np.float32) * 2

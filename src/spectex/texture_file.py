@@ -52,7 +52,7 @@ import numpy as np
 from ._validate import _show, check_relative_name
 from .shading.constants import MAX_LAYERS, MAX_TILES
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "to_dict", "from_dict", "dumps",
+__all__ = ["FORMAT", "FORMAT_VERSION", "READ_VERSIONS", "save", "load", "check", "to_dict", "from_dict", "dumps",
            "named_files"]
 
 #: File format name and version written to and required in texture files.
@@ -166,6 +166,26 @@ def load(path, *, texture_type):
     ``load`` calls this); this module knows the format, not the class, so
     that the import runs one way only (``texture`` -> ``texture_file``).
     """
+    path, doc = _read_document(path)
+    try:
+        return from_dict(doc, base=path.parent, texture_type=texture_type)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"texture file '{path}': {exc}") from None
+
+
+def check(path) -> None:
+    """Check a texture file as :func:`load` does, up to reading its tiles: its size, its TOML, every
+    field and the tile names (relative, inside its folder); the same errors. For a command that
+    refuses a bad file before it imports what the work needs (``spectex bake``: dask and zarr)."""
+    path, doc = _read_document(path)
+    try:
+        _checked_fields(doc)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"texture file '{path}': {exc}") from None
+
+
+def _read_document(path):
+    """``(path, doc)``: the texture file checked as an input, read (at most its limit) and parsed."""
     from ._output import check_input_file, note_input
 
     path = check_input_file("texture", path)
@@ -178,15 +198,11 @@ def load(path, *, texture_type):
     try:
         text = data.decode("utf-8")
         _check_nesting(text, path)
-        doc = tomllib.loads(text)
+        return path, tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"texture file '{path}' is not valid TOML: {exc}") from None
     except RecursionError:  # a nesting that _check_nesting could not see (inside an odd string): same answer
         raise ValueError(f"texture file '{path}' nests arrays or tables deeper than {MAX_NESTING}") from None
-    try:
-        return from_dict(doc, base=path.parent, texture_type=texture_type)
-    except (ValueError, TypeError) as exc:
-        raise ValueError(f"texture file '{path}': {exc}") from None
 
 
 def named_files(path) -> list[Path]:
@@ -250,6 +266,17 @@ def from_dict(doc: dict, *, base=".", texture_type):
     from the tiles and the layers' tables (it makes and checks its layers;
     its errors are reworded here as the file's fields).
     """
+    bits, names, layers = _checked_fields(doc)
+    tiles = _read_tiles(names, base)
+    try:
+        return texture_type(tiles, layers, bits=8 if bits == 8 else None)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(_field_error(str(exc))) from None
+
+
+def _checked_fields(doc: dict):
+    """``(bits, tile names, layer tables)`` of the parsed file, every field checked, the tile names
+    relative to the file's folder; no tile read."""
     version = _check_header(doc)
     _check_stochastic_table(doc, version)
     bits = doc.get("bits", 8)
@@ -260,11 +287,9 @@ def from_dict(doc: dict, *, base=".", texture_type):
     if isinstance(raw_layers, list) and len(raw_layers) > MAX_LAYERS:  # before any tile is read
         raise ValueError(f"field 'layers' holds {len(raw_layers)} layers; a texture has at most {MAX_LAYERS}")
     layers = _layers_from_doc(doc, version)
-    tiles = _read_tiles(names, base)
-    try:
-        return texture_type(tiles, layers, bits=8 if bits == 8 else None)
-    except (ValueError, TypeError) as exc:
-        raise ValueError(_field_error(str(exc))) from None
+    for i, name in enumerate(names):
+        check_relative_name(f"field 'tiles[{i}]'", name)
+    return bits, names, layers
 
 
 _LAYER_ERROR = re.compile(r"(layers\[\d+\])(?:\.(\S+)|:) (.*)", re.S)

@@ -62,8 +62,6 @@ def check_inputs_apart(texture_path, output) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from spectex.bake import bake_zarr
-
     from ._common import UsageError
 
     if not Path(args.texture).is_file():
@@ -77,6 +75,11 @@ def run(args) -> int:
         raise UsageError(f"--output must end in .zarr (a store) or .png (one image), got '{args.output}'")
     if suffix == ".png":
         return _run_image(args)
+    from spectex import texture_file
+
+    texture_file.check(args.texture)  # every field, before dask and zarr are imported
+    from spectex.bake import bake_zarr
+
     args.chunk = 512 if args.chunk is None else args.chunk
     args.shard = 4096 if args.shard is None else args.shard
     with _common.Progress("baking") as progress:

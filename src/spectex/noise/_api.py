@@ -127,8 +127,6 @@ def perlin(x, y=None, z=None, *, seed=None, period=None):
 
 def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpolation,
              normalize, turbulent):
-    from . import _kernels
-
     basis = check_choice("basis", basis, tuple(_BASES))
     interpolation = check_choice("interpolation", interpolation, tuple(_INTERPOLATIONS))
     octaves = check_int("octaves", octaves, minimum=1, maximum=32)
@@ -162,6 +160,8 @@ def _fractal(x, y, z, *, basis, octaves, lacunarity, gain, seed, period, interpo
         raise ValueError(f"gain={gain} with octaves={octaves} overflows or underflows the amplitude")
     if normalize:
         amp = amp / amp.sum()
+    from . import _kernels  # numba: after every check, so that a refusal imports none of it
+
     tables = [_tables.octave_tables(seed, o) for o in range(octaves)]
     P, W, P8, V = (np.concatenate([t[k] for t in tables]) for k in range(4))
     V = V.astype(dtype)

@@ -58,9 +58,6 @@ D. R. Berger, "Spectral texturing for real-time applications", SIGGRAPH
 
 from __future__ import annotations
 
-import math
-
-import numba
 import numpy as np
 
 from .._limits import MAX_TILE_SIDE
@@ -79,49 +76,8 @@ ALPHAS = ("emboss", "luminance", "noise", "none")
 #: :mod:`spectex._limits`, so that the command line checks it before importing numba.
 MAX_SIZE = MAX_TILE_SIDE
 
-# Rec. 709 luma weights as numba sees them (module globals are constants to it).
+# Rec. 709 luma weights for the NumPy steps (``tiles._kernels`` takes the same from spectex.color).
 _LUMA_R, _LUMA_G, _LUMA_B = LUMA_REC709
-
-
-# --------------------------------------------------------------------------
-# Pixel kernels (numba; compiled on first use, cached on disk)
-# --------------------------------------------------------------------------
-
-@numba.njit(cache=True, parallel=True)
-def _ramp_kernel(field, pos, col, out):  # pragma: no cover - compiled
-    """out[c, i, j] = ramp_c(Phi(field[i, j])), ramp piecewise linear (np.interp)."""
-    h, w = field.shape
-    k = pos.shape[0]
-    for i in numba.prange(h):
-        for j in range(w):
-            t = 0.5 * math.erfc(-field[i, j] * 0.7071067811865476)
-            if t <= pos[0]:
-                for c in range(3):
-                    out[c, i, j] = col[0, c]
-            elif t >= pos[k - 1]:
-                for c in range(3):
-                    out[c, i, j] = col[k - 1, c]
-            else:
-                s = 1
-                while pos[s] < t:
-                    s += 1
-                # pos[s-1] < t <= pos[s], as np.interp
-                d = pos[s] - pos[s - 1]
-                u = (t - pos[s - 1]) / d if d > 0 else 1.0
-                for c in range(3):
-                    out[c, i, j] = col[s - 1, c] + u * (col[s, c] - col[s - 1, c])
-
-
-@numba.njit(cache=True, parallel=True)
-def _interleave_kernel(planes, lo, scale, out, lum):  # pragma: no cover - compiled
-    """out[i, j, c] = (planes[c, i, j] - lo[c]) scale[c], clipped; lum = Rec. 709 luma."""
-    nc, h, w = planes.shape
-    for i in numba.prange(h):
-        for j in range(w):
-            for c in range(nc):
-                v = (planes[c, i, j] - lo[c]) * scale[c]
-                out[i, j, c] = min(max(v, 0.0), 1.0)
-            lum[i, j] = _LUMA_R * out[i, j, 0] + _LUMA_G * out[i, j, 1] + _LUMA_B * out[i, j, 2]
 
 
 #: Below this many values, make_tile's pixel steps run in NumPy: on a 512 x 512
@@ -130,8 +86,15 @@ def _interleave_kernel(planes, lo, scale, out, lum):  # pragma: no cover - compi
 NUMPY_MAX = 1 << 21
 
 
+def _kernels():
+    """The numba pixel kernels (``tiles._kernels``), imported only where a tile is large enough to use them."""
+    from . import _kernels
+
+    return _kernels
+
+
 def _ramp_numpy(field, pos, col, out):
-    """:func:`_ramp_kernel` in NumPy (``np.interp`` in float64, the same numbers to float32 rounding)."""
+    """``tiles._kernels.ramp`` in NumPy (``np.interp`` in float64, the same numbers to float32 rounding)."""
     from scipy.special import erfc
 
     t = 0.5 * erfc(-field.astype(np.float64) * 0.7071067811865476)
@@ -141,7 +104,7 @@ def _ramp_numpy(field, pos, col, out):
 
 
 def _interleave_numpy(planes, lo, scale, out, lum):
-    """:func:`_interleave_kernel` in NumPy."""
+    """``tiles._kernels.interleave`` in NumPy."""
     nc = planes.shape[0]
     for c in range(nc):
         np.clip((planes[c] - lo[c]) * scale[c], 0.0, 1.0, out=out[:, :, c])
@@ -310,7 +273,7 @@ def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "embos
     pos, col = get_ramp(colormap)
     nplanes = 4 if alpha == "noise" else 3
     planes = np.empty((nplanes,) + small, dtype=np.float32)
-    ramp = _ramp_numpy if planes.size <= NUMPY_MAX else _ramp_kernel
+    ramp = _ramp_numpy if planes.size <= NUMPY_MAX else _kernels().ramp
     with _threads_for(planes.size):
         ramp(_standardise(field), pos.astype(np.float32), col[:, :3].astype(np.float32), planes)
     if alpha == "noise":
@@ -325,7 +288,7 @@ def make_tile(shape=512, *, rng=0, method: str = "spectral", alpha: str = "embos
             lo[c], scale[c] = min(a, 0.0), 1.0 / (max(b, 1.0) - min(a, 0.0))
     out = np.empty((h, w, 4), dtype=np.float32)
     lum = np.empty((h, w), dtype=np.float32)
-    interleave = _interleave_numpy if out.size <= NUMPY_MAX else _interleave_kernel
+    interleave = _interleave_numpy if out.size <= NUMPY_MAX else _kernels().interleave
     with _threads_for(out.size):
         interleave(planes, lo, scale, out, lum)
     del planes

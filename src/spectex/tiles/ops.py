@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from .._parallel import threads_for as _threads_for
@@ -20,21 +19,8 @@ __all__ = ["emboss", "fit_range", "preview"]
 _NUMPY_MAX = 1 << 21
 
 
-@numba.njit(cache=True, parallel=True)
-def _gradient_kernel(h, cx, cy, g):  # pragma: no cover - compiled
-    """g = cx (h[i, j+1] - h[i, j-1]) + cy (h[i-1, j] - h[i+1, j]), wrapping."""
-    n0, n1 = h.shape
-    for i in numba.prange(n0):
-        up = i - 1 if i > 0 else n0 - 1
-        dn = i + 1 if i < n0 - 1 else 0
-        for j in range(n1):
-            lf = j - 1 if j > 0 else n1 - 1
-            rt = j + 1 if j < n1 - 1 else 0
-            g[i, j] = cx * (h[i, rt] - h[i, lf]) + cy * (h[up, j] - h[dn, j])
-
-
 def _gradient_numpy(h, cx, cy, g):
-    """:func:`_gradient_kernel` in NumPy (small images: no numba kernel to load)."""
+    """``tiles._kernels.gradient`` in NumPy (small images: no numba kernel to load)."""
     g[...] = (cx * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1))
               + cy * (np.roll(h, 1, axis=0) - np.roll(h, -1, axis=0)))
 
@@ -103,7 +89,10 @@ def emboss(image, *, azimuth: float = 135.0, strength: float = 1.0) -> np.ndarra
 def _emboss(h: np.ndarray, azimuth: float, strength: float) -> np.ndarray:
     a = math.radians(azimuth)
     g = np.empty(h.shape, dtype=np.float32)
-    gradient = _gradient_numpy if h.size <= _NUMPY_MAX else _gradient_kernel
+    if h.size <= _NUMPY_MAX:
+        gradient = _gradient_numpy
+    else:
+        from ._kernels import gradient
     with _threads_for(h.size):
         gradient(np.ascontiguousarray(h, dtype=np.float32), np.float32(-0.5 * math.cos(a)),
                  np.float32(-0.5 * math.sin(a)), g)
