@@ -394,3 +394,79 @@ def test_fit_report_sees_a_magnified_coarse_layer():
     bad = fit_report(magnified, photo, pixel_size=1.0, prepared=prepared)
     assert not bad.coarse.within and bad.coarse.value > report.coarse.value + 0.1, (bad.coarse, report.coarse)
     assert fit_report(alone, photo, pixel_size=1.0, coarse_zoom=None).coarse is None
+
+
+# --------------------------------------------------------------------------
+# One-off content repeated
+# --------------------------------------------------------------------------
+
+def _with_leaf(grey, cy, cx, r=18):
+    """A grey photo as RGB with an orange leaf (an ellipse ``r`` pixels long) pasted on it: content the
+    photo shows once, as a leaf on gravel or a tripod's leg on a lawn."""
+    rgb = np.repeat(grey[:, :, None], 3, axis=2).copy()
+    yy, xx = np.mgrid[:grey.shape[0], :grey.shape[1]]
+    rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = (0.85, 0.55, 0.1)
+    return rgb
+
+
+def test_one_off_repeats_sees_a_pasted_leaf_repeated():
+    gravel = _photo("gravel")[:256, :256]
+    leafy = _with_leaf(gravel, 150, 100)
+    tiled = metrics.one_off_repeats(np.tile(leafy, (3, 3, 1)), leafy)
+    assert tiled.rarity > tiled.threshold
+    y0, x0, y1, x1 = tiled.box
+    assert y0 <= 150 < y1 and x0 <= 100 < x1 and (y1 - y0) * (x1 - x0) < 0.05 * 256 * 256  # the leaf, not more
+    assert tiled.copies == 9 and tiled.per_photo_area == pytest.approx(1.0) and not tiled.within
+    # the photo itself shows its leaf once: within
+    once = metrics.one_off_repeats(leafy, leafy)
+    assert once.copies == 1 and once.within
+    # a zoomed-out view (twice the pixel size) of the same tiling: the leaf at half size, found as often
+    h, w = 3 * 256, 3 * 256
+    far = np.tile(leafy, (3, 3, 1)).reshape(h // 2, 2, w // 2, 2, 3).mean(axis=(1, 3))
+    assert metrics.one_off_repeats(far, leafy, zoom=2.0).copies == 9
+    # the control: the same tiling of the photo without the leaf holds nothing one-off
+    plain = np.repeat(gravel[:, :, None], 3, axis=2)
+    clean = metrics.one_off_repeats(np.tile(plain, (3, 3, 1)), plain)
+    assert clean.box is None and clean.copies == 0 and clean.within and clean.rarity < clean.threshold
+
+
+@pytest.mark.parametrize("name", ["gravel", "brick", "grass", "moon"])
+def test_one_off_repeats_finds_nothing_in_whole_photos(name):
+    """Stones, bricks, blades and craters look like many others in their photo (moon's sparse craters
+    on flat ground are the closest to the threshold: 6.8 against 8)."""
+    photo = _photo(name)
+    r = metrics.one_off_repeats(np.tile(photo, (2, 2)), photo)
+    assert r.box is None and r.within and r.rarity < r.threshold, r.rarity
+
+
+def test_one_off_repeats_refuses_bad_input():
+    photo = _photo("gravel")[:64, :64]
+    with pytest.raises(ValueError, match="zoom"):
+        metrics.one_off_repeats(photo, photo, zoom=0.5)
+    with pytest.raises(ValueError, match="threshold"):
+        metrics.one_off_repeats(photo, photo, threshold=0.0)
+    with pytest.raises(ValueError, match="reference"):
+        metrics.one_off_repeats(photo, photo[:16, :16])
+
+
+def test_fit_report_and_compare_say_a_one_off_object_repeats(tmp_path, capsys):
+    """A texture whose one layer is a photo with a leaf shows the leaf once per photo area: the fit
+    report and ``spectex compare`` say so; the same without the leaf, nothing."""
+    from spectex.cli import main
+    from spectex.fitting import fit_report
+    from spectex.texture import Layer, SpectralTexture
+
+    gravel = _photo("gravel")[:256, :256]
+    reports = {}
+    for name, photo in (("leaf", _with_leaf(gravel, 150, 100)), ("plain", np.repeat(gravel[:, :, None], 3, 2))):
+        tile = np.dstack([photo, np.ones((256, 256), np.float32)]).astype(np.float32)
+        reports[name] = fit_report(SpectralTexture(tile, [Layer(size=256.0)]), photo, pixel_size=1.0,
+                                   coarse_zoom=None).one_off
+    assert reports["leaf"].copies == 4 and not reports["leaf"].within  # a bake of 2 x 2 photo areas
+    assert reports["plain"].box is None and reports["plain"].within
+    leafy = _with_leaf(gravel, 150, 100)
+    np.save(tmp_path / "photo.npy", leafy.astype(np.float32))
+    np.save(tmp_path / "tiled.npy", np.tile(leafy, (2, 2, 1)).astype(np.float32))
+    assert main(["compare", str(tmp_path / "tiled.npy"), "--reference", str(tmp_path / "photo.npy")]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("one-off content"))
+    assert "shown 4 times" in line and "REPEATED" in line, line

@@ -1001,7 +1001,7 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     view = check_image("view", view, min_size=2 * _TEMPLATE)
     p, zoom, mags, angles, pieces = _coarse_args(reference, zoom, magnifications, angles, pieces)
     tolerance = check_float("tolerance", tolerance, minimum=0.0)
-    v = _opponent(view if view.ndim == 2 else view[:, :, :3] if view.shape[2] >= 3 else view[:, :, 0])[0]
+    v = _opponent(view)[0]
     key = (_digest(p) if prepared is not None else None, v.shape, zoom, mags, angles, pieces)
     if isinstance(prepared, _CoarseReference) and prepared.key == key:
         targets, own = prepared.targets, prepared.own.copy()
@@ -1038,3 +1038,234 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
 def _nanmax_columns(a: np.ndarray):
     """Largest finite value of each column, nan for a column without one (no warning)."""
     return [float(np.max(c[np.isfinite(c)])) if np.any(np.isfinite(c)) else float("nan") for c in a.T]
+
+
+# --------------------------------------------------------------------------
+# One-off content of the photo, repeated in a texture
+# --------------------------------------------------------------------------
+
+#: The photo's rarity is measured at about this many pixels on its longer side.
+_RARE_WORK = 160
+#: Patch side (pixels at that scale), the step between patches, and PCA dimensions of a patch.
+_RARE_PATCH, _RARE_STEP, _RARE_DIMS = 8, 3, 16
+#: A patch's rarity is its distance to its 4th-nearest patch elsewhere in the photo ...
+_RARE_K = 4
+#: ... at least this many patch sides away (so that an object a few patches across is not its own neighbour).
+_RARE_APART = 2
+#: Smallest side of a piece of the one-off region at the view's scale that can be searched for.
+_RARE_MIN_TEMPLATE = 8
+#: Pieces of the one-off region searched for (its rarest patches, twice a patch's side, apart).
+_RARE_TEMPLATES = 4
+
+
+@dataclass(frozen=True, eq=False)
+class OneOffRepeats(AsDict):
+    """Content a photo shows once, and how often a texture shows it (:func:`one_off_repeats`).
+
+    Attributes
+    ----------
+    rarity : float
+        The photo's rarest patch: its distance to the nearest patches
+        elsewhere in the photo, less the median patch's, in units of the
+        spread of those distances (90th percentile less median). Ground,
+        grass, bricks, craters and stars: under 8; a tripod's leg on a
+        lawn: about 20 to 30.
+    threshold : float
+        Rarity above which a patch is one-off content.
+    box : tuple of int or None
+        ``(y0, x0, y1, x1)`` in photo pixels: the largest region of one-off
+        patches; None where the photo has none.
+    copies : int
+        Places where the view shows that region (normalised correlation of
+        the luma at least ``min_correlation``): a texture that tiles the
+        photo shows it once per photo area, a faithful texture at most once.
+    per_photo_area : float
+        ``copies`` over the view's area in photo areas.
+    within : bool
+        No one-off content, or shown at most once.
+    """
+
+    rarity: float
+    threshold: float
+    box: tuple | None
+    copies: int
+    per_photo_area: float
+    within: bool
+
+
+def _rarity(photo: np.ndarray):
+    """Per patch of the photo at :data:`_RARE_WORK` pixels, its rarity (:class:`OneOffRepeats`); the patches'
+    corners and the factor from that scale to the photo's pixels."""
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+
+    x = photo[:, :, None] if photo.ndim == 2 else photo[:, :, :3]
+    x = x.astype(np.float64)
+    f = max(1.0, max(x.shape[:2]) / _RARE_WORK)
+    if f > 1.0:
+        x = ndimage.gaussian_filter(x, (0.5 * f, 0.5 * f, 0.0), mode="reflect")
+        x = ndimage.zoom(x, (1.0 / f, 1.0 / f, 1.0), order=1, grid_mode=True, mode="reflect")
+    p = _RARE_PATCH
+    ys = np.arange(0, x.shape[0] - p + 1, _RARE_STEP)
+    xs = np.arange(0, x.shape[1] - p + 1, _RARE_STEP)
+    windows = np.lib.stride_tricks.sliding_window_view(x, (p, p), axis=(0, 1))[ys][:, xs]
+    patches = windows.reshape(len(ys) * len(xs), -1)
+    corners = np.stack(np.meshgrid(ys, xs, indexing="ij"), axis=-1).reshape(-1, 2)
+    centred = patches - patches.mean(axis=0)
+    _, _, vt = np.linalg.svd(centred, full_matrices=False)
+    features = centred @ vt[:_RARE_DIMS].T
+    n = min(len(features), 12 * _RARE_K + 1 + (2 * (-(-_RARE_APART * p // _RARE_STEP)) + 1) ** 2)  # past the near ones
+    _, idx = cKDTree(features).query(features, k=n)
+    # the candidates' distances over the whole patch, not the components alone: what sets a rare patch
+    # apart (a colour no other patch has) is little of the photo's variance, so little of its components
+    dist = np.empty(idx.shape)
+    flat = patches.astype(np.float32)
+    for start in range(0, len(flat), 1024):
+        part = flat[start:start + 1024]
+        diff = flat[idx[start:start + 1024]] - part[:, None, :]
+        dist[start:start + 1024] = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff))
+    apart = np.max(np.abs(corners[idx] - corners[:, None, :]), axis=2) >= _RARE_APART * p
+    ranked = np.where(apart, dist, np.inf)
+    ranked.sort(axis=1)
+    d = ranked[:, _RARE_K - 1]
+    d = np.where(np.isfinite(d), d, dist[:, -1])
+    median = float(np.median(d))
+    spread = float(np.percentile(d, 90)) - median
+    rarity = (d - median) / spread if spread > 1e-9 * max(median, 1e-12) else np.zeros_like(d)
+    return rarity, corners, f
+
+
+def _one_off_region(rarity, corners, f, shape, threshold):
+    """The largest connected region of patches over ``threshold``: its bounding box in photo pixels and,
+    inside it, up to :data:`_RARE_TEMPLATES` squares of twice a patch's side (photo pixels, ``(y0, x0,
+    y1, x1)``) around its rarest patches, apart from each other; ``(None, [])`` without one."""
+    from scipy import ndimage
+
+    rare = rarity > threshold
+    if not np.any(rare):
+        return None, []
+    p = _RARE_PATCH
+    h = int(corners[:, 0].max()) + p
+    w = int(corners[:, 1].max()) + p
+    mask = np.zeros((h, w), bool)
+    for y, x in corners[rare]:
+        mask[y:y + p, x:x + p] = True
+    labels, count = ndimage.label(mask, structure=np.ones((3, 3)))
+    sizes = ndimage.sum(mask, labels, index=np.arange(1, count + 1))
+    largest = int(np.argmax(sizes)) + 1
+    ys, xs = ndimage.find_objects(labels)[largest - 1]
+    box = (int(np.floor(ys.start * f)), int(np.floor(xs.start * f)),
+           min(shape[0], int(np.ceil(ys.stop * f))), min(shape[1], int(np.ceil(xs.stop * f))))
+    inside = np.flatnonzero(rare & (labels[corners[:, 0], corners[:, 1]] == largest))
+    squares, taken = [], []
+    for i in inside[np.argsort(-rarity[inside])]:
+        cy, cx = corners[i] + p / 2.0
+        if any(max(abs(cy - ty), abs(cx - tx)) < 2 * p for ty, tx in taken):
+            continue
+        taken.append((cy, cx))
+        side = 2 * p * f
+        y0 = int(round(min(max(cy * f - side / 2, 0), shape[0] - side)))
+        x0 = int(round(min(max(cx * f - side / 2, 0), shape[1] - side)))
+        squares.append((y0, x0, y0 + int(round(side)), x0 + int(round(side))))
+        if len(squares) == _RARE_TEMPLATES:
+            break
+    return box, squares
+
+
+def _count_copies(view: np.ndarray, template: np.ndarray, min_correlation: float) -> int:
+    """Places where ``template`` (wholly inside the view) correlates with the view at least
+    ``min_correlation`` (normalised, zero-mean), at least a template's size apart."""
+    import scipy.fft as sfft
+
+    th, tw = template.shape
+    h, w = view.shape
+    t = template - template.mean()
+    norm = float(np.sqrt(np.sum(t * t)))
+    if norm <= 1e-9:
+        return 0
+    shape = (h + th, w + tw)  # no wrap-around into the valid places
+    fv = sfft.rfft2(view, s=shape)
+    num = sfft.irfft2(fv * np.conj(sfft.rfft2(t, s=shape)), s=shape)[:h - th + 1, :w - tw + 1]
+    box = np.ones((th, tw))
+    fb = np.conj(sfft.rfft2(box, s=shape))
+    s1 = sfft.irfft2(fv * fb, s=shape)[:h - th + 1, :w - tw + 1]
+    s2 = sfft.irfft2(sfft.rfft2(view * view, s=shape) * fb, s=shape)[:h - th + 1, :w - tw + 1]
+    var = np.maximum(s2 - s1 * s1 / (th * tw), 0.0)
+    ok = var > 1e-9 * max(float(var.max()), 1e-30)
+    ncc = np.where(ok, num / (norm * np.sqrt(np.where(ok, var, 1.0))), -1.0)
+    copies = 0
+    while copies < 10000:
+        i = int(np.argmax(ncc))
+        y, x = divmod(i, ncc.shape[1])
+        if ncc[y, x] < min_correlation:
+            break
+        copies += 1
+        ncc[max(0, y - th + 1):y + th, max(0, x - tw + 1):x + tw] = -1.0
+    return copies
+
+
+def one_off_repeats(view, reference, *, zoom: float = 1.0, threshold: float = 8.0,
+                    min_correlation: float = 0.8) -> OneOffRepeats:
+    """Find content the photo shows once (a tripod's leg on a lawn, a leaf on gravel) and count it in a view.
+
+    A texture made of pieces of a photo repeats every piece, which is
+    invisible where every piece looks like many others (gravel, grass) and
+    plain where one does not: a foreign object, repeated at random places,
+    is the first thing a viewer sees. The band-power, histogram, structure
+    and ``repeat_peak`` measures do not see it (the copies are not on a
+    lattice, and their density is the photo's). This measure looks for it
+    directly. Each 8 x 8 patch of the photo (at about 160 pixels on its
+    longer side) is compared with every patch elsewhere in it (colour or
+    luma values, 16 principal components): its rarity is its distance to
+    its 4th-nearest, in units of the photo's own spread of those distances
+    (90th percentile less median; :class:`OneOffRepeats`). Patches over
+    ``threshold`` are one-off content; the largest connected region of them
+    is cut from the photo and searched for in the view (normalised
+    correlation of the luma, at the view's scale), and its copies counted.
+
+    Parameters
+    ----------
+    view : ndarray, shape (H, W) or (H, W, C)
+        The texture rendered at ``zoom`` times the photo's pixel size (e.g.
+        ``bake(texture, (1448, 1448), pixel_size=p)``: 8 times the area of a
+        512-pixel photo at its own scale).
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The photo, at least 32 pixels a side.
+    zoom : float
+        The view's pixel size over the photo's (>= 1).
+    threshold : float
+        Rarity over which a patch is one-off content (> 0).
+    min_correlation : float
+        Correlation from which a place of the view counts as a copy (0 to 1).
+
+    Returns
+    -------
+    OneOffRepeats
+    """
+    view = check_image("view", view, min_size=_RARE_MIN_TEMPLATE)
+    reference = check_image("reference", reference, min_size=32)
+    zoom = check_float("zoom", zoom, minimum=1.0, maximum=1e6)
+    threshold = check_float("threshold", threshold, minimum=0.0, exclusive_minimum=True)
+    min_correlation = check_float("min_correlation", min_correlation, minimum=0.0, maximum=1.0)
+    rarity, corners, f = _rarity(reference)
+    box, squares = _one_off_region(rarity, corners, f, reference.shape, threshold)
+    top = float(rarity.max())
+    photo_areas = view.shape[0] * view.shape[1] * zoom * zoom / (reference.shape[0] * reference.shape[1])
+    if box is None:
+        return OneOffRepeats(rarity=top, threshold=threshold, box=None, copies=0, per_photo_area=0.0,
+                             within=True)
+    luma_photo, v = _opponent(reference)[0], _opponent(view)[0]
+    copies = 0
+    for y0, x0, y1, x1 in squares:
+        template = luma_photo[y0:y1, x0:x1]
+        if zoom > 1.0:
+            template = _resample(template, 1.0 / zoom)
+        if min(template.shape) < _RARE_MIN_TEMPLATE or template.shape[0] > v.shape[0] \
+                or template.shape[1] > v.shape[1]:
+            raise ValueError(f"the photo's one-off content, {x1 - x0}x{y1 - y0} pixels, is "
+                             f"{template.shape[1]}x{template.shape[0]} view pixels at zoom={zoom:g}: a view of "
+                             f"{v.shape[1]}x{v.shape[0]} cannot be searched for it (at least "
+                             f"{_RARE_MIN_TEMPLATE} and at most the view)")
+        copies = max(copies, _count_copies(v, template, min_correlation))
+    return OneOffRepeats(rarity=top, threshold=threshold, box=box, copies=copies,
+                         per_photo_area=copies / photo_areas, within=copies <= 1)

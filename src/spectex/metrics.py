@@ -54,12 +54,14 @@ from ._results import AsDict
 from ._texture_stats import (  # structural measures (issue 22), in their own module
     Clipping,
     CoarseCopies,
+    OneOffRepeats,
     StructuralDistance,
     TextureStatistics,
     clipped_fraction,
     clipping,
     coarse_copies,
     coarse_reference,
+    one_off_repeats,
     reference_statistics,
     structural_distance,
     texture_statistics,
@@ -97,6 +99,8 @@ __all__ = [
     "coarse_copies",
     "coarse_reference",
     "CoarseCopies",
+    "one_off_repeats",
+    "OneOffRepeats",
     "line_breaks",
     "LineBreaks",
     "cell_splits",
@@ -966,6 +970,10 @@ class Comparison(AsDict):
         With the reference's structure ``period``: :func:`cell_splits`, its
         bricks or floor tiles changing colour partway across (None without a
         period or where either image shows no separate cells).
+    one_off : OneOffRepeats or None
+        :func:`one_off_repeats`: content the reference shows once, and how
+        often the image shows it (at ``zoom``, else at the reference's pixel
+        size; None where the image is too small to be searched for it).
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     """
@@ -986,6 +994,17 @@ class Comparison(AsDict):
     clipping: Clipping | None = None
     coarse: CoarseCopies | None = None
     cells: CellSplits | None = None
+    one_off: OneOffRepeats | None = None
+
+
+def _one_off_or_none(image, reference, zoom):
+    """:func:`one_off_repeats`, None where the reference is under 32 pixels or the image too small to search."""
+    if min(reference.shape[:2]) < 32:
+        return None
+    try:
+        return one_off_repeats(image, reference, zoom=1.0 if zoom is None else zoom)
+    except ValueError:
+        return None
 
 
 def _repeat_peak_or_none(image):
@@ -1064,4 +1083,5 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         seam_energy=seam_energy(image, block, overlap) if block is not None else None,
         structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
-        cells=cell_splits(image, reference, period=period) if period is not None else None)
+        cells=cell_splits(image, reference, period=period) if period is not None else None,
+        one_off=_one_off_or_none(image, reference, zoom))

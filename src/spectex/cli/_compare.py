@@ -184,5 +184,15 @@ def _print_table(r, image, reference) -> None:
         print(f"cells split image / ref.   {num(k.image, '{:.2f}')} / {num(k.reference, '{:.2f}')} = "
               f"{num(k.ratio, '{:.2f}')}x   (bricks, floor tiles changing colour partway across; about 1 is "
               "the reference's own)")
+    if r.one_off is not None:
+        k = r.one_off
+        if k.box is None:
+            print(f"one-off content            none in the reference (its rarest patch {k.rarity:.1f} <= "
+                  f"{k.threshold:g})")
+        else:
+            y0, x0, y1, x1 = k.box
+            print(f"one-off content            reference x {x0}-{x1}, y {y0}-{y1} (rarity {k.rarity:.1f}): shown "
+                  f"{k.copies} times ({k.per_photo_area:.2f} per reference area): "
+                  + ("at most once" if k.within else "REPEATED, the same object at several places"))
     if r.seam_energy is not None:
         print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

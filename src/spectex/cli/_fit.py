@@ -218,4 +218,12 @@ def _structure_line(numbers) -> str:
     if getattr(numbers, "cells", None) is not None:
         line += (f"; bricks or tiles changing colour partway across {numbers.cells.ratio:.2f}x the photo's own "
                  f"({numbers.cells.cells_image} cells)")
+    one_off = getattr(numbers, "one_off", None)
+    if one_off is not None and one_off.box is None:
+        line += "; one-off content none"
+    elif one_off is not None:
+        y0, x0, y1, x1 = one_off.box
+        line += (f"; one-off content at photo x {x0}-{x1}, y {y0}-{y1} shown {one_off.copies} times over 8x its "
+                 "area" + ("" if one_off.within else " (a viewer sees the same object repeated: crop it out of "
+                                                      "the photo if it is not part of the texture)"))
     return line

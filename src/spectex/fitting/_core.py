@@ -393,6 +393,9 @@ class FitReport(AsDict):
     #: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar (bricks, floor tiles
     #: changing colour partway across: about 1 is the photo's own; None for an unstructured photo)
     cells: object = None
+    #: :func:`spectex.metrics.one_off_repeats` of the bake: content the photo shows once (a leaf, a tripod's
+    #: leg) and how often the texture shows it (None for an exemplar under 32 pixels)
+    one_off: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -488,7 +491,9 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         (:func:`spectex.metrics.clipping`); ``coarse``
         (:func:`spectex.metrics.coarse_copies` on a view of the texture,
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
-        without ``coarse_zoom`` or for an exemplar under 192 pixels).
+        without ``coarse_zoom`` or for an exemplar under 192 pixels);
+        ``one_off`` (:func:`spectex.metrics.one_off_repeats` of the bake:
+        content the photo shows once and how often the texture shows it).
     """
     from concurrent.futures import ThreadPoolExecutor
 
@@ -532,7 +537,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         others = dict(band_power_distance_db=band_power_distance(exemplar, bake),
                       band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
                       histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
-                      cells=_cells(bake, exemplar))
+                      cells=_cells(bake, exemplar), one_off=_one_off(bake, exemplar))
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -557,6 +562,19 @@ def _cells(bake, exemplar):
         return None
     period = structure_period(exemplar)
     return None if period == (None, None) else cell_splits(bake, exemplar, period=period)
+
+
+def _one_off(bake, exemplar):
+    """:func:`spectex.metrics.one_off_repeats` of the bake (at the exemplar's pixel size), None for a small
+    exemplar."""
+    from ..metrics import one_off_repeats
+
+    if min(exemplar.shape[:2]) < 32:
+        return None
+    try:
+        return one_off_repeats(bake, exemplar)
+    except ValueError:  # a one-off region larger than the bake: nothing to count
+        return None
 
 
 def _coarse(view, exemplar, zoom, prepared, kwargs):
