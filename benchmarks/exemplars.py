@@ -74,6 +74,22 @@ def tiles(side: int = 512, *, period: int = 64, grout: int = 5, rng=11) -> np.nd
     return np.clip(img, 0.0, 1.0).astype(np.float32)
 
 
+def with_leaf(photo: np.ndarray, cy: int, cx: int, r: float = 18.0) -> np.ndarray:
+    """``photo`` (grey or RGB) as RGB with an orange leaf pasted on it (an ellipse ``r`` pixels long,
+    centred at ``(cy, cx)``): content the photo shows once (issue 22's one-off content)."""
+    rgb = np.repeat(photo[:, :, None], 3, axis=2) if photo.ndim == 2 else photo[:, :, :3]
+    rgb = rgb.astype(np.float32).copy()
+    yy, xx = np.mgrid[:rgb.shape[0], :rgb.shape[1]]
+    rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = (0.85, 0.55, 0.1)
+    return rgb
+
+
+def lawn() -> np.ndarray:
+    """The lawn at the bottom right of scikit-image's ``camera()`` (132 x 132, grey), with the foot of
+    the tripod at its lower left: a photo of grass holding one object."""
+    return _skimage("camera")[380:512, 380:512]
+
+
 def load(name: str) -> np.ndarray:
     """One exemplar by name (see :data:`NAMES`)."""
     if name in ("gravel", "brick", "grass", "moon"):

@@ -7,8 +7,8 @@ import pytest
 import skimage.data
 
 from spectex import metrics
+from spectex._seams import min_cut_path
 from spectex.synthesis import quilt
-from spectex.synthesis._cut import min_cut_path
 from spectex.synthesis._quilting import _overlap_errors
 
 

@@ -1172,6 +1172,15 @@ def _one_off_region(rarity, corners, f, shape, threshold):
     return box, squares
 
 
+def one_off_content(photo: np.ndarray, *, threshold: float = 8.0):
+    """``(box, squares, rarity)``: the photo's largest region of one-off content (photo pixels, ``(y0, x0,
+    y1, x1)``, or None), the squares around its rarest patches, and the rarest patch's rarity
+    (:func:`one_off_repeats`; the fit leaves the region out of its tile)."""
+    rarity, corners, f = _rarity(photo)
+    box, squares = _one_off_region(rarity, corners, f, photo.shape, threshold)
+    return box, squares, float(rarity.max())
+
+
 def _count_copies(view: np.ndarray, template: np.ndarray, min_correlation: float) -> int:
     """Places where ``template`` (wholly inside the view) correlates with the view at least
     ``min_correlation`` (normalised, zero-mean), at least a template's size apart."""
@@ -1247,9 +1256,7 @@ def one_off_repeats(view, reference, *, zoom: float = 1.0, threshold: float = 8.
     zoom = check_float("zoom", zoom, minimum=1.0, maximum=1e6)
     threshold = check_float("threshold", threshold, minimum=0.0, exclusive_minimum=True)
     min_correlation = check_float("min_correlation", min_correlation, minimum=0.0, maximum=1.0)
-    rarity, corners, f = _rarity(reference)
-    box, squares = _one_off_region(rarity, corners, f, reference.shape, threshold)
-    top = float(rarity.max())
+    box, squares, top = one_off_content(reference, threshold=threshold)
     photo_areas = view.shape[0] * view.shape[1] * zoom * zoom / (reference.shape[0] * reference.shape[1])
     if box is None:
         return OneOffRepeats(rarity=top, threshold=threshold, box=None, copies=0, per_photo_area=0.0,

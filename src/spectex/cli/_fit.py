@@ -41,6 +41,9 @@ def register(subparsers) -> None:
     p.add_argument("--opacity", type=_common.positive_float, default=None,
                    help="opacity of the first coarse layer (default: 0.1)")
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
+    p.add_argument("--keep-one-off", action="store_true",
+                   help="keep content the photo shows once (a leaf, a tripod's foot) in the tile; by default it "
+                        "is filled from the rest of the photo, since the texture would repeat it everywhere")
     _common.add_normalize(p)
     p.set_defaults(func=run)
 
@@ -109,7 +112,8 @@ def run(args) -> int | None:
     reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications))
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
-                            ratio=args.ratio, opacity=args.opacity, rng=args.seed, progress=bar)
+                            ratio=args.ratio, opacity=args.opacity, rng=args.seed,
+                            keep_one_off=args.keep_one_off, progress=bar)
     return _finish(args, outputs, exemplar, result, reference, magnifications, start)
 
 

@@ -43,7 +43,7 @@ __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "report_
 def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
         ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
         tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-        patch: float | None = None, method: str = "auto", progress=None):
+        patch: float | None = None, method: str = "auto", keep_one_off: bool = False, progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     **The default, ``method="auto"``** (issue 22; ``spectex.fitting._auto`` and
@@ -63,7 +63,12 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     shifted to the photo's, inside the photo's range per channel. Scale: ``pixel_size``, or
     ``photo_size`` (metres across the photo's longer side), or, with
     neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
-    result's notes).
+    result's notes). Content the photo shows once (a leaf on gravel, a
+    tripod's foot on a lawn: :func:`spectex.metrics.one_off_repeats`'s
+    rarity over its threshold) would come back once per photo area, the
+    same object at random places; it is filled from elsewhere in the photo
+    first (cut along minimum-error seams; said in the notes), unless
+    ``keep_one_off``.
 
     **``method="legacy"``**, the fit before issue 22, kept only so that
     ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
@@ -204,14 +209,15 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     """
     kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
                   iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
-                  method=method, progress=progress, rng=rng)
+                  method=method, keep_one_off=keep_one_off, progress=progress, rng=rng)
     return fit_result(image, **kwargs).texture
 
 
 def fit_result(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
                ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
                tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-               patch: float | None = None, method: str = "auto", progress=None) -> FitResult:
+               patch: float | None = None, method: str = "auto", keep_one_off: bool = False,
+               progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -227,6 +233,8 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
         gains, the band error of each step, tilings, ...) and ``seconds``.
     """
     method = check_choice("method", method, FIT_METHODS)
+    if not isinstance(keep_one_off, bool):
+        raise TypeError(f"keep_one_off must be True or False, got {keep_one_off!r}")
     if method == "legacy":
         if photo_size is not None:
             raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
@@ -238,6 +246,6 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
 
     return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
                     opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
-                    tiling=tiling, patch=patch, progress=progress)
+                    tiling=tiling, patch=patch, keep_one_off=keep_one_off, progress=progress)
 
 

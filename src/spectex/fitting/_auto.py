@@ -683,6 +683,31 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
     return pixel_size, scale
 
 
+def _leave_out_one_off(exemplar, notes):
+    """Content the photo shows once (:func:`spectex.metrics.one_off_repeats`), filled from the rest of it
+    (``_one_off.remove_one_off``): a dict of the filled photo, the region and where it came from, said in
+    ``notes``; None where there is none (or it cannot be filled)."""
+    from .._texture_stats import one_off_content
+    from ._one_off import remove_one_off
+
+    if min(exemplar.shape[:2]) < 32:
+        return None
+    box, _, rarity = one_off_content(exemplar)
+    if box is None:
+        return None
+    y0, x0, y1, x1 = box
+    filled, source = remove_one_off(exemplar, box)
+    where = f"x {x0}-{x1}, y {y0}-{y1}"
+    if source is None:
+        notes.append(f"the photo holds one-off content at {where} (rarity {rarity:.1f}) too large to fill from "
+                     "the rest of it: the texture repeats it once per photo area; crop it out")
+        return None
+    notes.append(f"left out one-off content at {where} of the photo (rarity {rarity:.1f}: it would repeat once "
+                 f"per photo area), filled from x {source[1]}, y {source[0]} (keep it with keep_one_off=True / "
+                 "--keep-one-off)")
+    return {"filled": filled, "box": box, "source": source, "rarity": rarity}
+
+
 def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, tiling="auto", patch=None,
                   progress=None):
     """The fit's options checked (no image needed: the command line checks them before reading the photo).
@@ -708,7 +733,8 @@ def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, 
 
 
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
-             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, progress=None) -> FitResult:
+             tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, keep_one_off=False,
+             progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
     start = time.perf_counter()
     layers, ratio, opacity, iterations, rng, tiling, patch = check_options(
@@ -720,6 +746,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
+    one_off = None if keep_one_off else _leave_out_one_off(exemplar, notes)
+    if one_off is not None:
+        exemplar = one_off.pop("filled")
     h, w = exemplar.shape[:2]
     total = 3 + iterations
     done = 0
@@ -843,6 +872,6 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
               "structure_peak": structure, "orientation_deg": angle, "orientation_drift_deg": drift,
               "period_px": period,
               "tile_period_px": None if cut is None else cut[3], "trial": trial, "snap": snap0, "patch": patch,
-              "scale": scale}
+              "scale": scale, "one_off": one_off}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)

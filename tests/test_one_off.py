@@ -1,0 +1,75 @@
+"""One-off content left out of the fit (issue 22): a leaf on gravel is filled from the rest of the photo.
+
+The measure that finds it (``spectex.metrics.one_off_repeats``) is tested with the other structural
+measures in ``test_metrics_structure.py``; here the fill (``spectex.fitting._one_off``) and the fit
+that uses it, with ``keep_one_off=True`` as the control.
+"""
+
+import numpy as np
+import pytest
+
+from spectex._texture_stats import one_off_content
+from spectex.fitting import fit_result
+from spectex.fitting._one_off import remove_one_off
+
+skimage_data = pytest.importorskip("skimage.data")
+
+ORANGE = (0.85, 0.55, 0.1)
+
+
+def _leafy(side=256, cy=150, cx=100, r=18):
+    grey = skimage_data.gravel()[:side, :side].astype(np.float32) / 255.0
+    rgb = np.repeat(grey[:, :, None], 3, axis=2).copy()
+    plain = rgb.copy()
+    yy, xx = np.mgrid[:side, :side]
+    rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = ORANGE
+    return rgb, plain
+
+
+def _orange(image):
+    """How many pixels are the leaf's orange (gravel is grey)."""
+    return int(np.sum((image[..., 0] - image[..., 2]) > 0.4))
+
+
+def test_remove_one_off_fills_the_leaf_from_the_photo_and_touches_nothing_else():
+    photo, _ = _leafy()
+    box, _, rarity = one_off_content(photo)
+    assert box is not None and rarity > 8.0
+    filled, source = remove_one_off(photo, box)
+    assert source is not None and _orange(photo) > 100 and _orange(filled) == 0
+    assert one_off_content(filled)[0] is None  # nothing one-off left
+    changed = np.any(filled != photo, axis=2)
+    ys, xs = np.nonzero(changed)
+    y0, x0, y1, x1 = box
+    # only around the region: inside its window (the box and a ring of half its larger side)
+    ring = max(6, round(0.5 * max(y1 - y0, x1 - x0)))
+    assert ys.min() >= y0 - ring and ys.max() < y1 + ring and xs.min() >= x0 - ring and xs.max() < x1 + ring
+    # every changed pixel is the photo's own, from the window at the source, at the same offset
+    wy0, wx0 = max(0, y0 - ring), max(0, x0 - ring)
+    sy, sx = source
+    assert np.array_equal(filled[ys, xs], photo[ys - wy0 + sy, xs - wx0 + sx])
+    # the source window holds none of the leaf
+    assert _orange(photo[sy:sy + (y1 + ring - wy0), sx:sx + (x1 + ring - wx0)]) == 0
+
+
+def test_remove_one_off_refuses_a_region_too_large_to_fill():
+    photo, _ = _leafy()
+    same, source = remove_one_off(photo, (20, 20, 200, 200))
+    assert source is None and same is photo
+
+
+def test_fit_leaves_the_leaf_out_unless_asked_to_keep_it():
+    photo, plain = _leafy()
+    fitted = fit_result(photo, rng=0)
+    assert fitted.params["one_off"] is not None
+    y0, x0, y1, x1 = fitted.params["one_off"]["box"]
+    assert y0 <= 150 < y1 and x0 <= 100 < x1
+    assert any("left out one-off content" in note for note in fitted.notes)
+    assert _orange(fitted.texture.tiles[0][:, :, :3]) == 0
+    kept = fit_result(photo, rng=0, keep_one_off=True)  # the control: the leaf is in the tile
+    assert kept.params["one_off"] is None and _orange(kept.texture.tiles[0][:, :, :3]) > 50
+    # a photo without one: the fit as before, nothing said
+    clean = fit_result(plain, rng=0)
+    assert clean.params["one_off"] is None and not any("one-off" in note for note in clean.notes)
+    with pytest.raises(TypeError, match="keep_one_off"):
+        fit_result(photo, keep_one_off="yes")
