@@ -1056,6 +1056,8 @@ _RARE_APART = 2
 _RARE_MIN_TEMPLATE = 8
 #: Pieces of the one-off region searched for (its rarest patches, twice a patch's side, apart).
 _RARE_TEMPLATES = 4
+#: The view is searched over at most this many pixels a side (its top-left corner): bounded work.
+_RARE_MAX_VIEW = 2048
 
 
 @dataclass(frozen=True, eq=False)
@@ -1077,10 +1079,11 @@ class OneOffRepeats(AsDict):
         patches; None where the photo has none.
     copies : int
         Places where the view shows that region (normalised correlation of
-        the luma at least ``min_correlation``): a texture that tiles the
-        photo shows it once per photo area, a faithful texture at most once.
+        the luma at least ``min_correlation``; the view's top-left 2048 x
+        2048 pixels at most): a texture that tiles the photo shows it once
+        per photo area, a faithful texture at most once.
     per_photo_area : float
-        ``copies`` over the view's area in photo areas.
+        ``copies`` over the searched area in photo areas.
     within : bool
         No one-off content, or shown at most once.
     """
@@ -1257,6 +1260,7 @@ def one_off_repeats(view, reference, *, zoom: float = 1.0, threshold: float = 8.
     threshold = check_float("threshold", threshold, minimum=0.0, exclusive_minimum=True)
     min_correlation = check_float("min_correlation", min_correlation, minimum=0.0, maximum=1.0)
     box, squares, top = one_off_content(reference, threshold=threshold)
+    view = view[:_RARE_MAX_VIEW, :_RARE_MAX_VIEW]
     photo_areas = view.shape[0] * view.shape[1] * zoom * zoom / (reference.shape[0] * reference.shape[1])
     if box is None:
         return OneOffRepeats(rarity=top, threshold=threshold, box=None, copies=0, per_photo_area=0.0,
