@@ -683,29 +683,38 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
     return pixel_size, scale
 
 
+#: Most regions of one-off content the fit fills, largest first (each found again on the filled photo).
+MAX_ONE_OFF = 4
+
+
 def _leave_out_one_off(exemplar, notes):
     """Content the photo shows once (:func:`spectex.metrics.one_off_repeats`), filled from the rest of it
-    (``_one_off.remove_one_off``): a dict of the filled photo, the region and where it came from, said in
-    ``notes``; None where there is none (or it cannot be filled)."""
+    (``_one_off.remove_one_off``), region by region, largest first, at most :data:`MAX_ONE_OFF`: the
+    filled photo and a list of ``{"box", "source", "rarity"}``, each said in ``notes``; None where there
+    is none (or none can be filled)."""
     from .._texture_stats import one_off_content
     from ._one_off import remove_one_off
 
     if min(exemplar.shape[:2]) < 32:
         return None
-    box, _, rarity = one_off_content(exemplar)
-    if box is None:
-        return None
-    y0, x0, y1, x1 = box
-    filled, source = remove_one_off(exemplar, box)
-    where = f"x {x0}-{x1}, y {y0}-{y1}"
-    if source is None:
-        notes.append(f"the photo holds one-off content at {where} (rarity {rarity:.1f}) too large to fill from "
-                     "the rest of it: the texture repeats it once per photo area; crop it out")
-        return None
-    notes.append(f"left out one-off content at {where} of the photo (rarity {rarity:.1f}: it would repeat once "
-                 f"per photo area), filled from x {source[1]}, y {source[0]} (keep it with keep_one_off=True / "
-                 "--keep-one-off)")
-    return {"filled": filled, "box": box, "source": source, "rarity": rarity}
+    regions = []
+    for _ in range(MAX_ONE_OFF):
+        box, _, rarity = one_off_content(exemplar)
+        if box is None:
+            break
+        y0, x0, y1, x1 = box
+        filled, source = remove_one_off(exemplar, box)
+        where = f"x {x0}-{x1}, y {y0}-{y1}"
+        if source is None:
+            notes.append(f"the photo holds one-off content at {where} (rarity {rarity:.1f}) too large to fill "
+                         "from the rest of it: the texture repeats it once per photo area; crop it out")
+            break
+        notes.append(f"left out one-off content at {where} of the photo (rarity {rarity:.1f}: it would repeat "
+                     f"once per photo area), filled from x {source[1]}, y {source[0]} (keep it with "
+                     "keep_one_off=True / --keep-one-off)")
+        regions.append({"box": box, "source": source, "rarity": rarity})
+        exemplar = filled
+    return None if not regions else (exemplar, regions)
 
 
 def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, tiling="auto", patch=None,
@@ -748,7 +757,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
     one_off = None if keep_one_off else _leave_out_one_off(exemplar, notes)
     if one_off is not None:
-        exemplar = one_off.pop("filled")
+        exemplar, one_off = one_off
     h, w = exemplar.shape[:2]
     total = 3 + iterations
     done = 0
