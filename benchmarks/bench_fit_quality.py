@@ -41,6 +41,10 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   cells made of two (patch boundaries across them);
 * ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
   with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
+* ``1off``: :func:`spectex.metrics.one_off_repeats` of the near render: copies per photo area of
+  content the photo shows once (a leaf pasted on gravel); 0 where the photo has none (all 8 default
+  photos), about 1 for a texture that repeats it. ``--only gravel_leaf,grass_leaf`` runs the two
+  photos of ``exemplars.EXTRA`` that hold one;
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
 
 The machine, its load and the date are printed with the table.
@@ -61,6 +65,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _machine import cpu_name
 from exemplars import exemplars
+from exemplars import load as load_photo
 from tiling_blending import tile_and_blend
 
 from spectex.render import bake
@@ -167,6 +172,7 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
             "rs photo": _content_repeat(photo if straight is None else straight, period),
             "breaks": metrics.line_breaks(near, photo).ratio if period is not None else float("nan"),
             "cells": _cells(near, photo if straight is None else straight, period),
+            "one-off": metrics.one_off_repeats(near, photo).per_photo_area,
             "groups": s1.group_ratios}
 
 
@@ -233,14 +239,13 @@ def main(argv=None) -> int:
     print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, load average {load[0]:.1f}; "
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     sets = exemplars(quick=args.quick)
-    if args.only:
-        keep = args.only.split(",")
-        sets = [(n, p) for n, p in sets if n in keep]
+    if args.only:  # any photo exemplars.load knows, the extra ones too
+        sets = [(n, load_photo(n)) for n in args.only.split(",") if n]
     if args.quick:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'s':>6s}"
+             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'1off':>5s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -268,7 +273,7 @@ def main(argv=None) -> int:
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
                   f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} {r['cells']:5.2f} "
-                  f"{r['copies']:6.2f}{flag} "
+                  f"{r['copies']:6.2f}{flag} {r['one-off']:5.2f} "
                   f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture

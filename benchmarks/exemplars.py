@@ -18,6 +18,9 @@ import numpy as np
 #: The set, in order; ``quick`` keeps the first three of :data:`QUICK`.
 NAMES = ("gravel", "brick", "grass", "moon", "tissue", "deep_field", "paving", "tiles")
 QUICK = ("gravel", "brick", "paving")
+#: Photos holding one object each (issue 22's one-off content), by name only (``--only``): 256-pixel
+#: crops of gravel and grass with an orange leaf pasted on (:func:`with_leaf`).
+EXTRA = ("gravel_leaf", "grass_leaf")
 
 
 def _skimage(name):
@@ -102,7 +105,11 @@ def load(name: str) -> np.ndarray:
         return paving()
     if name == "tiles":
         return tiles()
-    raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES)}")
+    if name == "gravel_leaf":
+        return with_leaf(_skimage("gravel")[:256, :256], 150, 100)
+    if name == "grass_leaf":
+        return with_leaf(_skimage("grass")[:256, :256], 90, 170, r=24.0)
+    raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES + EXTRA)}")
 
 
 def exemplars(quick: bool = False):
