@@ -5,18 +5,33 @@ RGBA float32 texels, quantised as an ``RGBA8`` texture stores them, and the
 wrap, filter, anisotropy and level-of-detail state) and checks it; it runs no
 kernel. ``shading.sampler`` samples it (numba), ``shading.resources`` builds
 the ones a texture's layers read, and the exports read their texels, so it
-lives apart from the kernels: making one imports no numba.
+lives apart from the kernels: making one imports no numba. The names of its filters and wrap modes become the codes
+of ``shading.constants`` here (:func:`filter_code`, :func:`wrap_code`; ``shading.tables`` packs them).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._validate import check_float, check_image
+from .._validate import check_choice, check_float, check_image
 from ..tiles.mipmap import gl_level_shapes, quantize
-from .constants import DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTERS, WRAP_MODES, filter_code, wrap_code
+from .constants import DEFAULT_MAX_LOD, DEFAULT_MIN_LOD, FILTER_ALIASES, FILTERS, WRAP_MODES
 
-__all__ = ["MAX_TEXELS", "MipTexture", "default_mip_chain"]
+__all__ = ["MAX_TEXELS", "MipTexture", "default_mip_chain", "filter_code", "wrap_code"]
+
+
+def filter_code(name: str, value) -> int:
+    """The integer code of a filter name (aliases allowed); ``name`` is the parameter's, for the error."""
+    if isinstance(value, str):
+        value = FILTER_ALIASES.get(value.lower(), value.lower())
+    return FILTERS.index(check_choice(name, value, FILTERS))
+
+
+def wrap_code(name: str, value) -> int:
+    """The integer code of a wrap-mode name; ``name`` is the parameter's, for the error."""
+    if isinstance(value, str):
+        value = value.lower()
+    return WRAP_MODES.index(check_choice(name, value, WRAP_MODES))
 
 
 # Largest number of texels (over all levels) a MipTexture may hold: 64 Mi

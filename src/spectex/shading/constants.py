@@ -13,8 +13,6 @@ branch in ``shading/_layers.py`` and one in ``shading/shaders/spectex_layers.gls
 
 from __future__ import annotations
 
-from .._validate import check_choice
-
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE", "BLEND_COVER",
     "FADE_START", "FADE_END", "DEFAULT_ANISOTROPY",
@@ -24,7 +22,6 @@ __all__ = [
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
-    "filter_code", "wrap_code",
     "DEFAULT_MIN_LOD", "DEFAULT_MAX_LOD", "LOD_FLOOR", "ANCHOR_PERIOD",
     "SKY_FALLOFF", "FAR_HAZE_RATIO", "DEFAULT_HAZE", "HAZE_OFF", "MAX_LAYERS", "MAX_TILES", "glsl_defines",
 ]
@@ -109,19 +106,6 @@ FILTER_NEAREST_MIPMAP_LINEAR, FILTER_LINEAR_MIPMAP_LINEAR = 4, 5
 #: Other names accepted for filters.
 FILTER_ALIASES = {"trilinear": "linear_mipmap_linear", "bilinear": "linear"}
 
-
-def filter_code(name: str, value) -> int:
-    """The integer code of a filter name (aliases allowed); ``name`` is the parameter's, for the error."""
-    if isinstance(value, str):
-        value = FILTER_ALIASES.get(value.lower(), value.lower())
-    return FILTERS.index(check_choice(name, value, FILTERS))
-
-
-def wrap_code(name: str, value) -> int:
-    """The integer code of a wrap-mode name; ``name`` is the parameter's, for the error."""
-    if isinstance(value, str):
-        value = value.lower()
-    return WRAP_MODES.index(check_choice(name, value, WRAP_MODES))
 
 #: OpenGL's default level-of-detail clamps (GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD).
 DEFAULT_MIN_LOD = -1000.0

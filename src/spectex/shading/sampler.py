@@ -48,7 +48,7 @@ import numba
 import numpy as np
 
 from ..tiles.mipmap import gl_level_shapes, quantize
-from ._mip_texture import MAX_TEXELS, MipTexture, default_mip_chain  # noqa: F401 (re-exported)
+from ._mip_texture import MAX_TEXELS, MipTexture, default_mip_chain, filter_code, wrap_code  # noqa: F401
 from .constants import (
     DEFAULT_MAX_LOD,
     DEFAULT_MIN_LOD,
@@ -61,8 +61,6 @@ from .constants import (
     WRAP_CLAMP_TO_EDGE,
     WRAP_MODES,
     WRAP_REPEAT,
-    filter_code,
-    wrap_code,
 )
 
 __all__ = [

@@ -65,7 +65,7 @@ import numpy as np
 
 from .._parallel import in_parts
 from .._validate import check_float, check_image, check_seed
-from ._mip_texture import MipTexture
+from ._mip_texture import MipTexture, filter_code
 from .constants import (
     CELL_LOD_MARGIN,
     GAUSS_MEAN,
@@ -76,7 +76,6 @@ from .constants import (
     LUT_SUBROWS,
     SHARP_LOD,
     WEIGHT_SQUARINGS,
-    filter_code,
 )
 from .sampler import anisotropic_footprint, clamp_lod, sample_at_lod
 

@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_float
+from ._mip_texture import filter_code
 from .constants import (
     ANCHOR_PERIOD,
     BLEND_FIRST,
@@ -32,7 +33,6 @@ from .constants import (
     TILING_STOCHASTIC,
     TILINGS,
     WRAP_REPEAT,
-    filter_code,
 )
 from .resources import cell_rows, cell_snaps, shading_resources
 
