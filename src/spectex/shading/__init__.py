@@ -13,7 +13,8 @@ module                    what lives there
                           tilings, filters, wraps, sky and haze, limits)
 ``shading.sampler``       the OpenGL-exact single-texture sampler (1-5)
 ``shading._mip_texture``  its texture object, :class:`MipTexture` (plain
-                          data: no kernel, no numba)
+                          data: no kernel, no numba), and the filter and
+                          wrap names' codes
 ``shading.resources``     derived data of a texture (mip levels, texel
                           stores, stochastic tables), cached by content
 ``shading.tables``        a texture as one typed structure for the kernels

@@ -106,7 +106,6 @@ FILTER_NEAREST_MIPMAP_LINEAR, FILTER_LINEAR_MIPMAP_LINEAR = 4, 5
 #: Other names accepted for filters.
 FILTER_ALIASES = {"trilinear": "linear_mipmap_linear", "bilinear": "linear"}
 
-
 #: OpenGL's default level-of-detail clamps (GL_TEXTURE_MIN_LOD, GL_TEXTURE_MAX_LOD).
 DEFAULT_MIN_LOD = -1000.0
 DEFAULT_MAX_LOD = 1000.0
