@@ -1115,8 +1115,10 @@ def _rarity(photo: np.ndarray):
     patches = windows.reshape(len(ys) * len(xs), -1)
     corners = np.stack(np.meshgrid(ys, xs, indexing="ij"), axis=-1).reshape(-1, 2)
     centred = patches - patches.mean(axis=0)
-    _, _, vt = np.linalg.svd(centred, full_matrices=False)
-    features = centred @ vt[:_RARE_DIMS].T
+    # the principal components from the patches' covariance (a 192 x 192 eigenproblem, not an SVD of
+    # thousands of patches: 0.1 s against 1.3 s)
+    _, vectors = np.linalg.eigh(centred.T @ centred)
+    features = centred @ vectors[:, ::-1][:, :_RARE_DIMS]
     n = min(len(features), 12 * _RARE_K + 1 + (2 * (-(-_RARE_APART * p // _RARE_STEP)) + 1) ** 2)  # past the near ones
     _, idx = cKDTree(features).query(features, k=n)
     # the candidates' distances over the whole patch, not the components alone: what sets a rare patch
