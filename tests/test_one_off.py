@@ -89,3 +89,21 @@ def test_fit_leaves_out_each_of_several_objects():
     for cy, cx in ((60, 60), (190, 180)):
         assert any(y0 <= cy < y1 and x0 <= cx < x1 for y0, x0, y1, x1 in boxes)
     assert _orange(fitted.texture.tiles[0][:, :, :3]) == 0
+
+
+def test_spectex_fit_says_what_it_left_out(tmp_path, capsys):
+    """The command's notes name the region and its source, and its report line counts the copies: 0;
+    ``--keep-one-off`` reaches the fit as ``keep_one_off=True``."""
+    from spectex import io
+    from spectex.cli import build_parser, main
+
+    photo, _ = _leafy()
+    io.write_image(tmp_path / "leafy.png", photo)
+    assert main(["fit", str(tmp_path / "leafy.png"), "-o", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "note: left out one-off content at x " in out and "--keep-one-off" in out
+    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
+    assert "one-off content at photo x " in line and "shown 0 times" in line
+    parser, leafy = build_parser(), str(tmp_path / "leafy.png")
+    assert parser.parse_args(["fit", leafy, "-o", "o", "--keep-one-off"]).keep_one_off is True
+    assert parser.parse_args(["fit", leafy, "-o", "o"]).keep_one_off is False
