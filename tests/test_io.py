@@ -258,6 +258,42 @@ def test_sigterm_in_a_session_is_an_interrupt_and_held_during_renames():
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL or callable(signal.getsignal(signal.SIGTERM))
 
 
+def test_sigterm_inside_a_callback_from_c_prints_no_traceback(monkeypatch):
+    """numba's compiler calls back into Python through ctypes (llvmlite's object cache); a signal handled
+    there cannot raise through the C frames, and Python printed the ignored exception with its traceback
+    (a hostile case sending SIGTERM 2 s into a fit caught it). It is recorded and raised at the next
+    check, and not passed to the unraisable hook; any other exception still is (the control)."""
+    import ctypes
+    import signal
+    import sys
+
+    from spectex._output import Terminated, check_interrupted, session
+
+    passed_on = []
+
+    def recorder(unraisable):
+        passed_on.append(unraisable.exc_value)
+
+    monkeypatch.setattr(sys, "unraisablehook", recorder)
+
+    def signal_self():
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(1000):  # the handler runs here, inside the callback
+            pass
+
+    def fail():
+        raise ValueError("not an interrupt")
+
+    with session():
+        ctypes.CFUNCTYPE(None)(signal_self)()
+        assert passed_on == []  # the interrupt: kept quiet ...
+        with pytest.raises(Terminated):
+            check_interrupted()  # ... and not lost
+        ctypes.CFUNCTYPE(None)(fail)()
+    assert len(passed_on) == 1 and isinstance(passed_on[0], ValueError)
+    assert sys.unraisablehook is recorder  # the session put back the hook it found
+
+
 def test_image_pixel_limit_is_checked_before_decoding(tmp_path, monkeypatch):
     from PIL import Image
 

@@ -45,6 +45,7 @@ import os
 import shutil
 import signal
 import stat
+import sys
 import tempfile
 import threading
 from dataclasses import dataclass
@@ -88,6 +89,22 @@ def _session_handler(signum, frame):  # noqa: ARG001 - signal handler API
     raise Terminated(signum)
 
 
+def _quiet_unraisable(previous):
+    """A ``sys.unraisablehook`` that leaves out this session's own interrupts, passing on anything else.
+
+    A signal that arrives while C code is calling back into Python (numba's compiler storing an
+    object in its cache through a ctypes callback) runs the handler there; the interrupt it raises
+    cannot cross the C frames, and Python prints it with a traceback as "Exception ignored". It is
+    not lost: the handler recorded it, and :func:`check_interrupted` raises it again before any write.
+    """
+    def hook(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt) and _received:
+            return
+        previous(unraisable)
+
+    return hook
+
+
 def check_interrupted() -> None:
     """Raise the interrupt of a signal received in this session, if any (it may have been swallowed)."""
     if _received:
@@ -103,8 +120,10 @@ def session():
 
     SIGINT raises ``KeyboardInterrupt`` as usual. Every signal received is
     also remembered, so that :func:`check_interrupted` (called before every
-    rename) stops the writes even if a library swallowed the exception. The
-    previous handlers and the previous input record are restored on exit.
+    rename) stops the writes even if a library swallowed the exception; one
+    raised inside a callback from C, which Python would print as an ignored
+    exception with its traceback, is left unprinted (:func:`_quiet_unraisable`).
+    The previous handlers, hook and input record are restored on exit.
     """
     global _inputs, _received
     handlers = {}
@@ -115,6 +134,9 @@ def session():
     with _lock:
         saved, _inputs = _inputs, {}
         saved_received, _received = _received, []
+    saved_hook = sys.unraisablehook
+    if handlers:
+        sys.unraisablehook = _quiet_unraisable(saved_hook)
     try:
         yield
     finally:
@@ -122,6 +144,7 @@ def session():
             _inputs, _received = saved, saved_received
         for sig, old in handlers.items():
             signal.signal(sig, old)
+        sys.unraisablehook = saved_hook
 
 
 def note_input(path) -> None:
