@@ -93,6 +93,21 @@ def floor_photo(side=512, period=64, grout=5, rng=11, spread=0.035, mottle=0.05)
     return np.clip(img, 0.0, 1.0).astype(np.float32), g
 
 
+#: The colour of the leaf :func:`with_leaves` pastes (gravel and grass are grey).
+ORANGE = (0.85, 0.55, 0.1)
+
+
+def with_leaves(grey, leaves):
+    """A grey photo as RGB float32 with leaves pasted on it, ``(cy, cx, length, colour)`` each (an ellipse
+    0.45 times as wide as long): content the photo shows once, as a leaf on gravel (issue 22's one-off
+    content; benchmarks/exemplars.py's ``with_leaf``)."""
+    rgb = np.repeat(np.asarray(grey, np.float32)[:, :, None], 3, axis=2)
+    yy, xx = np.mgrid[:rgb.shape[0], :rgb.shape[1]]
+    for cy, cx, r, colour in leaves:
+        rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = colour
+    return rgb
+
+
 def error_line(capsys) -> str:
     """The one line a refused command wrote on standard error."""
     err = capsys.readouterr().err.strip().splitlines()

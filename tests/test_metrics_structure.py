@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from helpers import ORANGE, with_leaves
 from spectex import metrics
 
 skimage_data = pytest.importorskip("skimage.data")
@@ -400,18 +401,9 @@ def test_fit_report_sees_a_magnified_coarse_layer():
 # One-off content repeated
 # --------------------------------------------------------------------------
 
-def _with_leaf(grey, cy, cx, r=18):
-    """A grey photo as RGB with an orange leaf (an ellipse ``r`` pixels long) pasted on it: content the
-    photo shows once, as a leaf on gravel or a tripod's leg on a lawn."""
-    rgb = np.repeat(grey[:, :, None], 3, axis=2).copy()
-    yy, xx = np.mgrid[:grey.shape[0], :grey.shape[1]]
-    rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = (0.85, 0.55, 0.1)
-    return rgb
-
-
 def test_one_off_repeats_sees_a_pasted_leaf_repeated():
     gravel = _photo("gravel")[:256, :256]
-    leafy = _with_leaf(gravel, 150, 100)
+    leafy = with_leaves(gravel, [(150, 100, 18, ORANGE)])
     tiled = metrics.one_off_repeats(np.tile(leafy, (3, 3, 1)), leafy)
     assert tiled.rarity > tiled.threshold
     y0, x0, y1, x1 = tiled.box
@@ -458,13 +450,13 @@ def test_fit_report_and_compare_say_a_one_off_object_repeats(tmp_path, capsys):
 
     gravel = _photo("gravel")[:256, :256]
     reports = {}
-    for name, photo in (("leaf", _with_leaf(gravel, 150, 100)), ("plain", np.repeat(gravel[:, :, None], 3, 2))):
+    for name, photo in (("leaf", with_leaves(gravel, [(150, 100, 18, ORANGE)])), ("plain", with_leaves(gravel, []))):
         tile = np.dstack([photo, np.ones((256, 256), np.float32)]).astype(np.float32)
         reports[name] = fit_report(SpectralTexture(tile, [Layer(size=256.0)]), photo, pixel_size=1.0,
                                    coarse_zoom=None).one_off
     assert reports["leaf"].copies == 4 and not reports["leaf"].within  # a bake of 2 x 2 photo areas
     assert reports["plain"].box is None and reports["plain"].within
-    leafy = _with_leaf(gravel, 150, 100)
+    leafy = with_leaves(gravel, [(150, 100, 18, ORANGE)])
     np.save(tmp_path / "photo.npy", leafy.astype(np.float32))
     np.save(tmp_path / "tiled.npy", np.tile(leafy, (2, 2, 1)).astype(np.float32))
     assert main(["compare", str(tmp_path / "tiled.npy"), "--reference", str(tmp_path / "photo.npy")]) == 0

@@ -7,26 +7,18 @@ that uses it, with ``keep_one_off=True`` as the control.
 
 import numpy as np
 import pytest
+import skimage.data as skimage_data
 
+from helpers import ORANGE, with_leaves
 from spectex._texture_stats import one_off_content
 from spectex.fitting import fit_result
 from spectex.fitting._one_off import remove_one_off
 
-skimage_data = pytest.importorskip("skimage.data")
-
-ORANGE = (0.85, 0.55, 0.1)
-
 
 def _leafy(side=256, leaves=((150, 100, 18, ORANGE),)):
-    """A crop of scikit-image's gravel as RGB with leaves ``(cy, cx, length, colour)`` pasted on it, and
-    the same crop without them."""
+    """A crop of scikit-image's gravel as RGB with ``leaves`` pasted on it, and the same crop without them."""
     grey = skimage_data.gravel()[:side, :side].astype(np.float32) / 255.0
-    rgb = np.repeat(grey[:, :, None], 3, axis=2).copy()
-    plain = rgb.copy()
-    yy, xx = np.mgrid[:side, :side]
-    for cy, cx, r, colour in leaves:
-        rgb[((yy - cy) / r) ** 2 + ((xx - cx) / (0.45 * r)) ** 2 <= 1.0] = colour
-    return rgb, plain
+    return with_leaves(grey, leaves), with_leaves(grey, [])
 
 
 def _orange(image):

@@ -999,11 +999,9 @@ class Comparison(AsDict):
 
 def _one_off_or_none(image, reference, zoom):
     """:func:`one_off_repeats`, None where the reference is under 32 pixels or the image too small to search."""
-    if min(reference.shape[:2]) < 32:
-        return None
     try:
         return one_off_repeats(image, reference, zoom=1.0 if zoom is None else zoom)
-    except ValueError:
+    except ValueError:  # a reference under 32 pixels, or one-off content larger than the image
         return None
 
 

@@ -569,11 +569,9 @@ def _one_off(bake, exemplar):
     exemplar."""
     from ..metrics import one_off_repeats
 
-    if min(exemplar.shape[:2]) < 32:
-        return None
     try:
         return one_off_repeats(bake, exemplar)
-    except ValueError:  # a one-off region larger than the bake: nothing to count
+    except ValueError:  # an exemplar under 32 pixels, or a one-off region larger than the bake: nothing to count
         return None
 
 
