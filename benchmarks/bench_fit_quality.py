@@ -45,6 +45,10 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   content the photo shows once (a leaf pasted on gravel); 0 where the photo has none (all 8 default
   photos), about 1 for a texture that repeats it. ``--only gravel_leaf,grass_leaf`` runs the two
   photos of ``exemplars.EXTRA`` that hold one;
+* ``blot``: :func:`spectex.metrics.lighting_blotches` of the near render: its low-frequency contrast at
+  the photo's scale beyond the photo's own (its lighting divided out), ``*`` over the threshold 0.01
+  (blotches show: a photo's uneven light repeated in every piece of the texture). ``--only
+  gravel_lit,paving_lit,page`` runs the unevenly lit photos of ``exemplars.EXTRA``;
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
 
 The machine, its load and the date are printed with the table.
@@ -157,7 +161,7 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
     sn = metrics.structural_distance(near, photo, prepared=prepared["statistics"])
     clip = metrics.clipping(near, photo)
     copies = None
-    if min(far.shape[:2]) >= 96:
+    if min(far.shape[:2]) >= 96 and min(photo.shape[:2]) >= 192:  # (the search's least photo)
         shape = far.shape[:2]
         if shape not in prepared:
             prepared[shape] = metrics.coarse_reference(photo, view_shape=shape, zoom=8)
@@ -173,6 +177,7 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
             "breaks": metrics.line_breaks(near, photo).ratio if period is not None else float("nan"),
             "cells": _cells(near, photo if straight is None else straight, period),
             "one-off": metrics.one_off_repeats(near, photo).per_photo_area,
+            "blotches": metrics.lighting_blotches(near, photo),
             "groups": s1.group_ratios}
 
 
@@ -245,7 +250,8 @@ def main(argv=None) -> int:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'1off':>5s} {'s':>6s}"
+             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'1off':>5s} {'blot':>6s} " \
+             f"{'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -273,7 +279,8 @@ def main(argv=None) -> int:
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
                   f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} {r['cells']:5.2f} "
-                  f"{r['copies']:6.2f}{flag} {r['one-off']:5.2f} "
+                  f"{r['copies']:6.2f}{flag} {r['one-off']:5.2f} {r['blotches'].excess:5.3f}"
+                  f"{' ' if r['blotches'].within else '*'}"
                   f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture

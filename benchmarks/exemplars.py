@@ -18,9 +18,11 @@ import numpy as np
 #: The set, in order; ``quick`` keeps the first three of :data:`QUICK`.
 NAMES = ("gravel", "brick", "grass", "moon", "tissue", "deep_field", "paving", "tiles")
 QUICK = ("gravel", "brick", "paving")
-#: Photos holding one object each (issue 22's one-off content), by name only (``--only``): 256-pixel
-#: crops of gravel and grass with an orange leaf pasted on (:func:`with_leaf`).
-EXTRA = ("gravel_leaf", "grass_leaf")
+#: By name only (``--only``): photos holding one object each (issue 22's one-off content), 256-pixel
+#: crops of gravel and grass with an orange leaf pasted on (:func:`with_leaf`); photos lit unevenly,
+#: gravel and paving under a light from one side with a vignette (:func:`lit`) and scikit-image's
+#: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384).
+EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page")
 
 
 def _skimage(name):
@@ -87,6 +89,17 @@ def with_leaf(photo: np.ndarray, cy: int, cx: int, r: float = 18.0) -> np.ndarra
     return rgb
 
 
+def lit(photo: np.ndarray, strength: float = 0.45) -> np.ndarray:
+    """``photo`` under an uneven light: brightness falling by ``strength`` from the top left corner to the
+    bottom right (0.6 of it along x, 0.4 along y) and a vignette (``0.78 strength`` darker at the corners
+    than at the centre, relatively): a photo taken with the sun to one side and a plain lens. The
+    default's drift is about 14 % RMS of log luma."""
+    h, w = photo.shape[:2]
+    y, x = np.mgrid[0:h, 0:w] / max(h, w)
+    light = (1.0 - strength * (0.6 * x + 0.4 * y)) * (1.0 - 1.56 * strength * ((x - 0.5) ** 2 + (y - 0.5) ** 2))
+    return (photo * (light[:, :, None] if photo.ndim == 3 else light)).astype(np.float32)
+
+
 def lawn() -> np.ndarray:
     """The lawn at the bottom right of scikit-image's ``camera()`` (132 x 132, grey), with the foot of
     the tripod at its lower left: a photo of grass holding one object."""
@@ -109,6 +122,12 @@ def load(name: str) -> np.ndarray:
         return with_leaf(_skimage("gravel")[:256, :256], 150, 100)
     if name == "grass_leaf":
         return with_leaf(_skimage("grass")[:256, :256], 90, 170, r=24.0)
+    if name == "gravel_lit":
+        return lit(_skimage("gravel"))
+    if name == "paving_lit":
+        return lit(paving())
+    if name == "page":
+        return _skimage("page")
     raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES + EXTRA)}")
 
 

@@ -36,7 +36,7 @@ def photos():
     }
 
 
-def _label(image, text):
+def label(image, text):
     from PIL import Image, ImageDraw
 
     out = Image.new("RGB", (image.width, image.height + 20), (255, 255, 255))
@@ -45,12 +45,37 @@ def _label(image, text):
     return out
 
 
+def save_grid(rows, path):
+    """Rows of labelled pictures (:func:`label`) side by side, 8 pixels apart, as a JPEG."""
+    from PIL import Image
+
+    width = max(sum(p.width for p in row) + 8 * (len(row) - 1) for row in rows)
+    grid = Image.new("RGB", (width, sum(row[0].height for row in rows) + 8 * (len(rows) - 1)), (255, 255, 255))
+    y = 0
+    for row in rows:
+        x = 0
+        for pic in row:
+            grid.paste(pic, (x, y))
+            x += pic.width + 8
+        y += row[0].height + 8
+    grid.save(path, quality=88)
+    print(f"wrote {path}")
+
+
+def picture(image, text, height=256):
+    """``image`` (grey or RGB, 0-1) at ``height`` pixels, labelled."""
+    from PIL import Image
+
+    rgb = image if image.ndim == 3 else np.repeat(image[:, :, None], 3, axis=2)
+    pic = Image.fromarray((np.clip(rgb, 0, 1) * 255).astype(np.uint8))
+    pic = pic.resize((round(pic.width * height / pic.height), height), Image.LANCZOS)
+    return label(pic, text)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--grid", help="write the picture here (JPEG)")
     args = ap.parse_args(argv)
-    from PIL import Image
-
     from spectex.fitting import fit_result
     from spectex.metrics import one_off_repeats
     from spectex.render import bake
@@ -71,24 +96,11 @@ def main(argv=None) -> int:
             print(f"{name:14s} {way:18s} fit {seconds:5.2f} s; rarity {found.rarity:5.1f}, region {found.box}, "
                   f"copies in 8x its area {found.copies}")
             tiles.append(view)
-        row = []
-        for image, text in zip(tiles, ("photo", "keep_one_off=True, 8x the area", "default, 8x the area")):
-            pic = Image.fromarray((np.clip(image, 0, 1) * 255).astype(np.uint8))
-            pic = pic.resize((round(pic.width * 256 / pic.height), 256), Image.LANCZOS)
-            row.append(_label(pic, f"{name}: {text}" if text == "photo" else text))
+        row = [picture(image, f"{name}: {text}" if text == "photo" else text)
+               for image, text in zip(tiles, ("photo", "keep_one_off=True, 8x the area", "default, 8x the area"))]
         rows.append(row)
     if args.grid:
-        width = max(sum(p.width for p in row) + 8 * (len(row) - 1) for row in rows)
-        grid = Image.new("RGB", (width, sum(row[0].height for row in rows) + 8 * (len(rows) - 1)), (255, 255, 255))
-        y = 0
-        for row in rows:
-            x = 0
-            for pic in row:
-                grid.paste(pic, (x, y))
-                x += pic.width + 8
-            y += row[0].height + 8
-        grid.save(args.grid, quality=88)
-        print(f"wrote {args.grid}")
+        save_grid(rows, args.grid)
     return 0
 
 

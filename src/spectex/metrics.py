@@ -49,6 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._lighting import LightingBlotches, lighting_blotches  # the photo's lighting (issue 22)
 from ._otsu import otsu
 from ._results import AsDict
 from ._texture_stats import (  # structural measures (issue 22), in their own module
@@ -974,6 +975,11 @@ class Comparison(AsDict):
         :func:`one_off_repeats`: content the reference shows once, and how
         often the image shows it (at ``zoom``, else at the reference's pixel
         size; None where the image is too small to be searched for it).
+    lighting : LightingBlotches or None
+        :func:`lighting_blotches`: blotches at the reference's scale in the
+        image (at ``zoom``, else at the reference's pixel size) beyond the
+        reference's own, its lighting divided out (None where either is too
+        small).
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     """
@@ -995,6 +1001,16 @@ class Comparison(AsDict):
     coarse: CoarseCopies | None = None
     cells: CellSplits | None = None
     one_off: OneOffRepeats | None = None
+    lighting: LightingBlotches | None = None
+
+
+def _lighting_or_none(image, reference, zoom):
+    """:func:`lighting_blotches`, None where the reference is under 32 pixels, the zoom beyond its scale or
+    the image under it."""
+    try:
+        return lighting_blotches(image, reference, zoom=1.0 if zoom is None else zoom)
+    except ValueError:
+        return None
 
 
 def _one_off_or_none(image, reference, zoom):
@@ -1082,4 +1098,4 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
         cells=cell_splits(image, reference, period=period) if period is not None else None,
-        one_off=_one_off_or_none(image, reference, zoom))
+        one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom))

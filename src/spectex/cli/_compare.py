@@ -194,5 +194,10 @@ def _print_table(r, image, reference) -> None:
             print(f"one-off content            reference x {x0}-{x1}, y {y0}-{y1} (rarity {k.rarity:.1f}): shown "
                   f"{k.copies} times ({k.per_photo_area:.2f} per reference area): "
                   + ("at most once" if k.within else "REPEATED, the same object at several places"))
+    if r.lighting is not None:
+        k = r.lighting
+        print(f"blotches image / ref.      {k.view_contrast:.3f} / {k.photo_contrast:.3f}, excess {k.excess:.3f} "
+              f"(reference's lighting {100 * k.lighting:.0f}% RMS, divided out): "
+              + ("none seen" if k.within else f"SEEN, over {k.threshold:g} (the reference's lighting repeated?)"))
     if r.seam_energy is not None:
         print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

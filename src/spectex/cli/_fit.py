@@ -44,6 +44,9 @@ def register(subparsers) -> None:
     p.add_argument("--keep-one-off", action="store_true",
                    help="keep content the photo shows once (a leaf, a tripod's foot) in the tile; by default it "
                         "is filled from the rest of the photo, since the texture would repeat it everywhere")
+    p.add_argument("--keep-lighting", action="store_true",
+                   help="keep the photo's lighting (its brightness drifting across it) in the tile; by default "
+                        "it is evened out, since every patch of the texture would repeat it as blotches")
     _common.add_normalize(p)
     p.set_defaults(func=run)
 
@@ -90,7 +93,7 @@ def run(args) -> int | None:
     import time
 
     from spectex._output import OutputSet
-    from spectex.fitting import check_options, fit_result, prepare_exemplar, report_reference
+    from spectex.fitting import check_options, even_lighting, fit_result, prepare_exemplar, report_reference
     start = time.perf_counter()
     # a denormal opacity ran for minutes (fuzz_hostile)
     if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
@@ -105,6 +108,8 @@ def run(args) -> int | None:
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
     exemplar, _ = prepare_exemplar(photo)
+    if not args.keep_lighting:  # measured against the photo as the fit reads it: lighting is not texture
+        exemplar, _ = even_lighting(exemplar)
     # The report's measures of the photo alone (its structural floor, its own range for magnified
     # copies: half the report's work) need no texture: made in a second thread while the fit runs
     # (a daemon: a failed fit or Ctrl-C does not wait for it).
@@ -113,7 +118,7 @@ def run(args) -> int | None:
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed,
-                            keep_one_off=args.keep_one_off, progress=bar)
+                            keep_one_off=args.keep_one_off, keep_lighting=args.keep_lighting, progress=bar)
     return _finish(args, outputs, exemplar, result, reference, magnifications, start)
 
 
@@ -193,7 +198,7 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
-    _common.report(_structure_line(numbers))
+    _common.report(_structure_line(numbers, result.params.get("lighting")))
     misses = []
     if w1 > POOR_W1:
         misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
@@ -206,8 +211,9 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
     return 0
 
 
-def _structure_line(numbers) -> str:
-    """The structural measures of the report (issue 22), one line."""
+def _structure_line(numbers, evened=None) -> str:
+    """The structural measures of the report (issue 22), one line (``evened``: the fit's
+    ``params["lighting"]``, where it evened the photo's lighting out)."""
     st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
     if st is None:
         line = "  structure: n/a (the photo holds no two 32x32 windows)"
@@ -230,4 +236,10 @@ def _structure_line(numbers) -> str:
         line += (f"; one-off content at photo x {x0}-{x1}, y {y0}-{y1} shown {one_off.copies} times over 8x its "
                  "area" + ("" if one_off.within else " (a viewer sees the same object repeated: crop it out of "
                                                       "the photo if it is not part of the texture)"))
+    light = getattr(numbers, "lighting", None)
+    if light is not None:
+        line += (f"; blotches {'none' if light.within else 'SEEN'} at the photo's scale (excess {light.excess:.3f} "
+                 f"over the photo's own, threshold {light.threshold:g}; "
+                 + (f"the photo's lighting, {100 * evened['rms']:.0f}% RMS, evened out)" if evened else
+                    f"the photo's lighting {100 * light.lighting:.0f}% RMS)"))
     return line

@@ -27,6 +27,7 @@ from ._core import (
     FitReport,
     FitResult,
     ReportReference,
+    even_lighting,
     fit_report,
     prepare_exemplar,
     report_reference,
@@ -36,14 +37,15 @@ from ._legacy import _fit_legacy
 from ._structure import structure_period
 
 __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "report_reference", "ReportReference",
-           "prepare_exemplar", "structure_peak", "structure_period",
+           "prepare_exemplar", "even_lighting", "structure_peak", "structure_period",
            "MIN_SIZE", "MAX_ANALYSIS_SIZE", "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 
 def fit(image, *, pixel_size: float | None = None, photo_size: float | None = None, layers: int = 5,
         ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
         tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
-        patch: float | None = None, method: str = "auto", keep_one_off: bool = False, progress=None):
+        patch: float | None = None, method: str = "auto", keep_one_off: bool = False, keep_lighting: bool = False,
+        progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     **The default, ``method="auto"``** (issue 22; ``spectex.fitting._auto`` and
@@ -68,7 +70,10 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     rarity over its threshold) would come back once per photo area, the
     same object at random places; it is filled from elsewhere in the photo
     first (cut along minimum-error seams; said in the notes), unless
-    ``keep_one_off``.
+    ``keep_one_off``. Before that, the photo's lighting (a smooth drift of
+    its brightness across it, :func:`spectex.metrics.lighting_blotches`),
+    which every patch of the texture would repeat as bright and dark
+    blotches, is divided out (said in the notes), unless ``keep_lighting``.
 
     **``method="legacy"``**, the fit before issue 22, kept only so that
     ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
@@ -209,7 +214,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     """
     kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
                   iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
-                  method=method, keep_one_off=keep_one_off, progress=progress, rng=rng)
+                  method=method, keep_one_off=keep_one_off, keep_lighting=keep_lighting, progress=progress, rng=rng)
     return fit_result(image, **kwargs).texture
 
 
@@ -217,7 +222,7 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
                ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
                tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
                patch: float | None = None, method: str = "auto", keep_one_off: bool = False,
-               progress=None) -> FitResult:
+               keep_lighting: bool = False, progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -235,6 +240,8 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
     method = check_choice("method", method, FIT_METHODS)
     if not isinstance(keep_one_off, bool):
         raise TypeError(f"keep_one_off must be True or False, got {keep_one_off!r}")
+    if not isinstance(keep_lighting, bool):
+        raise TypeError(f"keep_lighting must be True or False, got {keep_lighting!r}")
     if method == "legacy":
         if photo_size is not None:
             raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
@@ -246,6 +253,7 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
 
     return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
                     opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
-                    tiling=tiling, patch=patch, keep_one_off=keep_one_off, progress=progress)
+                    tiling=tiling, patch=patch, keep_one_off=keep_one_off, keep_lighting=keep_lighting,
+                    progress=progress)
 
 

@@ -49,6 +49,7 @@ from ._core import (
     _coarse_slope,
     _Problem,
     _shape_spectrum,
+    even_lighting,
     finest_tile,
     prepare_exemplar,
     structure_peak,
@@ -683,6 +684,18 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
     return pixel_size, scale
 
 
+def _even_out_lighting(exemplar, notes):
+    """:func:`even_lighting`, said in ``notes``: ``(photo, {"rms", "low", "high"})``, or None where nothing was
+    done."""
+    flat, light = even_lighting(exemplar)
+    if light is None:
+        return None
+    notes.append(f"evened out the photo's lighting (its brightness drifted {100 * (light['low'] - 1):+.0f}% to "
+                 f"{100 * (light['high'] - 1):+.0f}% across it, RMS {100 * light['rms']:.0f}%: every patch of the "
+                 "texture would repeat it as blotches; keep it with keep_lighting=True / --keep-lighting)")
+    return flat, light
+
+
 #: Most regions of one-off content the fit fills, largest first (each found again on the filled photo).
 MAX_ONE_OFF = 4
 
@@ -743,7 +756,7 @@ def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, 
 
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, keep_one_off=False,
-             progress=None) -> FitResult:
+             keep_lighting=False, progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
     start = time.perf_counter()
     layers, ratio, opacity, iterations, rng, tiling, patch = check_options(
@@ -755,6 +768,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
+    lighting = None if keep_lighting else _even_out_lighting(exemplar, notes)
+    if lighting is not None:
+        exemplar, lighting = lighting
     one_off = None if keep_one_off else _leave_out_one_off(exemplar, notes)
     if one_off is not None:
         exemplar, one_off = one_off
@@ -881,6 +897,6 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
               "structure_peak": structure, "orientation_deg": angle, "orientation_drift_deg": drift,
               "period_px": period,
               "tile_period_px": None if cut is None else cut[3], "trial": trial, "snap": snap0, "patch": patch,
-              "scale": scale, "one_off": one_off}
+              "scale": scale, "lighting": lighting, "one_off": one_off}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)

@@ -62,6 +62,56 @@ def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
     return tile, n, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
 
 
+#: The photo's lighting (RMS of its log luma's smooth drift, ``spectex._lighting.lighting_trend``) from which
+#: the fit evens it out: under 1 % of brightness no drift shows.
+MIN_LIGHTING = 0.01
+#: ... and only a drift this many times the one its blocks' own scatter gives by chance
+#: (``spectex._lighting.lighting_drift``): evenly lit gravel, brick, paving and floor tiles drift by 1.6-2
+#: times chance (and fit as before, bit for bit), the same photos lit by a light that varies 3.5 % RMS by
+#: 2.2-5.3 times, by 6 % (whose blotches show) 3.5-10.5 times (``docs/fitting.md``, "Lighting").
+LIGHT_SIGNIFICANCE = 3.0
+
+
+def even_lighting(photo):
+    """The photo as the fit reads it: its lighting divided out where it drifts by :data:`MIN_LIGHTING` or more.
+
+    A photo lit unevenly (the sun from one side, a lens's vignetting)
+    brightens and darkens smoothly across; every patch of a texture made of
+    it would repeat that drift as bright and dark blotches
+    (:func:`spectex.metrics.lighting_blotches`). The drift is estimated as
+    a smooth field of degree 2 in the photo's coordinates, fitted to the log
+    of the mean luma of 16 x 16 blocks, and every colour channel divided by
+    it (the result kept inside the photo's range per channel). Only a drift
+    of at least :data:`MIN_LIGHTING` and :data:`LIGHT_SIGNIFICANCE` times
+    what the blocks' own scatter gives by chance is evened out.
+
+    Parameters
+    ----------
+    photo : ndarray, shape (h, w, 3), float
+        As :func:`prepare_exemplar` gives it.
+
+    Returns
+    -------
+    (ndarray, dict or None)
+        The photo (the same array where nothing was done) and
+        ``{"rms", "chance", "low", "high"}``: the drift's RMS (of natural
+        log luma), the RMS of chance, and its lowest and highest factor on
+        the brightness; or None where the photo is under 32 pixels or lit
+        evenly.
+    """
+    from .._lighting import MIN_LIGHT_SIDE, even_out_lighting, lighting_drift
+
+    if min(photo.shape[:2]) < MIN_LIGHT_SIDE:
+        return photo, None
+    trend, rms, chance = lighting_drift(photo)
+    if rms < MIN_LIGHTING or rms < LIGHT_SIGNIFICANCE * chance:
+        return photo, None
+    flat, _ = even_out_lighting(photo, trend=trend)
+    light = {"rms": round(rms, 6), "chance": round(chance, 6), "low": round(float(np.exp(trend.min())), 6),
+             "high": round(float(np.exp(trend.max())), 6)}
+    return flat.astype(photo.dtype, copy=False), light
+
+
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     """The exemplar as the fit uses it: RGB float32 in [0, 1], at most ``max_size`` a side.
 
@@ -396,6 +446,9 @@ class FitReport(AsDict):
     #: :func:`spectex.metrics.one_off_repeats` of the bake: content the photo shows once (a leaf, a tripod's
     #: leg) and how often the texture shows it (None for an exemplar under 32 pixels)
     one_off: object = None
+    #: :func:`spectex.metrics.lighting_blotches` of the bake: blotches at the photo's scale against the photo's
+    #: own, its lighting divided out (None for an exemplar under 32 pixels)
+    lighting: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -493,7 +546,10 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         the exemplar's shape at ``coarse_zoom`` times ``pixel_size``; None
         without ``coarse_zoom`` or for an exemplar under 192 pixels);
         ``one_off`` (:func:`spectex.metrics.one_off_repeats` of the bake:
-        content the photo shows once and how often the texture shows it).
+        content the photo shows once and how often the texture shows it);
+        ``lighting`` (:func:`spectex.metrics.lighting_blotches` of the bake:
+        blotches at the photo's scale, such as an unevenly lit photo's
+        drift repeated in every patch).
     """
     from concurrent.futures import ThreadPoolExecutor
 
@@ -537,7 +593,8 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         others = dict(band_power_distance_db=band_power_distance(exemplar, bake),
                       band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
                       histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
-                      cells=_cells(bake, exemplar), one_off=_one_off(bake, exemplar))
+                      cells=_cells(bake, exemplar), one_off=_one_off(bake, exemplar),
+                      lighting=_lighting(bake, exemplar))
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -562,6 +619,17 @@ def _cells(bake, exemplar):
         return None
     period = structure_period(exemplar)
     return None if period == (None, None) else cell_splits(bake, exemplar, period=period)
+
+
+def _lighting(bake, exemplar):
+    """:func:`spectex.metrics.lighting_blotches` of the bake (at the exemplar's pixel size), None for a small
+    exemplar or bake."""
+    from ..metrics import lighting_blotches
+
+    try:
+        return lighting_blotches(bake, exemplar)
+    except ValueError:  # an exemplar under 32 pixels, or a bake under the blotches' scale
+        return None
 
 
 def _one_off(bake, exemplar):
