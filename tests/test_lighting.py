@@ -11,7 +11,7 @@ import pytest
 import skimage.data as skimage_data
 
 from spectex import metrics
-from spectex._lighting import BLOTCH_EXCESS, even_out_lighting, lighting_drift, lighting_trend
+from spectex._lighting import BLOTCH_EXCESS, even_out_lighting, is_lighting, lighting_drift, lighting_trend
 from spectex.fitting import even_lighting, fit_result
 from spectex.render import bake
 
@@ -89,6 +89,9 @@ def test_lighting_blotches_sees_a_lit_photos_pieces_and_not_an_even_ones():
     assert seen["lit"].excess > 2 * BLOTCH_EXCESS and not seen["lit"].within, seen
     assert seen["plain"].within and seen["evened"].within, seen
     assert seen["lit"].lighting > 0.05 and seen["plain"].lighting < 0.03
+    # the plain photo's drift is chance (twice it): not divided out of its own contrast; the lit one's is light
+    assert seen["lit"].significant and not seen["plain"].significant
+    assert not is_lighting(0.009, 0.001) and not is_lighting(0.05, 0.02) and is_lighting(0.05, 0.01)
     # the photo's own low frequencies are not blotches: its pieces are measured against them
     assert seen["plain"].photo_contrast > 0 and seen["plain"].excess <= seen["lit"].excess / 3
     # a view at 2x the pixel size: the same pieces, halved, read alike

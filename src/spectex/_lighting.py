@@ -15,10 +15,12 @@ the photo's coarse octaves hold the drift's power, its windows the drift.
 
 The lighting is estimated as a smooth, multiplicative field: a polynomial
 of degree 2 in the photo's coordinates (a gradient and a vignette),
-least-squares fitted to the log of the mean luma of 16 x 16 blocks. A smooth field
-of that degree is what light does; the content of a texture at that scale
-(a photo's few large stones, moon's maria) is not smooth over the whole
-photo and stays mostly in the residual.
+least-squares fitted to the log of the mean luma of 16 x 16 blocks. A
+smooth field of that degree is what light does; the content of a texture at
+that scale (a photo's few large stones, moon's maria) is not smooth over
+the whole photo and stays mostly in the residual. A drift is taken for
+lighting only where it is several times what the blocks' own scatter gives
+such a polynomial by chance (:func:`is_lighting`).
 """
 
 from __future__ import annotations
@@ -39,11 +41,19 @@ LIGHT_DEGREE = 2
 LIGHT_FLOOR = 0.02
 #: Smallest photo side the lighting is estimated on (blocks of at least 2 pixels).
 MIN_LIGHT_SIDE = 2 * LIGHT_BLOCKS
+#: A drift is the photo's lighting (evened out by the fit, divided out of the photo's own contrast by
+#: :func:`lighting_blotches`) where its RMS is at least this (1 % of brightness: none shows under it) ...
+MIN_LIGHTING = 0.01
+#: ... and this many times the RMS the blocks' own scatter gives a polynomial of its kind by chance
+#: (:func:`lighting_drift`): evenly lit gravel, brick, paving and floor tiles drift by 1.6-2 times chance,
+#: the same photos under a light that varies by 3.5 % RMS by 2.2-5.3 times, by 6 % (whose blotches show)
+#: 3.5-10.5 times (``docs/fitting.md``, "Lighting evened out").
+LIGHT_SIGNIFICANCE = 3.0
 #: The blotches' scale: a Gaussian of this fraction of the photo's longer side.
 BLOTCH_SIGMA = 1.0 / 16.0
 #: Visible blotches: the view's low-frequency contrast over the photo's own by more than this RMS of luma
 #: (0-1, as stored: about lightness), calibrated on fits of evenly and unevenly lit photos
-#: (``docs/fitting.md``, "Lighting").
+#: (``docs/fitting.md``, "Measuring a fit").
 BLOTCH_EXCESS = 0.01
 #: The view is measured over at most this many pixels a side (its top-left corner): bounded work.
 _MAX_VIEW = 4096
@@ -102,6 +112,12 @@ def lighting_drift(photo: np.ndarray):
     return trend, float(np.sqrt(np.mean(trend * trend))), chance
 
 
+def is_lighting(rms: float, chance: float) -> bool:
+    """Whether a drift of ``rms`` (:func:`lighting_drift`) is the photo's lighting, not chance:
+    :data:`MIN_LIGHTING` and :data:`LIGHT_SIGNIFICANCE` times ``chance``."""
+    return rms >= MIN_LIGHTING and rms >= LIGHT_SIGNIFICANCE * chance
+
+
 def _low_contrast(log_luma: np.ndarray, sigma: float) -> float:
     """RMS about its mean of ``log_luma`` low-passed by a Gaussian of ``sigma`` pixels (block means of up
     to a quarter of ``sigma`` first, so that the work is bounded)."""
@@ -120,12 +136,16 @@ class LightingBlotches(AsDict):
     Attributes
     ----------
     lighting : float
-        RMS of the photo's lighting (:func:`lighting_trend`, natural log of
-        luma: 0.1 is a brightness about 10 % above or below its mean).
+        RMS of the photo's smooth drift (:func:`lighting_trend`, natural log
+        of luma: 0.1 is a brightness about 10 % above or below its mean).
+    significant : bool
+        Whether the drift is lighting, not chance (:func:`is_lighting`: at
+        least 1 % and 3 times what the photo's blocks give by chance).
     photo_contrast : float
         RMS of the photo's luma (0-1, as stored) low-passed at the blotches'
         scale (a Gaussian of 1/16 of its longer side), its lighting divided
-        out: what the photo itself holds at that scale.
+        out where ``significant``: what the photo itself holds at that
+        scale.
     view_contrast : float
         The same of the view, at the same scale in the view's pixels.
     excess : float
@@ -138,6 +158,7 @@ class LightingBlotches(AsDict):
     """
 
     lighting: float
+    significant: bool
     photo_contrast: float
     view_contrast: float
     excess: float
@@ -181,11 +202,12 @@ def lighting_blotches(view, reference, *, zoom: float = 1.0, threshold: float = 
     threshold = check_float("threshold", threshold, minimum=0.0, exclusive_minimum=True)
     view_sigma = sigma / zoom
     view = check_image("view", view, min_size=max(2, int(np.ceil(4 * view_sigma))))
-    trend = lighting_trend(reference)
-    own = _low_contrast(luma(reference, dtype=np.float64) * np.exp(-trend), sigma)
+    trend, rms, chance = lighting_drift(reference)
+    significant = is_lighting(rms, chance)
+    own = _low_contrast(luma(reference, dtype=np.float64) * (np.exp(-trend) if significant else 1.0), sigma)
     seen = _low_contrast(luma(view[:_MAX_VIEW, :_MAX_VIEW], dtype=np.float64), view_sigma)
     excess = float(np.sqrt(max(seen * seen - own * own, 0.0)))
-    return LightingBlotches(lighting=float(np.sqrt(np.mean(trend * trend))), photo_contrast=own,
+    return LightingBlotches(lighting=rms, significant=significant, photo_contrast=own,
                             view_contrast=seen, excess=excess, threshold=threshold, within=excess <= threshold)
 
 

@@ -241,5 +241,6 @@ def _structure_line(numbers, evened=None) -> str:
         line += (f"; blotches {'none' if light.within else 'SEEN'} at the photo's scale (excess {light.excess:.3f} "
                  f"over the photo's own, threshold {light.threshold:g}; "
                  + (f"the photo's lighting, {100 * evened['rms']:.0f}% RMS, evened out)" if evened else
-                    f"the photo's lighting {100 * light.lighting:.0f}% RMS)"))
+                    f"the photo's lighting, {100 * light.lighting:.0f}% RMS, kept)" if light.significant else
+                    "the photo lit evenly)"))
     return line

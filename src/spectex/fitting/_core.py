@@ -62,18 +62,8 @@ def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
     return tile, n, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
 
 
-#: The photo's lighting (RMS of its log luma's smooth drift, ``spectex._lighting.lighting_trend``) from which
-#: the fit evens it out: under 1 % of brightness no drift shows.
-MIN_LIGHTING = 0.01
-#: ... and only a drift this many times the one its blocks' own scatter gives by chance
-#: (``spectex._lighting.lighting_drift``): evenly lit gravel, brick, paving and floor tiles drift by 1.6-2
-#: times chance (and fit as before, bit for bit), the same photos lit by a light that varies 3.5 % RMS by
-#: 2.2-5.3 times, by 6 % (whose blotches show) 3.5-10.5 times (``docs/fitting.md``, "Lighting").
-LIGHT_SIGNIFICANCE = 3.0
-
-
 def even_lighting(photo):
-    """The photo as the fit reads it: its lighting divided out where it drifts by :data:`MIN_LIGHTING` or more.
+    """The photo as the fit reads it: its lighting divided out where it drifts by more than chance.
 
     A photo lit unevenly (the sun from one side, a lens's vignetting)
     brightens and darkens smoothly across; every patch of a texture made of
@@ -82,8 +72,9 @@ def even_lighting(photo):
     a smooth field of degree 2 in the photo's coordinates, fitted to the log
     of the mean luma of 16 x 16 blocks, and every colour channel divided by
     it (the result kept inside the photo's range per channel). Only a drift
-    of at least :data:`MIN_LIGHTING` and :data:`LIGHT_SIGNIFICANCE` times
-    what the blocks' own scatter gives by chance is evened out.
+    that is lighting, not chance (``spectex._lighting.is_lighting``: at least
+    1 % RMS and 3 times what the blocks' own scatter gives by chance) is
+    evened out.
 
     Parameters
     ----------
@@ -99,12 +90,12 @@ def even_lighting(photo):
         the brightness; or None where the photo is under 32 pixels or lit
         evenly.
     """
-    from .._lighting import MIN_LIGHT_SIDE, even_out_lighting, lighting_drift
+    from .._lighting import MIN_LIGHT_SIDE, even_out_lighting, is_lighting, lighting_drift
 
     if min(photo.shape[:2]) < MIN_LIGHT_SIDE:
         return photo, None
     trend, rms, chance = lighting_drift(photo)
-    if rms < MIN_LIGHTING or rms < LIGHT_SIGNIFICANCE * chance:
+    if not is_lighting(rms, chance):
         return photo, None
     flat, _ = even_out_lighting(photo, trend=trend)
     light = {"rms": round(rms, 6), "chance": round(chance, 6), "low": round(float(np.exp(trend.min())), 6),
