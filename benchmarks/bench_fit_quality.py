@@ -49,6 +49,10 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   the photo's scale beyond the photo's own (its lighting divided out), ``*`` over the threshold 0.01
   (blotches show: a photo's uneven light repeated in every piece of the texture). ``--only
   gravel_lit,paving_lit,page`` runs the unevenly lit photos of ``exemplars.EXTRA``;
+* ``grain``: :func:`spectex.metrics.scale_blotches` of the near render: the scatter of its blocks' log
+  local frequency beyond the photo's own (its tilt taken out), ``*`` over the threshold 0.025 (patches
+  of large and small grain: a photo taken at an angle, near and far mixed). ``--only
+  gravel_oblique,paving_oblique,grass_oblique`` runs the photos of ``exemplars.EXTRA`` seen at an angle;
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
 
 The machine, its load and the date are printed with the table.
@@ -178,6 +182,7 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
             "cells": _cells(near, photo if straight is None else straight, period),
             "one-off": metrics.one_off_repeats(near, photo).per_photo_area,
             "blotches": metrics.lighting_blotches(near, photo),
+            "grain": metrics.scale_blotches(near, photo),
             "groups": s1.group_ratios}
 
 
@@ -251,7 +256,7 @@ def main(argv=None) -> int:
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
              f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'1off':>5s} {'blot':>6s} " \
-             f"{'s':>6s}"
+             f"{'grain':>6s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
     for name, photo in sets:
@@ -280,7 +285,8 @@ def main(argv=None) -> int:
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
                   f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} {r['cells']:5.2f} "
                   f"{r['copies']:6.2f}{flag} {r['one-off']:5.2f} {r['blotches'].excess:5.3f}"
-                  f"{' ' if r['blotches'].within else '*'}"
+                  f"{' ' if r['blotches'].within else '*'} {r['grain'].excess:5.3f}"
+                  f"{' ' if r['grain'].within else '*'}"
                   f"{seconds:6.1f}", flush=True)
         rows.append((name, photo, made))
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture

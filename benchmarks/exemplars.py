@@ -21,8 +21,10 @@ QUICK = ("gravel", "brick", "paving")
 #: By name only (``--only``): photos holding one object each (issue 22's one-off content), 256-pixel
 #: crops of gravel and grass with an orange leaf pasted on (:func:`with_leaf`); photos lit unevenly,
 #: gravel and paving under a light from one side with a vignette (:func:`lit`) and scikit-image's
-#: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384).
-EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page")
+#: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384); photos
+#: of gravel, paving and grass taken at an angle (:func:`oblique`).
+EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
+         "grass_oblique")
 
 
 def _skimage(name):
@@ -100,6 +102,27 @@ def lit(photo: np.ndarray, strength: float = 0.45) -> np.ndarray:
     return (photo * (light[:, :, None] if photo.ndim == 3 else light)).astype(np.float32)
 
 
+def oblique(photo: np.ndarray, far: float = 0.45, side: int = 512) -> np.ndarray:
+    """``photo`` as ground seen at an angle, ``side`` pixels square: the photo mirrored into a plane 4 x 4
+    times its size (mirrored, so that it continues without seams; its mirror lines show), seen by a camera
+    pitched down, the ground at the top row magnified ``far`` times as much as at the bottom row along x
+    and ``far ** 2`` along y (a plane's homography with the vanishing line above the photo): its grain
+    shrinks towards the top, as in a photo of the ground taken standing."""
+    from scipy import ndimage
+
+    plane = np.concatenate([photo, photo[:, ::-1]], axis=1)
+    plane = np.concatenate([plane, plane[::-1]], axis=0)
+    plane = np.tile(plane, (2, 2) + ((1,) if photo.ndim == 3 else ()))
+    h = plane.shape[0]
+    yy, xx = np.mgrid[0:side, 0:side] / side
+    d = 1.0 - (1.0 - far) * (1.0 - yy)  # magnification along x: far at the top, 1 at the bottom
+    gx = ((xx - 0.5) / d) * side + plane.shape[1] / 2.0
+    gy = h - 1.0 - ((1.0 - yy) / d) * side
+    channels = [plane] if plane.ndim == 2 else [plane[:, :, c] for c in range(plane.shape[2])]
+    out = [ndimage.map_coordinates(c.astype(np.float64), [gy, gx], order=1, mode="mirror") for c in channels]
+    return (out[0] if plane.ndim == 2 else np.stack(out, axis=2)).astype(np.float32)
+
+
 def lawn() -> np.ndarray:
     """The lawn at the bottom right of scikit-image's ``camera()`` (132 x 132, grey), with the foot of
     the tripod at its lower left: a photo of grass holding one object."""
@@ -128,6 +151,8 @@ def load(name: str) -> np.ndarray:
         return lit(paving())
     if name == "page":
         return _skimage("page")
+    if name.endswith("_oblique") and name[:-8] in ("gravel", "paving", "grass"):
+        return oblique(load(name[:-8]))
     raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES + EXTRA)}")
 
 

@@ -52,6 +52,7 @@ import numpy as np
 from ._lighting import LightingBlotches, lighting_blotches  # the photo's lighting (issue 22)
 from ._otsu import otsu
 from ._results import AsDict
+from ._scale import ScaleBlotches, scale_blotches  # a photo taken at an angle (issue 22)
 from ._texture_stats import (  # structural measures (issue 22), in their own module
     Clipping,
     CoarseCopies,
@@ -980,6 +981,10 @@ class Comparison(AsDict):
         image (at ``zoom``, else at the reference's pixel size) beyond the
         reference's own, its lighting divided out (None where either is too
         small).
+    scale : ScaleBlotches or None
+        :func:`scale_blotches`: patches of large and small grain in the
+        image beyond the reference's own variation of scale, its tilt taken
+        out (None where either is too small).
 
     ``as_dict()`` gives plain Python values (lists for arrays), for JSON.
     """
@@ -1002,6 +1007,16 @@ class Comparison(AsDict):
     cells: CellSplits | None = None
     one_off: OneOffRepeats | None = None
     lighting: LightingBlotches | None = None
+    scale: ScaleBlotches | None = None
+
+
+def _scale_or_none(image, reference, zoom):
+    """:func:`scale_blotches`, None where the reference is under 128 pixels, the zoom beyond its blocks or
+    the image under two of them."""
+    try:
+        return scale_blotches(image, reference, zoom=1.0 if zoom is None else zoom)
+    except ValueError:
+        return None
 
 
 def _lighting_or_none(image, reference, zoom):
@@ -1098,4 +1113,5 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
         cells=cell_splits(image, reference, period=period) if period is not None else None,
-        one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom))
+        one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom),
+        scale=_scale_or_none(image, reference, zoom))

@@ -199,5 +199,10 @@ def _print_table(r, image, reference) -> None:
         print(f"blotches image / ref.      {k.view_contrast:.3f} / {k.photo_contrast:.3f}, excess {k.excess:.3f} "
               f"(reference's lighting {100 * k.lighting:.0f}% RMS, divided out): "
               + ("none seen" if k.within else f"SEEN, over {k.threshold:g} (the reference's lighting repeated?)"))
+    if r.scale is not None:
+        k = r.scale
+        print(f"grain scale image / ref.   {k.view_scatter:.3f} / {k.photo_scatter:.3f}, excess {k.excess:.3f} "
+              + (f"(reference taken at an angle, {k.spread:.2f}-fold, tilt taken out): " if k.oblique else ": ")
+              + ("even" if k.within else f"MIXED, over {k.threshold:g} (large and small grain patch by patch)"))
     if r.seam_energy is not None:
         print(f"seam energy                {num(r.seam_energy, '{:.3f}')}   (about 1: seams like the interior)")

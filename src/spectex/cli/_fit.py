@@ -47,6 +47,10 @@ def register(subparsers) -> None:
     p.add_argument("--keep-lighting", action="store_true",
                    help="keep the photo's lighting (its brightness drifting across it) in the tile; by default "
                         "it is evened out, since every patch of the texture would repeat it as blotches")
+    p.add_argument("--keep-perspective", action="store_true",
+                   help="keep the perspective of a photo taken at an angle; by default a structured one is "
+                        "rectified from its lines and an unstructured one levelled in scale, since patches of its "
+                        "near and far sides would meet as blotches of large and small grain")
     _common.add_normalize(p)
     p.set_defaults(func=run)
 
@@ -118,7 +122,8 @@ def run(args) -> int | None:
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed,
-                            keep_one_off=args.keep_one_off, keep_lighting=args.keep_lighting, progress=bar)
+                            keep_one_off=args.keep_one_off, keep_lighting=args.keep_lighting,
+                            keep_perspective=args.keep_perspective, progress=bar)
     return _finish(args, outputs, exemplar, result, reference, magnifications, start)
 
 
@@ -198,7 +203,7 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
-    _common.report(_structure_line(numbers, result.params.get("lighting")))
+    _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level")))
     misses = []
     if w1 > POOR_W1:
         misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
@@ -211,9 +216,10 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
     return 0
 
 
-def _structure_line(numbers, evened=None) -> str:
-    """The structural measures of the report (issue 22), one line (``evened``: the fit's
-    ``params["lighting"]``, where it evened the photo's lighting out)."""
+def _structure_line(numbers, evened=None, levelled=None) -> str:
+    """The structural measures of the report (issue 22), one line (``evened``, ``levelled``: the fit's
+    ``params["lighting"]`` and ``params["level"]``, where it evened the photo's lighting out or levelled
+    its perspective)."""
     st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
     if st is None:
         line = "  structure: n/a (the photo holds no two 32x32 windows)"
@@ -243,4 +249,11 @@ def _structure_line(numbers, evened=None) -> str:
                  + (f"the photo's lighting, {100 * evened['rms']:.0f}% RMS, evened out)" if evened else
                     f"the photo's lighting, {100 * light.lighting:.0f}% RMS, kept)" if light.significant else
                     "the photo lit evenly)"))
+    grain = getattr(numbers, "scale", None)
+    if grain is not None:
+        line += (f"; grain scale {'even' if grain.within else 'MIXED'} (excess {grain.excess:.3f} over the "
+                 f"photo's own, threshold {grain.threshold:g}"
+                 + (f"; the photo taken at an angle, levelled: {levelled['spread']:.2f}-fold across it)" if levelled
+                    else f"; the photo taken at an angle, {grain.spread:.2f}-fold across it, kept)" if grain.oblique
+                    else ")"))
     return line

@@ -45,7 +45,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
         tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
         patch: float | None = None, method: str = "auto", keep_one_off: bool = False, keep_lighting: bool = False,
-        progress=None):
+        keep_perspective: bool = False, progress=None):
     """Fit a spectral texture to an exemplar photograph (Berger's future work).
 
     **The default, ``method="auto"``** (issue 22; ``spectex.fitting._auto`` and
@@ -73,7 +73,11 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     ``keep_one_off``. Before that, the photo's lighting (a smooth drift of
     its brightness across it, :func:`spectex.metrics.lighting_blotches`),
     which every patch of the texture would repeat as bright and dark
-    blotches, is divided out (said in the notes), unless ``keep_lighting``.
+    blotches, is divided out (said in the notes), unless ``keep_lighting``;
+    and a photo of unstructured ground taken at an angle (its grain
+    shrinking towards the far side, :func:`spectex.metrics.scale_blotches`)
+    is levelled in scale by a homography (a structured one is rectified from
+    its lines), unless ``keep_perspective``.
 
     **``method="legacy"``**, the fit before issue 22, kept only so that
     ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of
@@ -214,7 +218,8 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     """
     kwargs = dict(pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio, opacity=opacity,
                   iterations=iterations, tile_size=tile_size, max_size=max_size, tiling=tiling, patch=patch,
-                  method=method, keep_one_off=keep_one_off, keep_lighting=keep_lighting, progress=progress, rng=rng)
+                  method=method, keep_one_off=keep_one_off, keep_lighting=keep_lighting,
+                  keep_perspective=keep_perspective, progress=progress, rng=rng)
     return fit_result(image, **kwargs).texture
 
 
@@ -222,7 +227,7 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
                ratio: float = 4.0, opacity: float | None = None, iterations: int | None = None,
                tile_size: int | None = None, max_size: int = MAX_ANALYSIS_SIZE, rng=0, tiling: str = "auto",
                patch: float | None = None, method: str = "auto", keep_one_off: bool = False,
-               keep_lighting: bool = False, progress=None) -> FitResult:
+               keep_lighting: bool = False, keep_perspective: bool = False, progress=None) -> FitResult:
     """Fit a spectral texture as :func:`fit` does, and return it with the numbers of the fit.
 
     The parameters are :func:`fit`'s; the same inputs (``rng`` an int)
@@ -240,8 +245,9 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
     method = check_choice("method", method, FIT_METHODS)
     if not isinstance(keep_one_off, bool):
         raise TypeError(f"keep_one_off must be True or False, got {keep_one_off!r}")
-    if not isinstance(keep_lighting, bool):
-        raise TypeError(f"keep_lighting must be True or False, got {keep_lighting!r}")
+    for name, value in (("keep_lighting", keep_lighting), ("keep_perspective", keep_perspective)):
+        if not isinstance(value, bool):
+            raise TypeError(f"{name} must be True or False, got {value!r}")
     if method == "legacy":
         if photo_size is not None:
             raise ValueError("photo_size is not used by method='legacy' (give pixel_size)")
@@ -254,6 +260,6 @@ def fit_result(image, *, pixel_size: float | None = None, photo_size: float | No
     return fit_auto(image, pixel_size=pixel_size, photo_size=photo_size, layers=layers, ratio=ratio,
                     opacity=opacity, iterations=iterations, tile_size=tile_size, max_size=max_size, rng=rng,
                     tiling=tiling, patch=patch, keep_one_off=keep_one_off, keep_lighting=keep_lighting,
-                    progress=progress)
+                    keep_perspective=keep_perspective, progress=progress)
 
 

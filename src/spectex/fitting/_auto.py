@@ -128,7 +128,7 @@ def _straightened(exemplar, angle):
     return np.clip(out, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1))).astype(exemplar.dtype)
 
 
-def _straighten_structure(exemplar, structure, notes):
+def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
     """A structured photo in perspective rectified, or one turned a few degrees off its lines straightened.
 
     Returns ``(exemplar, angle, drift)``: the photo, its structure's angle
@@ -142,13 +142,17 @@ def _straighten_structure(exemplar, structure, notes):
     parallel); else the notes say the structure is not kept whole. Where
     ``STRAIGHTEN_MIN < |angle| <= STRAIGHTEN_MAX`` (and no perspective) it
     is straightened (:func:`_straightened`). The notes say what was done.
+    ``keep_perspective``: a photo in perspective is left as it is.
     """
     h, w = exemplar.shape[:2]
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None
     angle = structure_orientation(exemplar)
     drift = _orientation_drift(exemplar)
-    if drift > PERSPECTIVE_DRIFT:
+    if drift > PERSPECTIVE_DRIFT and keep_perspective:
+        notes.append(f"kept the photo's perspective (its structure's lines turn by {drift:.1f} degrees across it; "
+                     "keep_perspective=True / --keep-perspective)")
+    elif drift > PERSPECTIVE_DRIFT:
         # lines that fan out are not made parallel by one turn: the photo is rectified (a homography from
         # its two line families' vanishing points) and kept so where its lines then run parallel
         from ._perspective import rectify
@@ -696,6 +700,30 @@ def _even_out_lighting(exemplar, notes):
     return flat, light
 
 
+def _level_oblique(exemplar, notes):
+    """An unstructured photo taken at an angle levelled in scale (``_perspective.level``), said in
+    ``notes``: ``(photo, {"spread", "crop", "scale_range"})``, or None where it shows no tilt (or is
+    structured: rectified from its lines later)."""
+    from .._scale import MIN_SCALE_SIDE, scale_drift
+    from ._perspective import level
+
+    if min(exemplar.shape[:2]) < MIN_SCALE_SIDE or structure_peak(exemplar) >= STRUCTURED_PEAK:
+        return None
+    found = level(exemplar)
+    if found is None:
+        return None
+    spread = scale_drift(exemplar)[1]
+    lh, lw = found.image.shape[:2]
+    lo, hi = found.scale_range
+    notes.append(f"levelled the photo's perspective (taken at an angle: its grain's scale changed {spread:.2f}-fold "
+                 f"across it, which every patch of the texture would show as blotches of large and small grain; "
+                 f"cropped to {lh} x {lw} px, resampled by {lo:.2f} to {hi:.2f}; the far side's detail magnified "
+                 "is softer: photograph the ground square-on for the sharpest texture; keep it with "
+                 "keep_perspective=True / --keep-perspective)")
+    return found.image.astype(exemplar.dtype, copy=False), {"spread": round(spread, 6), "crop": [lh, lw],
+                                                            "scale_range": [round(lo, 6), round(hi, 6)]}
+
+
 #: Most regions of one-off content the fit fills, largest first (each found again on the filled photo).
 MAX_ONE_OFF = 4
 
@@ -730,6 +758,20 @@ def _leave_out_one_off(exemplar, notes):
     return None if not regions else (exemplar, regions)
 
 
+def _photo_as_ground(exemplar, notes, *, keep_lighting, keep_perspective, keep_one_off):
+    """What a photo holds that is not the ground's texture, taken out in order (each unless kept): its
+    lighting evened out, an unstructured photo taken at an angle levelled, one-off content filled.
+    Returns ``(photo, lighting, levelled, one_off)``, the last three None where nothing was done."""
+    found = []
+    for keep, step in ((keep_lighting, _even_out_lighting), (keep_perspective, _level_oblique),
+                       (keep_one_off, _leave_out_one_off)):
+        done = None if keep else step(exemplar, notes)
+        if done is not None:
+            exemplar, done = done
+        found.append(done)
+    return (exemplar, *found)
+
+
 def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, tiling="auto", patch=None,
                   progress=None):
     """The fit's options checked (no image needed: the command line checks them before reading the photo).
@@ -756,7 +798,7 @@ def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, 
 
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, keep_one_off=False,
-             keep_lighting=False, progress=None) -> FitResult:
+             keep_lighting=False, keep_perspective=False, progress=None) -> FitResult:
     """Issue 22's fit (see the module's docstring and :func:`spectex.fit`)."""
     start = time.perf_counter()
     layers, ratio, opacity, iterations, rng, tiling, patch = check_options(
@@ -768,12 +810,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
-    lighting = None if keep_lighting else _even_out_lighting(exemplar, notes)
-    if lighting is not None:
-        exemplar, lighting = lighting
-    one_off = None if keep_one_off else _leave_out_one_off(exemplar, notes)
-    if one_off is not None:
-        exemplar, one_off = one_off
+    exemplar, lighting, levelled, one_off = _photo_as_ground(exemplar, notes, keep_lighting=keep_lighting,
+                                                             keep_perspective=keep_perspective,
+                                                             keep_one_off=keep_one_off)
     h, w = exemplar.shape[:2]
     total = 3 + iterations
     done = 0
@@ -786,7 +825,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
 
     # --- layer 0's tile and tiling
     structure = structure_peak(exemplar)
-    exemplar, angle, drift = _straighten_structure(exemplar, structure, notes)
+    exemplar, angle, drift = _straighten_structure(exemplar, structure, notes, keep_perspective)
     if exemplar.shape[:2] != (h, w):
         h, w = exemplar.shape[:2]
         structure = structure_peak(exemplar)
@@ -897,6 +936,6 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
               "structure_peak": structure, "orientation_deg": angle, "orientation_drift_deg": drift,
               "period_px": period,
               "tile_period_px": None if cut is None else cut[3], "trial": trial, "snap": snap0, "patch": patch,
-              "scale": scale, "lighting": lighting, "one_off": one_off}
+              "scale": scale, "lighting": lighting, "level": levelled, "one_off": one_off}
     return FitResult(texture=texture, exemplar=exemplar, pixel_size=pixel_size, notes=notes, params=params,
                      seconds=time.perf_counter() - start)

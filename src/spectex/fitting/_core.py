@@ -440,6 +440,9 @@ class FitReport(AsDict):
     #: :func:`spectex.metrics.lighting_blotches` of the bake: blotches at the photo's scale against the photo's
     #: own, its lighting divided out (None for an exemplar under 32 pixels)
     lighting: object = None
+    #: :func:`spectex.metrics.scale_blotches` of the bake: patches of large and small grain against the photo's
+    #: own variation of scale, its tilt taken out (None for an exemplar under 128 pixels)
+    scale: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -540,7 +543,9 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         content the photo shows once and how often the texture shows it);
         ``lighting`` (:func:`spectex.metrics.lighting_blotches` of the bake:
         blotches at the photo's scale, such as an unevenly lit photo's
-        drift repeated in every patch).
+        drift repeated in every patch); ``scale``
+        (:func:`spectex.metrics.scale_blotches` of the bake: a photo taken
+        at an angle, its near and far grain mixed patch by patch).
     """
     from concurrent.futures import ThreadPoolExecutor
 
@@ -585,7 +590,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
                       band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
                       histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
                       cells=_cells(bake, exemplar), one_off=_one_off(bake, exemplar),
-                      lighting=_lighting(bake, exemplar))
+                      lighting=_lighting(bake, exemplar), scale=_scale(bake, exemplar))
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -620,6 +625,17 @@ def _lighting(bake, exemplar):
     try:
         return lighting_blotches(bake, exemplar)
     except ValueError:  # an exemplar under 32 pixels, or a bake under the blotches' scale
+        return None
+
+
+def _scale(bake, exemplar):
+    """:func:`spectex.metrics.scale_blotches` of the bake (at the exemplar's pixel size), None for a small
+    exemplar or bake."""
+    from ..metrics import scale_blotches
+
+    try:
+        return scale_blotches(bake, exemplar)
+    except ValueError:  # an exemplar under 128 pixels, or a bake under two of its blocks
         return None
 
 

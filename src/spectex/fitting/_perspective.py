@@ -355,3 +355,78 @@ def rectify(image, *, window: int = LINE_WINDOW, refine: int = 1):
     vanishing = tuple(v / np.linalg.norm(v) for v in (inverse @ np.array([0.0, 1.0, 0.0]),
                                                       inverse @ np.array([1.0, 0.0, 0.0])))
     return Rectification(image=out, homography=to_crop, vanishing=vanishing, scale_range=scale_range)
+
+
+#: Times the scale drift of an unstructured photo is read and its map refined (:func:`level`): the local
+#: frequency, blurred on the far side, reads about half the tilt each time.
+LEVEL_ROUNDS = 5
+
+
+def tilt_map(shape, slope):
+    """The homography that undoes a scale drift of ``slope`` (:func:`spectex._scale.scale_drift`) on a photo
+    of ``shape``: its last row ``(a, b, 1)`` about the centre, with the log magnification ``1.5 log(1 + a x +
+    b y)`` the drift (to first order); the centre keeps its scale."""
+    h, w = shape
+    a = -slope[0] / (1.5 * w / 2.0)
+    b = -slope[1] / (1.5 * h / 2.0)
+    cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
+    shift = np.array([[1.0, 0.0, -cx], [0.0, 1.0, -cy], [0.0, 0.0, 1.0]])
+    back = np.array([[1.0, 0.0, cx], [0.0, 1.0, cy], [0.0, 0.0, 1.0]])
+    return back @ np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [a, b, 1.0]]) @ shift
+
+
+def level(image):
+    """An unstructured photo taken at an angle made square-on in scale: its far side magnified to the near
+    side's grain.
+
+    The scale drift (:func:`spectex._scale.scale_drift`) is read, undone by
+    :func:`tilt_map`, read again on the resampled crop and the maps
+    composed, :data:`LEVEL_ROUNDS` times (the luma only), then the photo is
+    resampled once. What it does not undo: the foreshortening along the
+    tilt that is the same everywhere (grain squashed alike over the whole
+    crop: no blotches, a texture slightly flattened along one axis), and
+    detail the far side never had (its grain magnified is blurred).
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C)
+        A photo of unstructured ground (gravel, grass, soil), float.
+
+    Returns
+    -------
+    Rectification or None
+        None where the photo shows no tilt (:func:`spectex._scale.is_oblique`),
+        is under the scale drift's least side, or the map has no crop of at
+        least half the photo's shorter side, or magnifies more than
+        ``MAX_SCALE_SPREAD`` times as much in one place as in another.
+        ``vanishing`` holds the vanishing line (homogeneous, photo pixels)
+        twice.
+    """
+    from .._scale import MIN_SCALE_SIDE, is_oblique, scale_drift
+    from ._core import _luma
+
+    if min(image.shape[:2]) < MIN_SCALE_SIDE:
+        return None
+    slope, spread, significance = scale_drift(image)
+    if not is_oblique(spread, significance):
+        return None
+    lum = _luma(image)[:, :, None]
+    hom = tilt_map(image.shape[:2], slope)
+    for _ in range(LEVEL_ROUNDS):
+        found = _resampled(lum, hom)
+        if found is None:
+            return None
+        if min(found[0].shape[:2]) < MIN_SCALE_SIDE:
+            break
+        slope, spread, significance = scale_drift(found[0])
+        if spread < 1.02:
+            break
+        hom = tilt_map(found[0].shape[:2], slope) @ found[1]
+    found = _resampled(image, hom)
+    if found is None:
+        return None
+    out, to_crop, scale_range = found
+    if scale_range[1] > MAX_SCALE_SPREAD * scale_range[0]:
+        return None
+    line = to_crop[2] / np.linalg.norm(to_crop[2])
+    return Rectification(image=out, homography=to_crop, vanishing=(line, line), scale_range=scale_range)

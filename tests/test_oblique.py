@@ -1,0 +1,121 @@
+"""A photo of unstructured ground taken at an angle (issue 22): its scale drift read, levelled by the fit,
+and the patches of large and small grain it leaves measured.
+
+``spectex._scale`` reads the drift and measures the blotches (``spectex.metrics.scale_blotches``);
+``spectex.fitting._perspective.level`` undoes it; the fit levels such a photo unless
+``keep_perspective=True`` (the control).
+"""
+
+import numpy as np
+import pytest
+import skimage.data as skimage_data
+
+from spectex import metrics
+from spectex._scale import SCALE_EXCESS, is_oblique, scale_drift
+from spectex.fitting import fit_result
+from spectex.fitting._perspective import level
+from spectex.render import bake
+
+
+def _gravel():
+    return skimage_data.gravel().astype(np.float64) / 255.0
+
+
+def _seen_at_an_angle(photo, far=0.45, side=256):
+    """``photo`` mirrored into a plane and seen by a camera pitched down: the top row's ground magnified
+    ``far`` times as much as the bottom row's along x, ``far ** 2`` along y (a plane's homography)."""
+    from scipy import ndimage
+
+    plane = np.concatenate([photo, photo[:, ::-1]], axis=1)
+    plane = np.concatenate([plane, plane[::-1]], axis=0)
+    yy, xx = np.mgrid[0:side, 0:side] / side
+    d = 1.0 - (1.0 - far) * (1.0 - yy)
+    gx = ((xx - 0.5) / d) * side + plane.shape[1] / 2.0
+    gy = plane.shape[0] - 1.0 - ((1.0 - yy) / d) * side
+    grey = ndimage.map_coordinates(plane, [gy, gx], order=1, mode="mirror")
+    return np.repeat(grey[:, :, None], 3, axis=2)
+
+
+def _pieces(photo, n=3, rng=0):
+    """An n x n mosaic of the photo, each copy rolled by its own offset: a texture of its pieces."""
+    rng = np.random.default_rng(rng)
+    return np.concatenate([np.concatenate([np.roll(photo, tuple(rng.integers(0, photo.shape[0], 2)), axis=(0, 1))
+                                           for _ in range(n)], axis=1) for _ in range(n)], axis=0)
+
+
+def test_scale_drift_reads_a_tilt_and_not_even_ground():
+    flat = np.repeat(_gravel()[:256, :256, None], 3, axis=2)
+    tilted = _seen_at_an_angle(_gravel())
+    slope, spread, significance = scale_drift(tilted)
+    assert slope[1] < -0.1 and abs(slope[0]) < 0.5 * abs(slope[1])  # finer grain towards the top
+    assert is_oblique(spread, significance) and spread > 1.3
+    assert not is_oblique(*scale_drift(flat)[1:])
+    # turned a quarter, the drift turns with it
+    turned = scale_drift(np.ascontiguousarray(np.rot90(tilted)))[0]
+    assert abs(turned[0]) > 0.1 and abs(turned[1]) < 0.5 * abs(turned[0])
+
+
+def test_level_undoes_the_tilt_and_leaves_even_ground_alone():
+    tilted = _seen_at_an_angle(_gravel())
+    found = level(tilted)
+    assert found is not None
+    assert min(found.image.shape[:2]) >= 128 and found.scale_range[1] > 1.2 * found.scale_range[0]
+    assert scale_drift(found.image)[1] < 1.1  # the grain as large at the top as at the bottom
+    assert level(np.repeat(_gravel()[:256, :256, None], 3, axis=2)) is None
+
+
+def test_scale_blotches_sees_a_tilted_photos_pieces_and_not_an_even_ones():
+    tilted = _seen_at_an_angle(_gravel())
+    flat = np.repeat(_gravel()[:256, :256, None], 3, axis=2)
+    levelled = level(tilted).image
+    seen = {"tilted": metrics.scale_blotches(_pieces(tilted), tilted),
+            "flat": metrics.scale_blotches(_pieces(flat), flat),
+            "levelled": metrics.scale_blotches(_pieces(levelled[:levelled.shape[1]]), tilted)}
+    assert seen["tilted"].oblique and not seen["flat"].oblique
+    assert not seen["tilted"].within and seen["tilted"].excess > 2 * SCALE_EXCESS, seen
+    assert seen["flat"].within, seen
+    # levelled, its pieces mix scales far less (its magnified far side is softer, read as a little coarser)
+    assert seen["levelled"].excess < seen["tilted"].excess / 2, seen
+    assert not metrics.compare(_pieces(tilted), reference=tilted).scale.within
+
+
+def test_scale_blotches_refuses_bad_input():
+    photo = np.repeat(_gravel()[:256, :256, None], 3, axis=2)
+    with pytest.raises(ValueError, match="zoom"):
+        metrics.scale_blotches(photo, photo, zoom=50.0)
+    with pytest.raises(ValueError, match="reference"):
+        metrics.scale_blotches(photo, photo[:100, :100])
+    with pytest.raises(ValueError, match="view"):
+        metrics.scale_blotches(photo[:40, :40], photo)
+    with pytest.raises(ValueError, match="threshold"):
+        metrics.scale_blotches(photo, photo, threshold=-1.0)
+
+
+def test_fit_levels_a_tilted_photo_unless_asked_to_keep_it(tmp_path, capsys):
+    from spectex import io
+    from spectex.cli import build_parser, main
+
+    tilted = _seen_at_an_angle(_gravel())
+    side = int(round(np.sqrt(8.0) * 256))
+    fits = {keep: fit_result(tilted, rng=0, keep_perspective=keep) for keep in (False, True)}
+    assert fits[False].params["level"]["spread"] > 1.3 and fits[True].params["level"] is None
+    assert any("levelled the photo's perspective" in n for n in fits[False].notes)
+    seen = {keep: metrics.scale_blotches(bake(r.texture, (side, side), pixel_size=r.pixel_size), tilted)
+            for keep, r in fits.items()}
+    assert seen[False].within and not seen[True].within, seen
+    with pytest.raises(TypeError, match="keep_perspective"):
+        fit_result(tilted, keep_perspective=1)
+    # the command: its note, its report line, the flag
+    io.write_image(tmp_path / "tilted.png", tilted.astype(np.float32))
+    assert main(["fit", str(tmp_path / "tilted.png"), "-o", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "note: levelled the photo's perspective" in out and "--keep-perspective" in out
+    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
+    assert "grain scale even" in line and "levelled" in line, line
+    parser, path = build_parser(), str(tmp_path / "tilted.png")
+    assert parser.parse_args(["fit", path, "-o", "o", "--keep-perspective"]).keep_perspective is True
+    assert parser.parse_args(["fit", path, "-o", "o"]).keep_perspective is False
+    np.save(tmp_path / "pieces.npy", _pieces(tilted).astype(np.float32))
+    assert main(["compare", str(tmp_path / "pieces.npy"), "--reference", path]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("grain scale"))
+    assert "MIXED" in line and "taken at an angle" in line, line
