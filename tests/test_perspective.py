@@ -156,6 +156,19 @@ def test_fit_rectifies_a_wall_in_perspective_so_its_lines_do_not_break(walls, mo
     assert breaks_not >= 2.5 and breaks_not >= 2.0 * breaks, got
 
 
+def test_fit_keeps_a_walls_perspective_when_asked(walls):
+    """``keep_perspective=True`` leaves a structured photo in perspective as it is (said in the notes): its
+    lines then break where patches from its sides meet, as the control above."""
+    from spectex.fitting import fit_result
+
+    seen = walls["seen"]
+    result = fit_result(seen, pixel_size=0.01, layers=2, iterations=1, keep_perspective=True)
+    assert any(n.startswith("kept the photo's perspective") for n in result.notes), result.notes
+    assert not any("rectified" in n for n in result.notes)
+    baked = bake(result.texture, (512, 512), pixel_size=0.01)
+    assert metrics.line_breaks(baked, seen).ratio >= 2.5
+
+
 @pytest.mark.slow
 def test_fit_of_scikit_image_brick_keeps_its_columns_straight(monkeypatch):
     import skimage.data
