@@ -36,6 +36,20 @@ def _seen_at_an_angle(photo, far=0.45, side=256):
     return np.repeat(grey[:, :, None], 3, axis=2)
 
 
+def _isotropic_drift(grey, side=256):
+    """``grey``'s plane seen from straight above at a height that grows towards the top: the grain shrinks
+    alike along x and y (no foreshortening), by half from the bottom row to the top."""
+    from scipy import ndimage
+
+    plane = np.concatenate([grey, grey[:, ::-1]], axis=1)
+    plane = np.concatenate([plane, plane[::-1]], axis=0)
+    yy, xx = np.mgrid[0:side, 0:side] / side
+    m = 2.0 - yy  # ground per pixel: 2 at the top, 1 at the bottom, the same along x and y (near the axis)
+    gx = (xx - 0.5) * side * m + plane.shape[1] / 2.0
+    gy = plane.shape[0] / 2.0 + (2.0 * yy - 0.5 * yy * yy - 0.75) * side  # the integral of m
+    return ndimage.map_coordinates(plane, [gy, gx], order=1, mode="mirror")
+
+
 def _pieces(photo, n=3, rng=0):
     """An n x n mosaic of the photo, each copy rolled by its own offset: a texture of its pieces."""
     rng = np.random.default_rng(rng)
@@ -46,9 +60,13 @@ def _pieces(photo, n=3, rng=0):
 def test_scale_drift_reads_a_tilt_and_not_even_ground():
     flat = np.repeat(_gravel()[:256, :256, None], 3, axis=2)
     tilted = _seen_at_an_angle(_gravel())
-    slope, spread, significance = scale_drift(tilted)
+    slope, spread, significance, foreshortening = scale_drift(tilted)
     assert slope[1] < -0.1 and abs(slope[0]) < 0.5 * abs(slope[1])  # finer grain towards the top
-    assert is_oblique(spread, significance) and spread > 1.3
+    assert is_oblique(spread, significance, foreshortening) and spread > 1.3 and foreshortening > 1.25
+    # content that changes scale alike in every direction is not a tilt: the photo's top half, its
+    # grain shrunk in both directions by up to 2 (isotropic) against its bottom half as it is
+    flat_grey = _gravel()[:256, :256]
+    assert not is_oblique(*scale_drift(np.repeat(_isotropic_drift(flat_grey)[:, :, None], 3, axis=2))[1:])
     assert not is_oblique(*scale_drift(flat)[1:])
     # turned a quarter, the drift turns with it
     turned = scale_drift(np.ascontiguousarray(np.rot90(tilted)))[0]

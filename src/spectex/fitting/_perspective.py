@@ -407,8 +407,8 @@ def level(image):
 
     if min(image.shape[:2]) < MIN_SCALE_SIDE:
         return None
-    slope, spread, significance = scale_drift(image)
-    if not is_oblique(spread, significance):
+    slope, spread, significance, foreshortening = scale_drift(image)
+    if not is_oblique(spread, significance, foreshortening):
         return None
     lum = _luma(image)[:, :, None]
     hom = tilt_map(image.shape[:2], slope)
@@ -418,7 +418,7 @@ def level(image):
             return None
         if min(found[0].shape[:2]) < MIN_SCALE_SIDE:
             break
-        slope, spread, significance = scale_drift(found[0])
+        slope, spread = scale_drift(found[0])[:2]
         if spread < 1.02:
             break
         hom = tilt_map(found[0].shape[:2], slope) @ found[1]
