@@ -191,6 +191,16 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     patch : float, optional
         The stochastic layers' triangle side in tiles; default
         ``DEFAULT_PATCH`` (0.5).
+    keep_one_off : bool
+        Keep content the photo shows once (a leaf, a tripod's foot) in the
+        tile (default: filled from the rest of the photo).
+    keep_lighting : bool
+        Keep the photo's lighting, a smooth drift of its brightness across
+        it (default: divided out where it is more than chance).
+    keep_perspective : bool
+        Keep the perspective of a photo taken at an angle (default: a
+        structured photo rectified from its lines, an unstructured one
+        levelled in scale). ``method="auto"`` only, as the two above.
     progress : callable, optional
         ``progress(done, total)`` after each step.
 
