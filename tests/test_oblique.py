@@ -68,6 +68,10 @@ def test_scale_drift_reads_a_tilt_and_not_even_ground():
     flat_grey = _gravel()[:256, :256]
     assert not is_oblique(*scale_drift(np.repeat(_isotropic_drift(flat_grey)[:, :, None], 3, axis=2))[1:])
     assert not is_oblique(*scale_drift(flat)[1:])
+    # each rule on its own: too little spread, chance, no foreshortening, across changing the other way
+    assert is_oblique(1.5, 10.0, 2.0)
+    assert not (is_oblique(1.1, 10.0, 2.0) or is_oblique(1.5, 4.0, 2.0) or is_oblique(1.5, 10.0, 1.0)
+                or is_oblique(1.5, 10.0, -2.0))
     # turned a quarter, the drift turns with it
     turned = scale_drift(np.ascontiguousarray(np.rot90(tilted)))[0]
     assert abs(turned[0]) > 0.1 and abs(turned[1]) < 0.5 * abs(turned[0])

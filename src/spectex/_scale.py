@@ -139,7 +139,9 @@ def scale_drift(photo: np.ndarray):
         for g in (gx * gdir[0] + gy * gdir[1], gy * gdir[0] - gx * gdir[1]):
             c, _ = _plane(0.5 * np.log(np.maximum(blocks(g * g), 1e-20) / var), block, photo.shape[:2])
             rates.append(float(c[1] * gdir[0] + c[2] * gdir[1]))
-        foreshortening = rates[0] / rates[1] if rates[1] * np.sign(rates[0]) > 1e-9 else float("inf")
+        # (across the drift changing the other way than along it, the ratio is negative: no plane seen at an
+        # angle does that)
+        foreshortening = rates[0] / rates[1] if abs(rates[1]) > 1e-9 else float("inf")
     return slope, float(np.exp(2.0 * norm)), rms / max(chance, 1e-12), foreshortening
 
 
