@@ -108,6 +108,42 @@ def with_leaves(grey, leaves):
     return rgb
 
 
+def pieces(photo, n=3, rng=0):
+    """An n x n mosaic of ``photo``, each copy rolled by its own offset: a texture made of its pieces (every
+    piece carries whatever drift of light or scale the photo has; tests of issue 22's photo faults)."""
+    rng = np.random.default_rng(rng)
+    return np.concatenate([np.concatenate([np.roll(photo, tuple(rng.integers(0, photo.shape[0], 2)), axis=(0, 1))
+                                           for _ in range(n)], axis=1) for _ in range(n)], axis=0)
+
+
+def spectex_fit_says(tmp_path, capsys, photo, flag):
+    """``spectex fit`` of ``photo`` (written as ``photo.png``): its output and its report's structure line;
+    checks that ``flag`` (``--keep-...``) parses to True and is False without it. Returns ``(output, line,
+    path of the photo)``."""
+    from spectex import io
+    from spectex.cli import build_parser, main
+
+    path = tmp_path / "photo.png"
+    io.write_image(path, np.asarray(photo, np.float32))
+    assert main(["fit", str(path), "-o", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
+    parser, dest = build_parser(), flag.lstrip("-").replace("-", "_")
+    assert getattr(parser.parse_args(["fit", str(path), "-o", "o", flag]), dest) is True
+    assert getattr(parser.parse_args(["fit", str(path), "-o", "o"]), dest) is False
+    return out, line, path
+
+
+def spectex_compare_line(tmp_path, capsys, image, reference, start):
+    """The line of ``spectex compare IMAGE --reference REFERENCE`` (the image saved as .npy, the reference a
+    path) that starts with ``start``."""
+    from spectex.cli import main
+
+    np.save(tmp_path / "image.npy", np.asarray(image, np.float32))
+    assert main(["compare", str(tmp_path / "image.npy"), "--reference", str(reference)]) == 0
+    return next(x for x in capsys.readouterr().out.splitlines() if x.startswith(start))
+
+
 def error_line(capsys) -> str:
     """The one line a refused command wrote on standard error."""
     err = capsys.readouterr().err.strip().splitlines()

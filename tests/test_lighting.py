@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import skimage.data as skimage_data
 
+from helpers import pieces, spectex_compare_line, spectex_fit_says
 from spectex import metrics
 from spectex._lighting import BLOTCH_EXCESS, even_out_lighting, is_lighting, lighting_drift, lighting_trend
 from spectex.fitting import even_lighting, fit_result
@@ -30,17 +31,6 @@ def _light(shape, strength=0.3):
 
 def _lit(photo, strength=0.3):
     return photo * _light(photo.shape, strength)[:, :, None]
-
-
-def _patches(photo, n=3, rng=0):
-    """An n x n mosaic of the photo, each copy rolled by its own offset: a texture made of its pieces
-    (every piece carries whatever drift the photo has)."""
-    rng = np.random.default_rng(rng)
-    rows = []
-    for _ in range(n):
-        rows.append(np.concatenate([np.roll(photo, tuple(rng.integers(0, photo.shape[0], 2)), axis=(0, 1))
-                                    for _ in range(n)], axis=1))
-    return np.concatenate(rows, axis=0)
 
 
 def test_lighting_trend_finds_the_light_and_not_the_gravel():
@@ -84,7 +74,7 @@ def test_lighting_blotches_sees_a_lit_photos_pieces_and_not_an_even_ones():
     plain = _gravel()
     lit = _lit(plain)
     flat, _ = even_out_lighting(lit)
-    seen = {name: metrics.lighting_blotches(_patches(photo), lit if name != "plain" else plain)
+    seen = {name: metrics.lighting_blotches(pieces(photo), lit if name != "plain" else plain)
             for name, photo in (("plain", plain), ("lit", lit), ("evened", flat))}
     assert seen["lit"].excess > 2 * BLOTCH_EXCESS and not seen["lit"].within, seen
     assert seen["plain"].within and seen["evened"].within, seen
@@ -95,10 +85,10 @@ def test_lighting_blotches_sees_a_lit_photos_pieces_and_not_an_even_ones():
     # the photo's own low frequencies are not blotches: its pieces are measured against them
     assert seen["plain"].photo_contrast > 0 and seen["plain"].excess <= seen["lit"].excess / 3
     # a view at 2x the pixel size: the same pieces, halved, read alike
-    half = _patches(lit)[::2, ::2]
+    half = pieces(lit)[::2, ::2]
     assert not metrics.lighting_blotches(half, lit, zoom=2.0).within
     # compare() carries it
-    assert not metrics.compare(_patches(lit), reference=lit).lighting.within
+    assert not metrics.compare(pieces(lit), reference=lit).lighting.within
 
 
 def test_lighting_blotches_refuses_bad_input():
@@ -146,24 +136,14 @@ def test_fit_of_an_evenly_lit_photo_is_unchanged():
 def test_spectex_fit_and_compare_say_it(tmp_path, capsys):
     """``spectex fit`` notes the evened lighting and reports the blotches (none); ``--keep-lighting`` reaches
     the fit; ``spectex compare`` and ``fit_report`` say the blotches of a lit photo's pieces."""
-    from spectex import io
-    from spectex.cli import build_parser, main
     from spectex.fitting import fit_report
     from spectex.texture import Layer, SpectralTexture
 
     lit = _lit(_gravel()).astype(np.float32)
-    io.write_image(tmp_path / "lit.png", lit)
-    assert main(["fit", str(tmp_path / "lit.png"), "-o", str(tmp_path / "out")]) == 0
-    out = capsys.readouterr().out
+    out, line, path = spectex_fit_says(tmp_path, capsys, lit, "--keep-lighting")
     assert "note: evened out the photo's lighting" in out and "--keep-lighting" in out
-    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
     assert "blotches none at the photo's scale" in line and "evened out)" in line, line
-    parser, path = build_parser(), str(tmp_path / "lit.png")
-    assert parser.parse_args(["fit", path, "-o", "o", "--keep-lighting"]).keep_lighting is True
-    assert parser.parse_args(["fit", path, "-o", "o"]).keep_lighting is False
-    np.save(tmp_path / "pieces.npy", _patches(lit).astype(np.float32))
-    assert main(["compare", str(tmp_path / "pieces.npy"), "--reference", path]) == 0
-    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("blotches"))
+    line = spectex_compare_line(tmp_path, capsys, pieces(lit), path, "blotches")
     assert "SEEN" in line, line
     # fit_report of a texture that is the lit photo as one periodic layer: its bake repeats the light
     report = fit_report(SpectralTexture(np.dstack([lit, np.ones(lit.shape[:2], np.float32)]),

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import skimage.data as skimage_data
 
+from helpers import pieces, spectex_compare_line, spectex_fit_says
 from spectex import metrics
 from spectex._scale import SCALE_EXCESS, is_oblique, scale_drift
 from spectex.fitting import fit_result
@@ -21,13 +22,18 @@ def _gravel():
     return skimage_data.gravel().astype(np.float64) / 255.0
 
 
+def _mirrored(grey):
+    """``grey`` mirrored into a plane twice its size each way (it continues without seams)."""
+    plane = np.concatenate([grey, grey[:, ::-1]], axis=1)
+    return np.concatenate([plane, plane[::-1]], axis=0)
+
+
 def _seen_at_an_angle(photo, far=0.45, side=256):
     """``photo`` mirrored into a plane and seen by a camera pitched down: the top row's ground magnified
     ``far`` times as much as the bottom row's along x, ``far ** 2`` along y (a plane's homography)."""
     from scipy import ndimage
 
-    plane = np.concatenate([photo, photo[:, ::-1]], axis=1)
-    plane = np.concatenate([plane, plane[::-1]], axis=0)
+    plane = _mirrored(photo)
     yy, xx = np.mgrid[0:side, 0:side] / side
     d = 1.0 - (1.0 - far) * (1.0 - yy)
     gx = ((xx - 0.5) / d) * side + plane.shape[1] / 2.0
@@ -41,20 +47,12 @@ def _isotropic_drift(grey, side=256):
     alike along x and y (no foreshortening), by half from the bottom row to the top."""
     from scipy import ndimage
 
-    plane = np.concatenate([grey, grey[:, ::-1]], axis=1)
-    plane = np.concatenate([plane, plane[::-1]], axis=0)
+    plane = _mirrored(grey)
     yy, xx = np.mgrid[0:side, 0:side] / side
     m = 2.0 - yy  # ground per pixel: 2 at the top, 1 at the bottom, the same along x and y (near the axis)
     gx = (xx - 0.5) * side * m + plane.shape[1] / 2.0
     gy = plane.shape[0] / 2.0 + (2.0 * yy - 0.5 * yy * yy - 0.75) * side  # the integral of m
     return ndimage.map_coordinates(plane, [gy, gx], order=1, mode="mirror")
-
-
-def _pieces(photo, n=3, rng=0):
-    """An n x n mosaic of the photo, each copy rolled by its own offset: a texture of its pieces."""
-    rng = np.random.default_rng(rng)
-    return np.concatenate([np.concatenate([np.roll(photo, tuple(rng.integers(0, photo.shape[0], 2)), axis=(0, 1))
-                                           for _ in range(n)], axis=1) for _ in range(n)], axis=0)
 
 
 def test_scale_drift_reads_a_tilt_and_not_even_ground():
@@ -90,15 +88,15 @@ def test_scale_blotches_sees_a_tilted_photos_pieces_and_not_an_even_ones():
     tilted = _seen_at_an_angle(_gravel())
     flat = np.repeat(_gravel()[:256, :256, None], 3, axis=2)
     levelled = level(tilted).image
-    seen = {"tilted": metrics.scale_blotches(_pieces(tilted), tilted),
-            "flat": metrics.scale_blotches(_pieces(flat), flat),
-            "levelled": metrics.scale_blotches(_pieces(levelled[:levelled.shape[1]]), tilted)}
+    seen = {"tilted": metrics.scale_blotches(pieces(tilted), tilted),
+            "flat": metrics.scale_blotches(pieces(flat), flat),
+            "levelled": metrics.scale_blotches(pieces(levelled[:levelled.shape[1]]), tilted)}
     assert seen["tilted"].oblique and not seen["flat"].oblique
     assert not seen["tilted"].within and seen["tilted"].excess > 2 * SCALE_EXCESS, seen
     assert seen["flat"].within, seen
     # levelled, its pieces mix scales far less (its magnified far side is softer, read as a little coarser)
     assert seen["levelled"].excess < seen["tilted"].excess / 2, seen
-    assert not metrics.compare(_pieces(tilted), reference=tilted).scale.within
+    assert not metrics.compare(pieces(tilted), reference=tilted).scale.within
 
 
 def test_scale_blotches_refuses_bad_input():
@@ -114,9 +112,6 @@ def test_scale_blotches_refuses_bad_input():
 
 
 def test_fit_levels_a_tilted_photo_unless_asked_to_keep_it(tmp_path, capsys):
-    from spectex import io
-    from spectex.cli import build_parser, main
-
     tilted = _seen_at_an_angle(_gravel())
     side = int(round(np.sqrt(8.0) * 256))
     fits = {keep: fit_result(tilted, rng=0, keep_perspective=keep) for keep in (False, True)}
@@ -127,17 +122,9 @@ def test_fit_levels_a_tilted_photo_unless_asked_to_keep_it(tmp_path, capsys):
     assert seen[False].within and not seen[True].within, seen
     with pytest.raises(TypeError, match="keep_perspective"):
         fit_result(tilted, keep_perspective=1)
-    # the command: its note, its report line, the flag
-    io.write_image(tmp_path / "tilted.png", tilted.astype(np.float32))
-    assert main(["fit", str(tmp_path / "tilted.png"), "-o", str(tmp_path / "out")]) == 0
-    out = capsys.readouterr().out
+    # the command: its note, its report line, the flag; compare's line
+    out, line, path = spectex_fit_says(tmp_path, capsys, tilted, "--keep-perspective")
     assert "note: levelled the photo's perspective" in out and "--keep-perspective" in out
-    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
     assert "grain scale even" in line and "levelled" in line, line
-    parser, path = build_parser(), str(tmp_path / "tilted.png")
-    assert parser.parse_args(["fit", path, "-o", "o", "--keep-perspective"]).keep_perspective is True
-    assert parser.parse_args(["fit", path, "-o", "o"]).keep_perspective is False
-    np.save(tmp_path / "pieces.npy", _pieces(tilted).astype(np.float32))
-    assert main(["compare", str(tmp_path / "pieces.npy"), "--reference", path]) == 0
-    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("grain scale"))
+    line = spectex_compare_line(tmp_path, capsys, pieces(tilted), path, "grain scale")
     assert "MIXED" in line and "taken at an angle" in line, line

@@ -118,14 +118,14 @@ def is_lighting(rms: float, chance: float) -> bool:
     return rms >= MIN_LIGHTING and rms >= LIGHT_SIGNIFICANCE * chance
 
 
-def _low_contrast(log_luma: np.ndarray, sigma: float) -> float:
-    """RMS about its mean of ``log_luma`` low-passed by a Gaussian of ``sigma`` pixels (block means of up
-    to a quarter of ``sigma`` first, so that the work is bounded)."""
+def _low_contrast(values: np.ndarray, sigma: float) -> float:
+    """RMS about its mean of ``values`` (a luma) low-passed by a Gaussian of ``sigma`` pixels (block means of
+    up to a quarter of ``sigma`` first, so that the work is bounded)."""
     from scipy import ndimage
 
     k = max(1, int(sigma // 4))
-    h, w = (log_luma.shape[0] // k) * k, (log_luma.shape[1] // k) * k
-    x = log_luma[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3)) if k > 1 else log_luma
+    h, w = (values.shape[0] // k) * k, (values.shape[1] // k) * k
+    x = values[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3)) if k > 1 else values
     return float(np.std(ndimage.gaussian_filter(x, sigma / k, mode="reflect")))
 
 

@@ -59,23 +59,31 @@ SCALE_EXCESS = 0.025
 _MAX_VIEW = 4096
 
 
-def _log_frequency(image: np.ndarray, block: int) -> np.ndarray:
-    """Per ``block`` x ``block`` block (whole blocks only), the log of the luma's RMS frequency
-    (radians per pixel): ``log sqrt(mean |grad|^2 / variance)``, the luma smoothed by a Gaussian of one
-    pixel first. Blocks without variance get the mean of the others."""
+def _gradients(image: np.ndarray):
+    """``(y, gx, gy)``: the luma smoothed by a Gaussian of one pixel (pixel noise is not detail), float64,
+    and its gradients along x and y."""
     from scipy import ndimage
 
     y = ndimage.gaussian_filter(luma(image, dtype=np.float64), 1.0, mode="reflect")
     gy, gx = np.gradient(y)
-    ny, nx = y.shape[0] // block, y.shape[1] // block
+    return y, gx, gy
 
-    def blocks(a):
-        return a[:ny * block, :nx * block].reshape(ny, block, nx, block)
 
-    energy = blocks(gx * gx + gy * gy).mean(axis=(1, 3))
-    var = blocks(y).var(axis=(1, 3))
+def _block_means(a: np.ndarray, block: int) -> np.ndarray:
+    """Means of ``a`` over its whole ``block`` x ``block`` blocks."""
+    ny, nx = a.shape[0] // block, a.shape[1] // block
+    return a[:ny * block, :nx * block].reshape(ny, block, nx, block).mean(axis=(1, 3))
+
+
+def _log_frequency(image: np.ndarray, block: int, gradients=None) -> np.ndarray:
+    """Per ``block`` x ``block`` block (whole blocks only), the log of the luma's RMS frequency
+    (radians per pixel): ``log sqrt(mean |grad|^2 / variance)`` on :func:`_gradients` (``gradients``,
+    where already made). Blocks without variance get the mean of the others."""
+    y, gx, gy = _gradients(image) if gradients is None else gradients
+    energy = _block_means(gx * gx + gy * gy, block)
+    var = _block_means(y * y, block) - _block_means(y, block) ** 2
     ok = var > 1e-10
-    out = np.zeros((ny, nx))
+    out = np.zeros(var.shape)
     out[ok] = 0.5 * np.log(np.maximum(energy[ok], 1e-20) / var[ok])
     if not ok.all():
         out[~ok] = out[ok].mean() if ok.any() else 0.0
@@ -112,11 +120,10 @@ def scale_drift(photo: np.ndarray):
     photo : ndarray, shape (h, w) or (h, w, C)
         At least :data:`MIN_SCALE_SIDE` pixels a side.
     """
-    from scipy import ndimage
-
     photo = check_image("photo", photo, min_size=MIN_SCALE_SIDE)
     block = min(photo.shape[:2]) // SCALE_BLOCKS
-    f = _log_frequency(photo, block)
+    gradients = _gradients(photo)
+    f = _log_frequency(photo, block, gradients)
     coef, a = _plane(f, block, photo.shape[:2])
     residual = float(np.sqrt(np.mean((f.ravel() - a @ coef) ** 2)))
     chance = residual * float(np.sqrt(2.0 / a.shape[0]))
@@ -127,17 +134,11 @@ def scale_drift(photo: np.ndarray):
     if norm > 1e-9:
         # the gradients' energy along the drift and across it, per block, each its own plane
         gdir = np.array(slope) / norm
-        y = ndimage.gaussian_filter(luma(photo, dtype=np.float64), 1.0, mode="reflect")
-        gy, gx = np.gradient(y)
-        ny, nx = f.shape
-
-        def blocks(q):
-            return q[:ny * block, :nx * block].reshape(ny, block, nx, block).mean(axis=(1, 3))
-
-        var = np.maximum(blocks(y * y) - blocks(y) ** 2, 1e-20)
+        y, gx, gy = gradients
+        var = np.maximum(_block_means(y * y, block) - _block_means(y, block) ** 2, 1e-20)
         rates = []
         for g in (gx * gdir[0] + gy * gdir[1], gy * gdir[0] - gx * gdir[1]):
-            c, _ = _plane(0.5 * np.log(np.maximum(blocks(g * g), 1e-20) / var), block, photo.shape[:2])
+            c, _ = _plane(0.5 * np.log(np.maximum(_block_means(g * g, block), 1e-20) / var), block, photo.shape[:2])
             rates.append(float(c[1] * gdir[0] + c[2] * gdir[1]))
         # (across the drift changing the other way than along it, the ratio is negative: no plane seen at an
         # angle does that)

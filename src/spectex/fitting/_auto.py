@@ -709,10 +709,11 @@ def _level_oblique(exemplar, notes):
 
     if min(exemplar.shape[:2]) < MIN_SCALE_SIDE or structure_peak(exemplar) >= STRUCTURED_PEAK:
         return None
-    found = level(exemplar)
+    drift = scale_drift(exemplar)
+    found = level(exemplar, drift=drift)
     if found is None:
         return None
-    spread = scale_drift(exemplar)[1]
+    spread = drift[1]
     lh, lw = found.image.shape[:2]
     lo, hi = found.scale_range
     notes.append(f"levelled the photo's perspective (taken at an angle: its grain's scale changed {spread:.2f}-fold "

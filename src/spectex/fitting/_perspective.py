@@ -375,7 +375,7 @@ def tilt_map(shape, slope):
     return back @ np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [a, b, 1.0]]) @ shift
 
 
-def level(image):
+def level(image, *, drift=None):
     """An unstructured photo taken at an angle made square-on in scale: its far side magnified to the near
     side's grain.
 
@@ -391,6 +391,8 @@ def level(image):
     ----------
     image : ndarray, shape (H, W, C)
         A photo of unstructured ground (gravel, grass, soil), float.
+    drift : tuple, optional
+        The photo's :func:`spectex._scale.scale_drift`, where already read.
 
     Returns
     -------
@@ -407,7 +409,7 @@ def level(image):
 
     if min(image.shape[:2]) < MIN_SCALE_SIDE:
         return None
-    slope, spread, significance, foreshortening = scale_drift(image)
+    slope, spread, significance, foreshortening = scale_drift(image) if drift is None else drift
     if not is_oblique(spread, significance, foreshortening):
         return None
     lum = _luma(image)[:, :, None]
