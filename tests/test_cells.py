@@ -75,6 +75,41 @@ def test_cell_map_refuses_a_tile_without_grout_or_with_stripes():
     assert cell_map(tile, (4, 4)) is not None  # (the control: the same floor with its vertical grout)
 
 
+def _mosaic(n=256, period=32, grout=2, rng=0):
+    """A mosaic: square tiles of any colour (each channel uniform over 0.05-0.95) in thin dark grout, 8 x 8
+    periods of 32 texels: the tiles' own colours vary far more than the grout stands out of their mean."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:n, 0:n]
+    k = (yy // period) * (n // period) + xx // period
+    img = gen.uniform(0.05, 0.95, (k.max() + 1, 3))[k] + 0.02 * gen.standard_normal((n, n, 3))
+    fy, fx = yy % period, xx % period
+    g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
+    img[g] = 0.3 + 0.02 * gen.standard_normal((int(g.sum()), 3))
+    return np.clip(img, 0.0, 1.0).astype(np.float32), g
+
+
+@pytest.mark.parametrize("rng", [0, 1, 2])
+def test_cell_map_finds_the_cells_of_a_mosaic_of_many_colours(rng):
+    """A tile's own colour is its colouring, not an absence of structure: the structure's strength is weighed
+    against the texture within the cells, each cell of each period at its own level. The control: against the
+    texels about the mean period cell alone (the rule before), each tile's colour counts as noise and the
+    mosaic's structure is under ``MIN_CONTRAST`` of it (no map, so the patches' straight boundaries cut tiles)."""
+    from spectex.shading._cells import MIN_CONTRAST, cell_map
+
+    tile, grout = _mosaic(rng=rng)
+    level = tile.reshape(8, 32, 8, 32, 3)
+    mean = level.mean(axis=(0, 2))
+    axis = np.linalg.svd((mean - mean.mean(axis=(0, 1))).reshape(-1, 3), full_matrices=False)[2][0]
+    about_mean = float(np.mean(((level - mean[None, :, None]) @ axis) ** 2))
+    assert float(np.var(mean @ axis)) < MIN_CONTRAST * about_mean  # the rule before refused it
+    cells = cell_map(tile, (8, 8))
+    assert cells is not None
+    yy, xx = np.mgrid[0:256, 0:256]
+    inside = ~grout
+    assert np.all(np.abs(xx + cells[:, :, 0] - (xx // 32 * 32 + 15.5))[inside] <= 0.5)
+    assert np.all(np.abs(yy + cells[:, :, 1] - (yy // 32 * 32 + 15.5))[inside] <= 0.5)
+
+
 # ------------------------------------------------------------------ the sampler
 def _sample(tile, cells, shape=(768, 768), lod=0.0, seed=3):
     from spectex.shading.stochastic import sample_stochastic, stochastic_tables

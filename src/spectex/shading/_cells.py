@@ -26,7 +26,13 @@ texture files do not hold it):
    half floats), tiled over the tile.
 
 Where the structure is weak (the mean period cell varies less than
-``MIN_CONTRAST`` times as much as the texels about it), the interiors cover
+``MIN_CONTRAST`` times as much as the texels about it, each interior
+component of each period at its own mean first: a brick's, a floor tile's or
+a scale's own colour is the wall's colouring, not noise about its
+structure; a mosaic of tiles of any colour, or the scales of a reptile's
+skin coloured in patches, vary far more from cell to cell than their grout
+stands out of the mean, and were refused, so the patches' straight
+boundaries cut their cells in two), the interiors cover
 too little of the period cell, or an interior component runs around the torus
 (a band, not a cell: the columns of a wall whose bricks have no period along
 them, snapped along x only), there is no map (None) and the layer is sampled
@@ -44,7 +50,8 @@ from .._otsu import otsu
 __all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
 
 #: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
-#: texels' variance about it: a structure repeated in every period, not a texture averaged out.
+#: texels' variance about it (each cell of each period at its own level): a structure repeated in every period,
+#: not a texture averaged out.
 MIN_CONTRAST = 0.5
 #: The interiors must cover at least this fraction of the period cell.
 MIN_INTERIOR = 0.25
@@ -69,6 +76,21 @@ def _torus_components(mask: np.ndarray):
         if sl is not None:
             wraps[i] = (sl[0].stop - sl[0].start >= ph + 1, sl[1].stop - sl[1].start >= pw + 1)
     return labels, count, ids, wraps
+
+
+def _within_cells(deviation: np.ndarray, labels: np.ndarray) -> float:
+    """Mean square of ``deviation`` (``(ny, ph, nx, pw)``: the tile's texels about the mean period cell) once
+    each interior component (``labels``, ``(ph, pw)``, 0 outside the interiors) of each period has its own
+    mean deviation taken out: the texture within the cells, without the cells' own colours."""
+    ny, ph, nx, pw = deviation.shape
+    width = int(labels.max()) + 1
+    group = (np.arange(ny)[:, None, None, None] * nx + np.arange(nx)[None, None, :, None]) * width \
+        + labels[None, :, None, :]
+    sums = np.bincount(group.ravel(), weights=deviation.ravel(), minlength=ny * nx * width)
+    counts = np.maximum(np.bincount(group.ravel(), minlength=ny * nx * width), 1)
+    level = sums / counts
+    level[::width] = 0.0  # outside the interiors (the grout): about the mean cell only
+    return float(np.mean((deviation - level[group]) ** 2))
 
 
 def cell_map(tile, snap) -> np.ndarray | None:
@@ -119,10 +141,12 @@ def cell_map(tile, snap) -> np.ndarray | None:
     # the grout: runs around along more axes, or the smaller class where both run along as many
     grout = max(range(2), key=lambda c: (classes[c][0], -classes[c][1]))
     _, area, _, labels, count, ids, wraps = classes[1 - grout]
-    # the structure's strength: the mean period cell's variance against the texels' own about it
+    # the structure's strength: the mean period cell's variance against the texels' own about it, each cell
+    # of each period taken at its own level first (a brick, a floor tile or a scale has its own colour: what
+    # the mean flattens of it is the colouring, not an absence of structure)
     values = (rgb @ axis).reshape(ny, ph, nx, pw)
     structure = float(np.var(mean @ axis))
-    residual = float(np.mean((values - (mean @ axis)[None, :, None, :]) ** 2))
+    residual = _within_cells(values - (mean @ axis)[None, :, None, :], labels[ph:2 * ph, pw:2 * pw])
     if area < MIN_INTERIOR or structure < MIN_CONTRAST * residual:
         return None
     sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
