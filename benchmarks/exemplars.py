@@ -24,7 +24,7 @@ QUICK = ("gravel", "brick", "paving")
 #: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384); photos
 #: of gravel, paving and grass taken at an angle (:func:`oblique`).
 EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
-         "grass_oblique")
+         "grass_oblique", "scales", "wall_turned", "tiles_turned")
 
 
 def _skimage(name):
@@ -123,6 +123,60 @@ def oblique(photo: np.ndarray, far: float = 0.45, side: int = 512) -> np.ndarray
     return (out[0] if plane.ndim == 2 else np.stack(out, axis=2)).astype(np.float32)
 
 
+def scales(side: int = 512, cell: float = 22.0, jitter: float = 0.12, rng=3) -> np.ndarray:
+    """A reptile's skin, RGB: domed scales on a hexagonal lattice (``cell`` pixels apart, each centre
+    jittered by ``jitter`` of it) in dark crevices, coloured in patches larger than a scale (green to
+    brown, with near-black blotches): a structure whose cells vary more in colour than their crevices
+    stand out of the mean."""
+    from scipy.spatial import cKDTree
+
+    gen = np.random.default_rng(rng)
+    n = int(side / cell) + 4
+    pts = np.array([(r * 0.866 * cell, (c + 0.5 * (r % 2)) * cell) for r in range(-2, n) for c in range(-2, n)])
+    pts = pts + gen.normal(0.0, jitter * cell, pts.shape)
+    yy, xx = np.mgrid[0:side, 0:side]
+    d, idx = cKDTree(pts).query(np.stack([yy.ravel(), xx.ravel()], axis=1).astype(np.float64), k=2)
+    edge = (d[:, 1] - d[:, 0]).reshape(side, side)
+    owner = idx[:, 0].reshape(side, side)
+    pattern = _noise((side, side), gen, 30.0)
+    at = pattern[np.clip(pts[:, 0].astype(int), 0, side - 1), np.clip(pts[:, 1].astype(int), 0, side - 1)][owner]
+    t = np.clip(0.5 + 0.5 * at, 0.0, 1.0)[:, :, None]
+    dark = np.array([0.12, 0.12, 0.08])
+    base = np.array([0.35, 0.42, 0.2]) * t + np.array([0.45, 0.33, 0.2]) * (1.0 - t)
+    base = np.where((at > 1.1)[:, :, None], dark + 0.05, base)
+    dome = np.clip(edge / (0.5 * cell), 0.0, 1.0) ** 0.6
+    img = base * (0.55 + 0.45 * dome[:, :, None]) + 0.02 * _noise((side, side), gen, 0.8)[:, :, None]
+    crevice = np.clip((2.5 - edge) / 2.0, 0.0, 1.0)[:, :, None]
+    return np.clip(img * (1.0 - crevice) + dark * crevice, 0.0, 1.0).astype(np.float32)
+
+
+def running_bond(side: int = 768, rng=8) -> np.ndarray:
+    """A running-bond wall, RGB: bricks 58 x 26 pixels (mortar 4), each its own red, with grain."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    bh, bw, m = 26, 58, 4
+    row = (yy // bh).astype(int)
+    shift = np.where(row % 2 == 0, 0.0, bw / 2.0)
+    _, inv = np.unique(row * 1000 + ((xx + shift) // bw).astype(int), return_inverse=True)
+    colours = np.array([0.62, 0.30, 0.22]) * gen.uniform(0.75, 1.15, (inv.max() + 1, 1)) \
+        + gen.normal(0.0, 0.02, (inv.max() + 1, 3))
+    img = colours[inv.reshape(side, side)] * (1.0 + 0.06 * _noise((side, side), gen, 1.5))[:, :, None]
+    mortar = (yy % bh < m) | ((xx + shift) % bw < m)
+    img[mortar] = np.array([0.7, 0.68, 0.63]) * (1.0 + 0.05 * _noise((side, side), gen, 1.0))[mortar][:, None]
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def turned(photo: np.ndarray, angle: float, side: int = 512) -> np.ndarray:
+    """The centre ``side`` x ``side`` of ``photo`` (RGB, at least ``1.5 side``) turned by ``angle`` degrees
+    (cubic): a structure photographed turned, or laid at an angle."""
+    from scipy import ndimage
+
+    rot = np.stack([ndimage.rotate(photo[:, :, c].astype(np.float64), angle, reshape=False, order=3, mode="mirror")
+                    for c in range(3)], axis=2)
+    y0, x0 = (rot.shape[0] - side) // 2, (rot.shape[1] - side) // 2
+    return np.clip(rot[y0:y0 + side, x0:x0 + side], 0.0, 1.0).astype(np.float32)
+
+
 def lawn() -> np.ndarray:
     """The lawn at the bottom right of scikit-image's ``camera()`` (132 x 132, grey), with the foot of
     the tripod at its lower left: a photo of grass holding one object."""
@@ -151,6 +205,12 @@ def load(name: str) -> np.ndarray:
         return lit(paving())
     if name == "page":
         return _skimage("page")
+    if name == "scales":
+        return scales()
+    if name == "wall_turned":
+        return turned(running_bond(), 14.0)
+    if name == "tiles_turned":
+        return turned(tiles(side=800, period=48), 25.0)
     if name.endswith("_oblique") and name[:-8] in ("gravel", "paving", "grass"):
         return oblique(load(name[:-8]))
     raise ValueError(f"unknown exemplar {name!r}; one of {', '.join(NAMES + EXTRA)}")

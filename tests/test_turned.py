@@ -87,8 +87,8 @@ def test_a_grid_turned_45_degrees_is_one_design_not_a_perspective():
     degrees), not lines fanning out; and its lattice along the axes (every 2 cells, exactly) is cut as it is."""
     from scipy import ndimage
 
-    from spectex.fitting import _auto
     from helpers import floor_photo
+    from spectex.fitting import _auto
 
     big = floor_photo(600, 40, rng=3)[0]
     turned = np.stack([ndimage.rotate(big[:, :, c], 45.0, reshape=False, order=1) for c in range(3)], axis=2)
