@@ -5,8 +5,9 @@ axes at an inexact super-lattice).
 ``docs/images/fit_turned.jpg``. Photos (``exemplars.py``): ``scales`` (domed scales on a jittered hexagonal
 lattice, coloured in patches larger than a scale), ``wall_turned`` (a running-bond wall turned 14 degrees)
 and ``tiles_turned`` (the floor tiles turned 25 degrees). Per photo, the fit made by the rules before (the
-control: the cell map's strength against the texels about the mean period cell alone; no turned design,
-``DESIGN_HOLD`` infinite) and by default, each baked at the photo's pixel size over twice its side, and
+control, main 8e95900 emulated: no cell map unless both periods are whole numbers of texels, the mean period
+cell's strength against the texels about it alone; no turned design; any structure's orientation read and
+straightened, hexagons' too) and by default, each baked at the photo's pixel size over twice its side, and
 printed: the fit's seconds, structural distance / floor of the bake's photo-sized corner (and of both at
 half size, where the turned layer's bilinear resampling, which the measure counts as lost detail, weighs
 less), ``line_breaks``, and how well the structure's lattice holds across the bake straightened by the
@@ -37,29 +38,49 @@ from pictures_one_off import picture, save_grid  # noqa: E402
 PHOTOS = ("scales", "wall_turned", "tiles_turned")
 
 
+def _before(cell_map):
+    """``cell_map`` as it was before (main 8e95900): no map unless both periods are whole numbers of texels,
+    and the mean period cell weighed at ``MIN_CONTRAST = 0.5`` against the texels about it (each cell's own
+    colour counted as noise); the map itself, where one is made, is the same."""
+    from spectex.shading import _cells
+
+    def before(tile, snap):
+        nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
+        if tile.shape[1] % nx or tile.shape[0] % ny:
+            return None
+        saved = _cells.MIN_CONTRAST, _cells.CHANCE_FACTOR, _cells._within_cells
+        _cells.MIN_CONTRAST, _cells.CHANCE_FACTOR = 0.5, 0.0
+        _cells._within_cells = lambda deviation, labels, period: float(np.mean(deviation ** 2))
+        try:
+            return cell_map(tile, snap)
+        finally:
+            _cells.MIN_CONTRAST, _cells.CHANCE_FACTOR, _cells._within_cells = saved
+    return before
+
+
 def _fit(photo, before):
-    """The default fit, or (``before``) the fit by the rules before this change; the cell maps' cache emptied
+    """The default fit, or (``before``) the fit by the rules before this change (no turned design, any
+    structure's orientation read and straightened, :func:`_before`'s cell map); the cell maps' cache emptied
     so that each fit's renders make their own."""
     from spectex import fitting
     from spectex.fitting import _auto
+    from spectex.render import bake
     from spectex.shading import _cells, resources
 
-    saved = _auto.DESIGN_HOLD, _cells._within_cells
+    saved = _auto.DESIGN_HOLD, _auto.MIN_LINE_COHERENCE, _cells.cell_map, resources.cell_map
     if before:
-        _auto.DESIGN_HOLD = np.inf
-        _cells._within_cells = lambda deviation, labels: float(np.mean(deviation ** 2))
+        _auto.DESIGN_HOLD, _auto.MIN_LINE_COHERENCE = np.inf, 0.0
+        _cells.cell_map = resources.cell_map = _before(saved[2])
     try:
         resources._CACHE.clear()
         t0 = time.perf_counter()
         result = fitting.fit_result(photo, rng=0)
         seconds = time.perf_counter() - t0
-        from spectex.render import bake
-
         h, w = photo.shape[:2]
         near = bake(result.texture, (2 * h, 2 * w), pixel_size=result.pixel_size)
         has_cells = any(c is not None for c in resources.cell_maps(result.texture))
     finally:
-        _auto.DESIGN_HOLD, _cells._within_cells = saved
+        _auto.DESIGN_HOLD, _auto.MIN_LINE_COHERENCE, _cells.cell_map, resources.cell_map = saved
         resources._CACHE.clear()
     return result, near, seconds, has_cells
 

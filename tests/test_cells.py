@@ -65,7 +65,7 @@ def test_cell_map_refuses_a_tile_without_grout_or_with_stripes():
     noise = rng.random((256, 256, 3)).astype(np.float32)
     assert cell_map(noise, (4, 4)) is None
     assert cell_map(_floor(256, 64)[0], (0, 0)) is None  # one period: no mean over periods
-    assert cell_map(_floor(256, 64)[0], (3, 4)) is None  # 3 periods do not divide 256 texels
+    assert cell_map(_floor(256, 64)[0], (3, 4)) is None  # folded by 3 periods across a floor of 4: no cells
     # horizontal grout only: the interiors run around along x, bands, not cells to keep whole
     tile, grout = _floor(256, 64)
     stripes = tile.copy()
@@ -76,7 +76,7 @@ def test_cell_map_refuses_a_tile_without_grout_or_with_stripes():
 
 
 def _mosaic(n=256, period=32, grout=2, rng=0):
-    """A mosaic: square tiles of any colour (each channel uniform over 0.05-0.95) in thin dark grout, 8 x 8
+    """A mosaic: square tiles of any colour (each channel uniform over 0.05-0.95) in thin grey grout, 8 x 8
     periods of 32 texels: the tiles' own colours vary far more than the grout stands out of their mean."""
     gen = np.random.default_rng(rng)
     yy, xx = np.mgrid[0:n, 0:n]
@@ -84,7 +84,7 @@ def _mosaic(n=256, period=32, grout=2, rng=0):
     img = gen.uniform(0.05, 0.95, (k.max() + 1, 3))[k] + 0.02 * gen.standard_normal((n, n, 3))
     fy, fx = yy % period, xx % period
     g = (np.minimum(fy, period - 1 - fy) < grout / 2) | (np.minimum(fx, period - 1 - fx) < grout / 2)
-    img[g] = 0.3 + 0.02 * gen.standard_normal((int(g.sum()), 3))
+    img[g] = 0.4 + 0.02 * gen.standard_normal((int(g.sum()), 3))
     return np.clip(img, 0.0, 1.0).astype(np.float32), g
 
 

@@ -97,3 +97,76 @@ def test_a_grid_turned_45_degrees_is_one_design_not_a_perspective():
     notes = []
     out, angle, drift, turn = _auto._straighten_structure(photo, _auto.structure_peak(photo), notes)
     assert turn == 0.0 and out is photo and not notes, notes
+
+
+def _scales(side=256, cell=14.0, jitter=0.12, rng=3):
+    """A reptile's skin: domed scales on a hexagonal lattice ``cell`` pixels apart (centres jittered by ``jitter``
+    of it) in dark crevices, coloured in patches larger than a scale (green to brown)."""
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+
+    gen = np.random.default_rng(rng)
+    n = int(side / cell) + 4
+    pts = np.array([(r * 0.866 * cell, (c + 0.5 * (r % 2)) * cell) for r in range(-2, n) for c in range(-2, n)])
+    pts = pts + gen.normal(0.0, jitter * cell, pts.shape)
+    yy, xx = np.mgrid[0:side, 0:side]
+    d, idx = cKDTree(pts).query(np.stack([yy.ravel(), xx.ravel()], axis=1).astype(np.float64), k=2)
+    edge = (d[:, 1] - d[:, 0]).reshape(side, side)
+    patches = ndimage.gaussian_filter(gen.standard_normal((side, side)), 20.0, mode="wrap")
+    centre = np.clip(pts.astype(int), 0, side - 1)
+    t = np.clip(0.5 + 0.5 * patches[centre[:, 0], centre[:, 1]] / patches.std(), 0.0, 1.0)
+    colour = np.outer(t, (0.35, 0.42, 0.2)) + np.outer(1.0 - t, (0.45, 0.33, 0.2))
+    dome = np.clip(edge / (0.5 * cell), 0.0, 1.0) ** 0.6
+    img = colour[idx[:, 0]].reshape(side, side, 3) * (0.55 + 0.45 * dome[:, :, None])
+    crevice = np.clip((2.0 - edge) / 2.0, 0.0, 1.0)[:, :, None]
+    return np.clip(img * (1.0 - crevice) + 0.1 * crevice, 0.0, 1.0).astype(np.float32)
+
+
+def test_hexagonal_scales_have_no_lines_to_straighten(monkeypatch):
+    """A hexagonal structure's three directions of edges cancel in the orientation's vote (taken four times):
+    its angle and its halves' are chance, so it is neither turned nor said to be in perspective (with advice to
+    photograph it square-on). The control: without the coherence rule its halves' chance angles read as lines
+    fanning out."""
+    from spectex.fitting import _auto
+    from spectex.fitting._structure import MIN_LINE_COHERENCE, line_coherence
+
+    photo = _scales()
+    wall = _wall(20.0)
+    assert line_coherence(photo) < 0.5 * MIN_LINE_COHERENCE < 2.0 * MIN_LINE_COHERENCE < line_coherence(wall)
+    structure = _auto.structure_peak(photo)
+    assert structure >= _auto.STRUCTURED_PEAK
+    notes = []
+    out, _, _, turn = _auto._straighten_structure(photo, structure, notes)
+    assert out is photo and turn == 0.0 and not notes, notes
+    monkeypatch.setattr(_auto, "MIN_LINE_COHERENCE", 0.0)
+    notes = []
+    _auto._straighten_structure(photo, structure, notes)
+    assert any("perspective" in note for note in notes), notes
+
+
+def test_reptile_scales_are_drawn_whole_cell_by_cell():
+    """A hexagonal lattice's rows are sqrt(3) times its columns apart, so a square tile of whole periods holds
+    a fractional number of texels per period along one axis (here 24.5 down): the cell map folds the tile into
+    ``round(period)`` phases, so the fit's snapped layer still keeps each scale whole (one patch per scale)
+    where, with no map (the rule before: whole periods on both axes only), its patches' straight boundaries
+    cut scales in two. The map's cells are the scales: two per period (the lattice's rectangular cell holds a
+    scale and two halves), each about a scale's area."""
+    from spectex import fitting
+    from spectex.shading import resources
+
+    photo = _scales()
+    resources._CACHE.clear()
+    result = fitting.fit_result(photo, rng=0)
+    nx, ny = result.params["snap"]
+    tile = result.texture.tiles[0]
+    h, w = tile.shape[:2]
+    assert nx > 0 and ny > 0 and h % ny != 0, (result.params["tile_method"], tile.shape)  # fractional rows
+    cells = resources.cell_maps(result.texture)[0]
+    assert cells is not None
+    yy, xx = np.mgrid[0:h, 0:w]
+    centre = (np.round(np.mod(yy + cells[:, :, 1], h)).astype(int) * (w + 1)
+              + np.round(np.mod(xx + cells[:, :, 0], w)).astype(int))
+    _, sizes = np.unique(centre, return_counts=True)
+    assert len(sizes) == 2 * nx * ny, (len(sizes), nx, ny)
+    scale = h * w / (2 * nx * ny)
+    assert np.all(np.abs(sizes / scale - 1.0) < 0.25), (sizes.min(), sizes.max(), scale)

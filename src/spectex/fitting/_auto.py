@@ -54,7 +54,7 @@ from ._core import (
     prepare_exemplar,
     structure_peak,
 )
-from ._structure import structure_orientation, structure_period
+from ._structure import MIN_LINE_COHERENCE, line_coherence, structure_orientation, structure_period
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.
@@ -162,6 +162,11 @@ def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None, 0.0
     angle = structure_orientation(exemplar)
+    if line_coherence(exemplar) < MIN_LINE_COHERENCE:
+        # no grid of lines (hexagonal scales, whose three directions of edges cancel in the vote): its angle
+        # and its halves' are chance, nothing to straighten or rectify (a reptile's skin was turned 1.9
+        # degrees, or said to be in perspective, and its lattice no longer met its cells)
+        return exemplar, angle, None, 0.0
     drift = _orientation_drift(exemplar)
     if drift > PERSPECTIVE_DRIFT and keep_perspective:
         notes.append(f"kept the photo's perspective (its structure's lines turn by {drift:.1f} degrees across it; "

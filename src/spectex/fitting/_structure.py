@@ -165,8 +165,31 @@ def structure_orientation(exemplar) -> float:
     and ``r^2 cos 4t``, divided by four): lines along x and along y (a brick
     or tile grid) vote alike, so the angle is the grid's, not its longer
     lines' only. Positive: the lines turn anticlockwise in the image
-    (row index down).
+    (row index down). How firmly they vote: :func:`line_coherence`.
     """
+    return _orientation_vote(exemplar)[0]
+
+
+def line_coherence(exemplar) -> float:
+    """How firmly a structure's gradients vote for one grid of lines (0 to 1): the length of the vote of
+    :func:`structure_orientation` (the sum of ``r^2 e^(4it)``) over the votes' total weight.
+
+    Lines along two perpendicular directions (a brick wall, floor tiles, square-on or turned) vote as one:
+    0.8 to 0.9. Cells without such lines do not: hexagons' three directions of edges cancel in the vote
+    taken four times (a reptile's scales 0.07), irregular cobbles (0.13) and gravel (0.04) vote every way.
+    Below :data:`MIN_LINE_COHERENCE` the structure has no lines to straighten or to rectify, and its
+    angle is chance.
+    """
+    return _orientation_vote(exemplar)[1]
+
+
+#: Least :func:`line_coherence` of a structure whose lines are straightened or rectified (0.07-0.13 for
+#: hexagonal scales and irregular cobbles, 0.8-0.9 for walls and floor tiles at any angle).
+MIN_LINE_COHERENCE = 0.3
+
+
+def _orientation_vote(exemplar):
+    """``(angle, coherence)`` of :func:`structure_orientation` and :func:`line_coherence`."""
     from scipy import ndimage
 
     from ..color import luma
@@ -176,4 +199,5 @@ def structure_orientation(exemplar) -> float:
     gx = ndimage.sobel(lum, 1)
     r2 = gx * gx + gy * gy
     t = 4.0 * np.arctan2(gy, gx)
-    return math.degrees(math.atan2(float(np.sum(r2 * np.sin(t))), float(np.sum(r2 * np.cos(t)))) / 4.0)
+    vy, vx, total = float(np.sum(r2 * np.sin(t))), float(np.sum(r2 * np.cos(t))), float(np.sum(r2))
+    return math.degrees(math.atan2(vy, vx)) / 4.0, (math.hypot(vy, vx) / total if total > 0.0 else 0.0)

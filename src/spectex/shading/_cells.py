@@ -26,7 +26,8 @@ texture files do not hold it):
    half floats), tiled over the tile.
 
 Where the structure is weak (the mean period cell varies less than
-``MIN_CONTRAST`` times as much as the texels about it, each interior
+``MIN_CONTRAST`` times as much as the texels about it, or less than
+``CHANCE_FACTOR`` times what its periods' mean leaves of noise, each interior
 component of each period at its own mean first: a brick's, a floor tile's or
 a scale's own colour is the wall's colouring, not noise about its
 structure; a mosaic of tiles of any colour, or the scales of a reptile's
@@ -47,12 +48,17 @@ import numpy as np
 
 from .._otsu import otsu
 
-__all__ = ["cell_map", "MIN_CONTRAST", "MIN_INTERIOR", "MIN_CELL"]
+__all__ = ["cell_map", "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL"]
 
 #: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
-#: texels' variance about it (each cell of each period at its own level): a structure repeated in every period,
-#: not a texture averaged out.
-MIN_CONTRAST = 0.5
+#: texels' variance about it (each cell of each period at its own level), and at least ``CHANCE_FACTOR``
+#: times what ``N`` periods of a texture without structure leave in their mean (``1 / N`` of it): a
+#: structure repeated in every period, not a texture averaged out. Floor tiles read 5-50, a reptile's
+#: scales on a lattice jittered by 6 % of a scale 0.9-1.5, by 12 % 0.44-0.52 (the crevices' own jitter
+#: is what is left within the cells).
+MIN_CONTRAST = 0.25
+#: See ``MIN_CONTRAST``.
+CHANCE_FACTOR = 4.0
 #: The interiors must cover at least this fraction of the period cell.
 MIN_INTERIOR = 0.25
 #: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
@@ -78,19 +84,30 @@ def _torus_components(mask: np.ndarray):
     return labels, count, ids, wraps
 
 
-def _within_cells(deviation: np.ndarray, labels: np.ndarray) -> float:
-    """Mean square of ``deviation`` (``(ny, ph, nx, pw)``: the tile's texels about the mean period cell) once
-    each interior component (``labels``, ``(ph, pw)``, 0 outside the interiors) of each period has its own
-    mean deviation taken out: the texture within the cells, without the cells' own colours."""
-    ny, ph, nx, pw = deviation.shape
+def _within_cells(deviation: np.ndarray, labels: np.ndarray, period: np.ndarray) -> float:
+    """Mean square of ``deviation`` (per texel, about the mean period cell) once each interior component
+    (``labels``, per texel, 0 outside the interiors) of each period (``period``, per texel, its index) has its
+    own mean deviation taken out: the texture within the cells, without the cells' own colours."""
     width = int(labels.max()) + 1
-    group = (np.arange(ny)[:, None, None, None] * nx + np.arange(nx)[None, None, :, None]) * width \
-        + labels[None, :, None, :]
-    sums = np.bincount(group.ravel(), weights=deviation.ravel(), minlength=ny * nx * width)
-    counts = np.maximum(np.bincount(group.ravel(), minlength=ny * nx * width), 1)
+    group = (period * width + labels).ravel()
+    size = (int(period.max()) + 1) * width
+    sums = np.bincount(group, weights=deviation.ravel(), minlength=size)
+    counts = np.maximum(np.bincount(group, minlength=size), 1)
     level = sums / counts
     level[::width] = 0.0  # outside the interiors (the grout): about the mean cell only
-    return float(np.mean((deviation - level[group]) ** 2))
+    return float(np.mean((deviation.ravel() - level[group]) ** 2))
+
+
+def _phases(n: int, count: int):
+    """Along an axis of ``n`` texels holding ``count`` periods (``n / count`` texels each, not necessarily
+    whole): per texel its period's index and its phase among ``round(n / count)`` bins, the bins' number
+    and the period."""
+    period = n / count
+    bins = int(round(period))
+    centre = np.arange(n) + 0.5
+    index = np.minimum((centre // period).astype(np.int64), count - 1)
+    phase = np.clip(((centre - index * period) * bins / period).astype(np.int64), 0, bins - 1)
+    return index, phase, bins, period
 
 
 def cell_map(tile, snap) -> np.ndarray | None:
@@ -103,9 +120,10 @@ def cell_map(tile, snap) -> np.ndarray | None:
     snap : (int, int)
         ``(nx, ny)``: the whole structure periods the tile holds along x and y
         (``Layer.snap``; 0: the whole tile is one period along that axis, as
-        where the offsets are not snapped along it). No map unless the counts
-        divide the tile's width and height and there are at least 4 periods in
-        all (the mean period cell needs them).
+        where the offsets are not snapped along it). No map unless there are
+        at least 4 periods in all (the mean period cell needs them), each at
+        least 4 texels across. A period need not be a whole number of
+        texels: the tile is folded into ``round(period)`` phases.
 
     Returns
     -------
@@ -120,13 +138,20 @@ def cell_map(tile, snap) -> np.ndarray | None:
     tile = np.asarray(tile)
     nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
     h, w = tile.shape[:2]
-    if w % nx or h % ny or nx * ny < 4:
+    if nx * ny < 4 or h < 4 * ny or w < 4 * nx:
         return None
-    ph, pw = h // ny, w // nx
-    if min(ph, pw) < 4:
-        return None
+    # each texel's period and phase: a period of a fractional number of texels (a hexagonal lattice's rows,
+    # sqrt(3) times its columns, never both whole in a square tile) is folded into round(p) phase bins
+    ky, fy, by, ph = _phases(h, ny)
+    kx, fx, bx, pw = _phases(w, nx)
     rgb = tile[:, :, :3].astype(np.float64)
-    mean = rgb.reshape(ny, ph, nx, pw, 3).mean(axis=(0, 2))
+    if h % ny == 0 and w % nx == 0:
+        mean = rgb.reshape(ny, by, nx, bx, 3).mean(axis=(0, 2))
+    else:
+        phase = (fy[:, None] * bx + fx[None, :]).ravel()
+        counts = np.maximum(np.bincount(phase, minlength=by * bx), 1)
+        mean = np.stack([np.bincount(phase, weights=rgb[:, :, c].ravel(), minlength=by * bx) / counts
+                         for c in range(3)], axis=1).reshape(by, bx, 3)
     flat = mean.reshape(-1, 3) - mean.reshape(-1, 3).mean(axis=0)
     axis = np.linalg.svd(flat, full_matrices=False)[2][0]
     level = (mean @ axis)
@@ -144,14 +169,15 @@ def cell_map(tile, snap) -> np.ndarray | None:
     # the structure's strength: the mean period cell's variance against the texels' own about it, each cell
     # of each period taken at its own level first (a brick, a floor tile or a scale has its own colour: what
     # the mean flattens of it is the colouring, not an absence of structure)
-    values = (rgb @ axis).reshape(ny, ph, nx, pw)
+    centre = labels[by:2 * by, bx:2 * bx]
     structure = float(np.var(mean @ axis))
-    residual = _within_cells(values - (mean @ axis)[None, :, None, :], labels[ph:2 * ph, pw:2 * pw])
-    if area < MIN_INTERIOR or structure < MIN_CONTRAST * residual:
+    deviation = rgb @ axis - (mean @ axis)[fy[:, None], fx[None, :]]
+    residual = _within_cells(deviation, centre[fy[:, None], fx[None, :]], ky[:, None] * nx + kx[None, :])
+    if area < MIN_INTERIOR or structure < max(MIN_CONTRAST, CHANCE_FACTOR / (nx * ny)) * residual:
         return None
     sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
     keep = np.zeros(count + 1, dtype=bool)
-    keep[ids] = sizes[ids] >= MIN_CELL * ph * pw
+    keep[ids] = sizes[ids] >= MIN_CELL * by * bx
     if not keep.any() or wraps[keep].any():
         return None  # no cells, or bands running around the torus
     kept = keep[labels]
@@ -160,10 +186,20 @@ def cell_map(tile, snap) -> np.ndarray | None:
     n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
     cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
     cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
-    # every texel's nearest kept interior texel (itself inside one), on the mosaic so that it wraps
+    # every phase bin's nearest kept interior bin (itself inside one), on the mosaic so that it wraps
     _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
-    owner = labels[iy, ix][ph:2 * ph, pw:2 * pw]
-    py, px = np.indices((ph, pw), dtype=np.float64)
-    d = np.stack([cx[owner] - (px + pw), cy[owner] - (py + ph)], axis=2)
+    owner = labels[iy, ix][by:2 * by, bx:2 * bx]
+    if h % ny == 0 and w % nx == 0:
+        py, px = np.indices((by, bx), dtype=np.float64)
+        d = np.stack([cx[owner] - (px + bx), cy[owner] - (py + by)], axis=2)
+        d = np.tile(d, (ny, nx, 1))
+    else:
+        # the cell's centre in texels: its period's start plus its centre's phase (bin centres at half bins)
+        own = owner[fy[:, None], fx[None, :]]
+        y = np.arange(h, dtype=np.float64)[:, None] + 0.5
+        x = np.arange(w, dtype=np.float64)[None, :] + 0.5
+        dy = ky[:, None] * ph + (cy[own] - by + 0.5) * (ph / by) - y
+        dx = kx[None, :] * pw + (cx[own] - bx + 0.5) * (pw / bx) - x
+        d = np.stack([dx, dy], axis=2)
     d = np.round(2.0 * d) / 2.0
-    return np.ascontiguousarray(np.tile(d, (ny, nx, 1)), dtype=np.float32)
+    return np.ascontiguousarray(d, dtype=np.float32)
