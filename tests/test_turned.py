@@ -170,3 +170,21 @@ def test_reptile_scales_are_drawn_whole_cell_by_cell():
     assert len(sizes) == 2 * nx * ny, (len(sizes), nx, ny)
     scale = h * w / (2 * nx * ny)
     assert np.all(np.abs(sizes / scale - 1.0) < 0.25), (sizes.min(), sizes.max(), scale)
+
+
+def test_gl_matches_cpu_on_a_turned_fit_with_cells_of_a_fractional_period(gl, turned_fits):
+    """Independent routes: the GL renderer against the CPU reference on the turned wall's fit (its finest layer
+    rotated, snapped) and on the reptile scales' fit (cells folded from a fractional period), every test view."""
+    from helpers import SIZE, VIEWS, psnr
+    from spectex import fitting
+    from spectex.render.cpu import render_cpu
+    from spectex.render.gl import GLRenderer
+
+    textures = [turned_fits[1].texture, fitting.fit_result(_scales(), rng=0).texture]
+    assert textures[0].layers[0].rotation != 0.0
+    for tex in textures:
+        with GLRenderer(tex, ctx=gl) as r:
+            for name, cam in VIEWS.items():
+                c = render_cpu(tex, cam, SIZE)
+                g = r.render(cam, SIZE)
+                assert psnr(g, c) >= 40.0, (name, psnr(g, c))
