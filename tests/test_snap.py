@@ -344,8 +344,11 @@ def test_snapped_tile_of_a_subpixel_period_keeps_the_mortar_across_patches():
                      (512, 512), pixel_size=1.0 / side)
         got[name] = _lattice_share(baked, (side / ky, side / kx))
     own = _lattice_share(photo, (30.6, 33.4))
-    # the mortar stays on the lattice across patches as in the photo (measured 0.83, the photo 0.74)
-    assert got["subpixel"] >= own, (own, got)
+    # the mortar stays on the lattice across patches as in the photo (0.758 drawn without cells, the photo
+    # 0.745; 0.742 with the cell map of its fractional rows, since 2026-11-26: each brick whole from one
+    # patch, whose snapped offset is rounded to whole texels, so a brick's mortar may sit a fraction of a
+    # texel off its neighbours', where without cells a patch boundary made bricks of two tones)
+    assert got["subpixel"] >= 0.97 * own, (own, got)
     # control: the whole-pixel period (33 for 33.4) puts nine periods 3.6 px off: mortar doubled and
     # offset at patch edges (measured 0.48)
     assert got["whole"] <= 0.7 * own, (own, got)

@@ -218,11 +218,11 @@ def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
 
 def _lattice_hold(exemplar):
     """How well the structure's lattice (:func:`structure_period`) holds across the photo: the share of its
-    luma's variance that folding by the periods keeps (``metrics._lattice_strength_2d``; by line profiles,
-    ``metrics._lattice_strength``, along one axis only); 0 where the photo shows no structure. An exact
+    luma's variance that folding by the periods keeps (``spectex._lattice.lattice_strength_2d``; by line
+    profiles, ``lattice_strength``, along one axis only); 0 where the photo shows no structure. An exact
     lattice keeps most of it (floor tiles 0.88), one that drifts off the photo's pixels' lattice little."""
+    from .._lattice import lattice_strength, lattice_strength_2d
     from ..color import luma
-    from ..metrics import _lattice_strength, _lattice_strength_2d
 
     if structure_peak(exemplar) < STRUCTURED_PEAK:
         return 0.0
@@ -230,7 +230,7 @@ def _lattice_hold(exemplar):
     if period == (None, None):
         return 0.0
     level = luma(exemplar, dtype=np.float64)
-    return _lattice_strength(level, period) if None in period else _lattice_strength_2d(level, period)
+    return lattice_strength(level, period) if None in period else lattice_strength_2d(level, period)
 
 
 def _orientation_drift(exemplar):
