@@ -188,3 +188,52 @@ def test_gl_matches_cpu_on_a_turned_fit_with_cells_of_a_fractional_period(gl, tu
                 c = render_cpu(tex, cam, SIZE)
                 g = r.render(cam, SIZE)
                 assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+
+
+def _herringbone(side=256, unit=8, angle=45.0, rng=2):
+    """Herringbone: bricks of 2 x 1 ``unit`` laid in zigzags (a horizontal and a vertical brick per cell of the
+    lattice (1, 1), (2, -2) in units), turned by ``angle`` degrees (45: the bricks at +-45 degrees, the zigzags'
+    repeat along the photo's axes), each brick its own red in light mortar."""
+    from scipy import ndimage
+
+    gen = np.random.default_rng(rng)
+    big = int(side * 1.5)
+    n = big // unit + 8
+    label = -np.ones((n, n), dtype=np.int64)
+    k = 0
+    for m in range(-2 * n, 2 * n):
+        for q in range(-n, n):
+            tx, ty = m + 2 * q, m - 2 * q
+            for shape in (((0, 0), (1, 0)), ((0, 1), (0, 2))):
+                cells = [(x + tx, y + ty) for x, y in shape]
+                if all(0 <= x < n and 0 <= y < n for x, y in cells):
+                    for x, y in cells:
+                        label[y, x] = k
+                k += 1
+    yy, xx = np.mgrid[0:big, 0:big]
+    lab = label[yy // unit, xx // unit]
+    _, inv = np.unique(lab, return_inverse=True)
+    img = (np.array([0.62, 0.32, 0.24]) * gen.uniform(0.75, 1.15, (inv.max() + 1, 1)))[inv.reshape(big, big)]
+    img = img * (1.0 + 0.05 * gen.standard_normal((big, big, 1)))
+    edge = (np.diff(lab, axis=0, prepend=lab[:1]) != 0) | (np.diff(lab, axis=1, prepend=lab[:, :1]) != 0)
+    img[ndimage.binary_dilation(edge)] = (0.72, 0.70, 0.65)
+    turned = np.stack([ndimage.rotate(img[:, :, c], angle, reshape=False, order=1) for c in range(3)], axis=2)
+    o = (big - side) // 2
+    return np.clip(turned[o:o + side, o:o + side], 0.0, 1.0).astype(np.float32)
+
+
+def test_herringbone_is_a_design_cut_as_it_is(monkeypatch):
+    """Herringbone with its bricks at 45 degrees repeats exactly along the photo's axes: straightened (bricks
+    along the axes, the zigzags' lattice diagonal) its lattice holds no better, so it is cut as it is, not
+    resampled. The control: a rule that turns wherever the lattice holds at all as well turns it."""
+    from spectex.fitting import _auto
+
+    photo = _herringbone()
+    structure = _auto.structure_peak(photo)
+    assert structure >= _auto.STRUCTURED_PEAK
+    assert abs(abs(_auto.structure_orientation(photo)) - 45.0) < 2.0
+    notes = []
+    out, _, _, turn = _auto._straighten_structure(photo, structure, notes)
+    assert out is photo and turn == 0.0 and not notes, notes
+    monkeypatch.setattr(_auto, "DESIGN_HOLD", 0.9)
+    assert _auto._straighten_structure(photo, structure, [])[3] != 0.0

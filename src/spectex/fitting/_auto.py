@@ -77,7 +77,7 @@ STRAIGHTEN_MAX = 10.0
 #: 3.5-230). A square grid turned 45 degrees repeats exactly along the axes every 2 cells (1.03): cut as it
 #: is, it spares the turn's resampling (bilinear between texels, which blurs: structural distance at half
 #: size 1.54 turned, 1.38 as it is). A design whose lattice runs along the axes (herringbone, its bricks at
-#: 45 degrees) holds worse straightened and stays as it is.
+#: 45 degrees: 0.88 as it is, 0.94 straightened, 1.07 times) stays as it is.
 DESIGN_HOLD = 1.5
 #: The orientation of a structured photo's halves (left and right, top and bottom) differing by more than
 #: this (degrees) says the photo is in perspective (its lines fan out).
