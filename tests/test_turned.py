@@ -237,3 +237,29 @@ def test_herringbone_is_a_design_cut_as_it_is(monkeypatch):
     assert out is photo and turn == 0.0 and not notes, notes
     monkeypatch.setattr(_auto, "DESIGN_HOLD", 0.9)
     assert _auto._straighten_structure(photo, structure, [])[3] != 0.0
+
+
+def test_spectex_fit_says_the_tile_was_cut_turned_and_what_the_resampling_costs(tmp_path, capsys, turned_fits):
+    """The command says what it did (a note) and, beside the structural distance, the same with render and
+    photo halved (the turned layer's bilinear resampling, which the measure counts as lost detail, weighs
+    less there); an unturned fit's line says neither (the control)."""
+    import re
+
+    from spectex import io
+    from spectex.cli import main
+
+    photo = turned_fits[0]
+    io.write_image(tmp_path / "wall.png", photo)
+    assert main(["fit", str(tmp_path / "wall.png"), "-o", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "drew it turned back" in out
+    line = next(x for x in out.splitlines() if x.strip().startswith("structure"))
+    found = re.search(r"structure ([0-9.]+)x .*drawn turned by (-?[0-9.]+) degrees.*; ([0-9.]+)x with both halved",
+                      line)
+    assert found, line
+    assert abs(float(found.group(2)) - turned_fits[1].params["turn_deg"]) < 0.1
+    assert float(found.group(3)) < float(found.group(1))  # the resampling weighs less at half size
+    io.write_image(tmp_path / "square.png", _wall(0.0))
+    assert main(["fit", str(tmp_path / "square.png"), "-o", str(tmp_path / "out2")]) == 0
+    out = capsys.readouterr().out
+    assert "drawn turned" not in out and "drew it turned back" not in out
