@@ -33,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
+from bench_fit_quality import _down  # noqa: E402
 from pictures_one_off import picture, save_grid  # noqa: E402
 
 PHOTOS = ("scales", "wall_turned", "tiles_turned")
@@ -85,11 +86,6 @@ def _fit(photo, before):
     return result, near, seconds, has_cells
 
 
-def _half(image):
-    h, w = image.shape[:2]
-    return image[: h // 2 * 2, : w // 2 * 2].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
-
-
 def main(argv=None) -> int:
     from spectex import metrics
     from spectex.fitting._auto import _lattice_hold, _straightened
@@ -112,7 +108,7 @@ def main(argv=None) -> int:
         for before in (True, False):
             result, near, seconds, has_cells = _fit(photo, before)
             s1 = metrics.structural_distance(near[:h, :w], photo).ratio
-            s_half = metrics.structural_distance(_half(near[:h, :w]), _half(photo)).ratio
+            s_half = metrics.structural_distance(_down(near[:h, :w], 2), _down(photo, 2)).ratio
             breaks = metrics.line_breaks(near, photo).ratio
             hold = _lattice_hold(_straightened(near, angle))
             how = "before" if before else "default"

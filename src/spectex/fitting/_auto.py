@@ -54,7 +54,7 @@ from ._core import (
     prepare_exemplar,
     structure_peak,
 )
-from ._structure import MIN_LINE_COHERENCE, line_coherence, structure_orientation, structure_period
+from ._structure import MIN_LINE_COHERENCE, orientation_vote, structure_orientation, structure_period
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.
@@ -161,8 +161,8 @@ def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
     h, w = exemplar.shape[:2]
     if structure < STRUCTURED_PEAK or min(h, w) < 64:
         return exemplar, None, None, 0.0
-    angle = structure_orientation(exemplar)
-    if line_coherence(exemplar) < MIN_LINE_COHERENCE:
+    angle, coherence = orientation_vote(exemplar)  # (the gradients taken once for both)
+    if coherence < MIN_LINE_COHERENCE:
         # no grid of lines (hexagonal scales, whose three directions of edges cancel in the vote): its angle
         # and its halves' are chance, nothing to straighten or rectify (a reptile's skin was turned 1.9
         # degrees, or said to be in perspective, and its lattice no longer met its cells)
@@ -206,7 +206,7 @@ def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
         # and y; a square grid at 45 degrees, exactly every 2 cells) is cut as it is
         turned = angle + structure_orientation(_straightened(exemplar, angle))
         straight = _straightened(exemplar, turned)
-        if _lattice_hold(straight) >= DESIGN_HOLD * _lattice_hold(exemplar):
+        if _lattice_hold(straight) >= DESIGN_HOLD * _lattice_hold(exemplar, structure):
             exemplar, angle = straight, turned
             h, w = exemplar.shape[:2]
             notes.append(f"cut the tile from the photo turned by {-angle:.1f} degrees, along its structure's "
@@ -216,15 +216,16 @@ def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
     return exemplar, angle, drift, 0.0
 
 
-def _lattice_hold(exemplar):
+def _lattice_hold(exemplar, structure=None):
     """How well the structure's lattice (:func:`structure_period`) holds across the photo: the share of its
     luma's variance that folding by the periods keeps (``spectex._lattice.lattice_strength_2d``; by line
     profiles, ``lattice_strength``, along one axis only); 0 where the photo shows no structure. An exact
-    lattice keeps most of it (floor tiles 0.88), one that drifts off the photo's pixels' lattice little."""
+    lattice keeps most of it (floor tiles 0.88), one that drifts off the photo's pixels' lattice little.
+    ``structure``: the photo's :func:`structure_peak` where already known."""
     from .._lattice import lattice_strength, lattice_strength_2d
     from ..color import luma
 
-    if structure_peak(exemplar) < STRUCTURED_PEAK:
+    if (structure_peak(exemplar) if structure is None else structure) < STRUCTURED_PEAK:
         return 0.0
     period = structure_period(exemplar)
     if period == (None, None):

@@ -167,7 +167,7 @@ def structure_orientation(exemplar) -> float:
     lines' only. Positive: the lines turn anticlockwise in the image
     (row index down). How firmly they vote: :func:`line_coherence`.
     """
-    return _orientation_vote(exemplar)[0]
+    return orientation_vote(exemplar)[0]
 
 
 def line_coherence(exemplar) -> float:
@@ -180,7 +180,7 @@ def line_coherence(exemplar) -> float:
     Below :data:`MIN_LINE_COHERENCE` the structure has no lines to straighten or to rectify, and its
     angle is chance.
     """
-    return _orientation_vote(exemplar)[1]
+    return orientation_vote(exemplar)[1]
 
 
 #: Least :func:`line_coherence` of a structure whose lines are straightened or rectified (0.07-0.13 for
@@ -188,8 +188,9 @@ def line_coherence(exemplar) -> float:
 MIN_LINE_COHERENCE = 0.3
 
 
-def _orientation_vote(exemplar):
-    """``(angle, coherence)`` of :func:`structure_orientation` and :func:`line_coherence`."""
+def orientation_vote(exemplar):
+    """``(angle, coherence)``: :func:`structure_orientation` and :func:`line_coherence` from one pass over the
+    gradients."""
     from scipy import ndimage
 
     from ..color import luma
