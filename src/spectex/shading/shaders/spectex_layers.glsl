@@ -149,9 +149,10 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
                          vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
     vec2 xy = floor(st * tex_size);
-    int sx = int(tex_size.x);
-    int sy = int(tex_size.y);
-    int idx = ((int(xy.y) % sy + sy) % sy) * sx + (int(xy.x) % sx + sx) % sx;
+    // the texel's place in the tile, wrapped in floats: GLSL leaves % of a negative int undefined
+    // (llvmpipe's disagreed with the CPU's floor modulo wherever s or t was negative)
+    vec2 m = min(max(xy - tex_size * floor(xy / tex_size), 0.0), tex_size - 1.0);
+    int idx = int(m.y) * int(tex_size.x) + int(m.x);
     int row = idx / SPX_LUT_SIZE;
     float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
     float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
