@@ -48,7 +48,7 @@ def store_bytes(path):
 
 
 # ------------------------------------------------------------------ windows
-@pytest.mark.parametrize("blend", ["alpha", "variance", "detail"])
+@pytest.mark.parametrize("blend", ["alpha", "variance", "detail", "overlay"])
 def test_bake_window_is_the_window_of_the_whole_bake_to_the_bit(tile_maker, blend):
     tex = SpectralTexture.paper_preset(tile_maker(64, 1), blend=blend)
     whole = bake(tex, (300, 410), origin=ORIGIN, pixel_size=0.1)

@@ -62,7 +62,8 @@ def textures():
     b = make_test_tile(64, 2)[1::2].copy()
     layers = [Layer(size=5.0, tile=1, rotation=20.0),
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
-              Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
+              Layer(size=120.0, tile=1, rotation=95.0, blend="detail"),
+              Layer(size=470.0, tile=0, offset=(-7.0, 2.0), rotation=-151.0, blend="overlay", opacity=0.8)]
     # the paper's alpha composite: MaterialX's hextiledimage under the variance blend is further off
     # (W1 0.21-0.27 at the grazing and far cameras; docs/export.md)
     stochastic = without_fine(SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic",

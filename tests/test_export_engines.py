@@ -26,7 +26,8 @@ def textures():
     b = make_test_tile(64, 2)[1::2].copy()
     layers = [Layer(size=5.0, tile=1, rotation=20.0),
               Layer(size=23.0, tile=0, offset=(3.0, 1.0), rotation=-70.0, blend="variance", opacity=0.9),
-              Layer(size=120.0, tile=1, rotation=95.0, blend="detail")]
+              Layer(size=120.0, tile=1, rotation=95.0, blend="detail"),
+              Layer(size=470.0, tile=0, offset=(-7.0, 2.0), rotation=-151.0, blend="overlay", opacity=0.8)]
     stochastic = SpectralTexture.paper_preset(tile=make_test_tile(32, 0), tiling="stochastic")
     # layer 0 snapped to 4 x 3 periods of its tile (Layer.snap; 3 does not divide the tile: offsets rounded
     # down to whole texels), layer 2 not

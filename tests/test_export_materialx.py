@@ -29,7 +29,7 @@ except ImportError:  # CI installs it (the test extras): there a missing package
 
 #: The nodes the graph may use: MaterialX standard library nodes, and not ``over``.
 ALLOWED = {"hextiledimage", "position", "dotproduct", "combine2", "subtract", "divide", "image", "convert",
-           "extract", "multiply", "mix", "add", "sqrt", "clamp", "power", "ifgreater", "combine3"}
+           "extract", "multiply", "mix", "add", "sqrt", "clamp", "power", "ifgreater", "combine3", "overlay"}
 
 
 def textures():
@@ -40,6 +40,7 @@ def textures():
     layers = [Layer(size=7.0, tile=0, offset=(1.5, -2.0), rotation=10.0),
               Layer(size=31.0, tile=1, offset=(-3.0, 4.0), rotation=137.5, blend="variance", opacity=0.8),
               Layer(size=170.0, tile=0, rotation=-61.0, blend="detail"),
+              Layer(size=420.0, tile=1, offset=(9.0, -4.0), rotation=77.0, blend="overlay", opacity=0.7),
               Layer(size=900.0, tile=1, offset=(100.0, 50.0), rotation=200.0, opacity=0.6)]
     return {"paper": square, "mixed": SpectralTexture([a, b], layers, bits=8),
             "float": SpectralTexture([a, b], layers, bits=None)}
@@ -170,6 +171,12 @@ def _mix(g, node, ins):  # bg (1 - mix) + fg mix
     return g.vec(ins["bg"]) * (1.0 - m) + g.vec(ins["fg"]) * m
 
 
+def _overlay(g, node, ins):  # the standard library's overlay of fg on bg, mixed with bg by mix
+    fg, bg, m = g.vec(ins["fg"]), g.vec(ins["bg"]), ins["mix"][:, None]
+    full = np.where(bg >= 0.5, 1.0 - 2.0 * (1.0 - bg) * (1.0 - fg), 2.0 * fg * bg)
+    return bg * (1.0 - m) + full * m
+
+
 def _convert(g, node, ins):
     assert node.get("type") == "color3"
     return ins["in"][:, :3]
@@ -191,7 +198,7 @@ _NODE_RULES = {
     "combine2": lambda g, node, ins: np.stack([np.broadcast_to(ins["in1"], g.x.shape),
                                                np.broadcast_to(ins["in2"], g.x.shape)], axis=1),
     "subtract": _arithmetic, "add": _arithmetic, "multiply": _arithmetic, "divide": _arithmetic,
-    "mix": _mix,
+    "mix": _mix, "overlay": _overlay,
     "combine3": lambda g, node, ins: np.stack([np.broadcast_to(ins[k], g.x.shape) for k in ("in1", "in2", "in3")],
                                               axis=1),
     "power": lambda g, node, ins: np.power(ins["in1"], ins["in2"]),

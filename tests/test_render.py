@@ -36,7 +36,7 @@ def test_render_gl_matches_cpu(gl, full_contrast, name):
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("blend", ["detail", "variance"])
+@pytest.mark.parametrize("blend", ["detail", "variance", "overlay"])
 def test_render_gl_matches_cpu_blends_anisotropy_toggles(gl, blend):
     tex = SpectralTexture.paper_preset(make_tile(128, rng=4), blend=blend)
     from spectex.render.gl import GLRenderer
@@ -192,7 +192,7 @@ def test_render_defaults_are_alias_free_on_a_full_contrast_tile(gl):
     assert min(trilinear.values()) < 38.0, trilinear  # the old default broke the promise here
 
 
-@pytest.mark.parametrize("blend", ["alpha", "detail", "variance"])
+@pytest.mark.parametrize("blend", ["alpha", "detail", "variance", "overlay"])
 def test_render_cpu_fast_path_matches_general(blend):  # each with the preset's fine detail layer
     """The fast kernel (REPEAT, square power-of-two tile, trilinear, isotropic)
     against the general sampler on random views: positions near and far

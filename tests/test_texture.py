@@ -113,6 +113,23 @@ def test_texture_blends_detail_and_variance(paper_tile):
     got = bake(detail, (3, 3), pixel_size=0.25)
     parts = bake_layers(detail, (3, 3), pixel_size=0.25)
     np.testing.assert_allclose(got, np.clip(2 * parts[0, ..., :3] * parts[1, ..., :3], 0, 1), atol=1e-5)
+    # overlay at alpha a: the colour below scaled by 1 + d under mid-grey, its distance to white by 1 - d
+    # from it, d = a (2 x - 1): by hand at points of both kinds, and black and white kept
+    overlay = SpectralTexture(paper_tile, [layers[0], Layer(size=16.0 * 7.3, rotation=31.0, offset=(3.0, 5.0),
+                                                            blend="overlay", opacity=0.7)])
+    got = bake(overlay, (16, 16), pixel_size=0.25)
+    parts = bake_layers(overlay, (16, 16), pixel_size=0.25)
+    c, x, a1 = parts[0, ..., :3], parts[1, ..., :3], 0.7 * parts[1, ..., 3:]  # (the tile alpha; times the opacity)
+    d = a1 * (2 * x - 1)
+    assert (c < 0.5).any() and (c >= 0.5).any()
+    np.testing.assert_allclose(got, np.where(c < 0.5, c * (1 + d), 1 - (1 - c) * (1 - d)), atol=1e-5)
+    n = paper_tile.shape[0]
+    ends = np.ones_like(paper_tile)
+    ends[:, : n // 2, :3] = 0.0  # black on the left half, white on the right, whole texels in the bake
+    kept = SpectralTexture([ends, paper_tile], [Layer(size=float(n)),
+                                                Layer(size=16.0 * 7.3, tile=1, rotation=31.0, blend="overlay")])
+    out = bake(kept, (8, 16), origin=(n / 2 - 8.0, 0.0), pixel_size=1.0)
+    assert np.array_equal(out[:, :8], np.zeros((8, 8, 3))) and np.array_equal(out[:, 8:], np.ones((8, 8, 3)))
     got = bake(alpha, (3, 3), pixel_size=0.25)
     parts = bake_layers(alpha, (3, 3), pixel_size=0.25)
     a1 = parts[1, ..., 3:]

@@ -23,7 +23,12 @@ Also here, for comparison and as options:
 * ``"cover"``: the variance blend with the alpha raised to 1 as the pixel's
   footprint on the layer grows, so that the finer layers drawn before it
   fade out where their periods would be a few pixels on screen and their
-  repeats a visible weave (``docs/rendering.md``).
+  repeats a visible weave (``docs/rendering.md``);
+* ``"overlay"``: the overlay of the layer on what is there, ``a`` of the way:
+  with ``d = a (2 c_layer - 1)``, ``c (1 + d)`` below mid-grey and
+  ``1 - (1 - c)(1 - d)`` from it, so that black and white stay where they
+  are and the contrast below is scaled, not veiled (the fit's coarse
+  layers, ``docs/fitting.md``).
 
 This module is the data model: layers, tiles and presets, plain data. It
 imports nothing from the shading core or the renderers (the shading
@@ -135,7 +140,7 @@ class Layer:
         World position (x, y) of the tile's origin (texel corner (0, 0)), metres.
     rotation : float
         Rotation of the tile grid, degrees, counter-clockwise.
-    blend : {"alpha", "detail", "variance", "fine", "cover"}
+    blend : {"alpha", "detail", "variance", "fine", "cover", "overlay"}
         How this layer goes over the finer layers drawn before it (ignored
         for the first layer, which is drawn opaque). ``"fine"``: the
         variance blend with the alpha faded out by the pixel's footprint on

@@ -3,7 +3,7 @@
 The node graph ``NG_spectex_ground`` computes the texture's colour at a
 surface point from its world position, with the standard library's nodes
 only (``position``, ``dotproduct``, ``combine2``, ``subtract``, ``image``,
-``convert``, ``extract``, ``multiply``, ``mix``, ``add``, ``divide``,
+``convert``, ``extract``, ``multiply``, ``mix``, ``overlay``, ``add``, ``divide``,
 ``sqrt``, ``clamp``): per layer, ``(s, t) = anchor_k + M_k p`` (the shader's
 inputs of ``shading.interface``: the layer's map and the tile coordinates of
 the world origin) as two dot products and an add, the tile through ``image`` (periodic, linear), and the blends of
@@ -91,7 +91,8 @@ def _layer_item(k: int, layer, value: dict, file: str, below: str | None) -> dic
         "periodic": tiling == "periodic",
         "tiling_note": TILING_NOTE.format(k=k, tiling=tiling) + (SNAP_NOTE.format(snap=snap) if snap != (0, 0) else ""),
         "over": over, "alpha": over and layer.blend == "alpha", "detail": over and layer.blend == "detail",
-        "variance": over and layer.blend not in ("alpha", "detail"),
+        "overlay": over and layer.blend == "overlay",
+        "variance": over and layer.blend not in ("alpha", "detail", "overlay"),
         "blend_note": BLEND_NOTES[layer.blend].format(k=k) if layer.blend in BLEND_NOTES else "",
         "opacity": _num(value["OPACITY"]), "mean": _vec(value["MEAN"]), "below": below or "",
     }
@@ -111,7 +112,8 @@ def materialx_document(texture, tile_files) -> str:
         if colour is None:  # the first layer sets the colour
             colour = f"layer{k}_rgb"
         else:
-            colour = {"alpha": f"layer{k}_over", "detail": f"layer{k}_detail"}.get(layer.blend, f"layer{k}_variance")
+            colour = {"alpha": f"layer{k}_over", "detail": f"layer{k}_detail",
+                      "overlay": f"layer{k}_overlay"}.get(layer.blend, f"layer{k}_variance")
     return _template.render("materialx/spectex_ground.mtlx", {
         "version": MATERIALX_VERSION, "ground_u": _vec(GROUND_AXES[0]), "ground_v": _vec(GROUND_AXES[1]),
         "layers": layers, "colour": colour, "channels": [{"c": c, "index": i} for i, c in enumerate("rgb")]})

@@ -23,12 +23,18 @@ What each layer carries, and why (``docs/fitting.md``):
   continues the photo's below its lowest frequency (the slope of its three
   coarsest octaves, at most ``AUTO_MAX_SLOPE``) and holds nothing above
   about two cycles across the photo, coloured along the main axis of the
-  photo's low-passed colours. The photo itself is never magnified.
-* **Colours** end with the rounds' shift of the means (the bakes' means
-  to the photo's) and the tile clipped to the photo's range per channel; not the exact
-  histogram step, which fitted a few bake regions' pooled histogram and
-  stretched a non-stationary photo's flat parts (see the last step in
-  :func:`fit_auto`).
+  photo's low-passed colours. They go over the finer layers by the overlay
+  blend (``COARSE_BLEND``): they scale the colour below (its distance to
+  black under mid-grey, to white above), so black and white stay and the
+  detail keeps its contrast. The photo itself is never magnified.
+* **Colours** end with the rounds' shift of the tile's means to the photo's
+  (the overlay layers keep the finest layer's mean), the tile's extremes
+  made the photo's, rank for rank (:func:`_match_tails`: inside the
+  photo's range, nothing piled at black or white), and the coarse layers'
+  opacities halved where the bakes still clip more than the photo
+  (:func:`_clip_guard`); not the exact histogram step, which fitted a few
+  bake regions' pooled histogram and stretched a non-stationary photo's
+  flat parts (see the last step in :func:`fit_auto`).
 """
 
 from __future__ import annotations
@@ -111,11 +117,23 @@ TRIAL_FAR = 512
 #: the photo's detail little (0.25 over four layers took 5 dB of its power, which the band step put
 #: back by raising the tile's contrast into clipping).
 AUTO_OPACITY = 0.1
-#: How the coarse layers go over the finer ones: the alpha blend, a convex combination, so the
-#: colours never leave the photo's range. The variance-preserving blend kept the detail's contrast
-#: but amplified the extremes: 9% of the deep-field photo's values clipped at 0 (the photo's 0.8%),
-#: against 0.0% with the alpha blend at opacity 0.1, for a structural distance 0.87 instead of 0.85.
-COARSE_BLEND = "alpha"
+#: How the coarse layers go over the finer ones: the overlay blend (``Layer.blend``), which scales
+#: the colour below by ``1 + d`` under mid-grey and its distance to white by ``1 - d`` above, so
+#: black and white stay where they are and the detail's contrast is kept. The alpha blend (here
+#: until 2026-11-26) veiled the detail by the opacity and lifted black towards the coarse colour: a
+#: roof of tiles with black gaps read 0.07 in its gaps and a structural distance 3.78 (1.28 with
+#: the overlay); the variance-preserving blend kept the contrast but amplified the extremes (9% of
+#: the deep-field photo's values clipped at 0, the photo's 0.8%).
+COARSE_BLEND = "overlay"
+#: The coarse layers' clipping guard: where the finished texture's bakes clip more of their values
+#: than the photo (to 0 or 1 within half an 8-bit step) by over this, the coarse layers' opacities
+#: are halved, at most ``CLIP_HALVINGS`` times (a dark photo's near-black values darkened by the
+#: coarse layers' dark phases round to 0).
+CLIP_ROOM = 0.0025
+CLIP_HALVINGS = 3
+#: Share of the tile's values at each end whose values become the photo's (rank for rank), fading
+#: back to the tile's own over as many again (:func:`_match_tails`).
+TAIL_SHARE = 0.02
 #: Default band-power rounds (method "auto").
 AUTO_ITERATIONS = 2
 #: The coarse tile holds up to this many cycles per tile, times ``ratio`` (a Gaussian roll-off):
@@ -656,6 +674,82 @@ def _coarse_tile(exemplar, n, ratio, slope_db, rng):
     return mean, axis * spread, noise
 
 
+def _match_tails(colour, exemplar, share=TAIL_SHARE, photo_clipped=None):
+    """The tile's extremes made the photo's: per channel, the tile's values of the lowest and highest
+    ``share`` of its ranks become the photo's values of the same ranks, fading back to the tile's own
+    over the next ``share``; the middle is the tile's. Monotone (the tile's order is kept) and inside
+    the photo's range: where the band rounds sharpened the tile past the photo's black or white, its
+    extremes spread over the photo's own darkest and lightest values instead of piling at the limit
+    (a clip put 13% of the deep-field tile at 0, which the alpha blend's veil hid; the photo has 0.8%).
+
+    Where that would put more of a channel's values at 0 or 1 (within half an 8-bit step) than
+    ``photo_clipped[c]`` (the photo's own share, before its lighting was evened) plus ``CLIP_ROOM``,
+    the channel is folded instead (:func:`_fold_range`): the evening of a bright photo's lighting
+    clips its highlights at its white (tissue: 1.8% of red at 1, the photo 0.01%), and the tile's
+    tail matched to that would keep the pile.
+    """
+    from ..metrics import clipped_fraction
+
+    h, w = colour.shape[:2]
+    u = (np.arange(h * w) + 0.5) / (h * w)
+    weight = np.clip(np.maximum(2.0 - u / share, 2.0 - (1.0 - u) / share), 0.0, 1.0)
+    photo = exemplar.reshape(-1, 3).astype(np.float64)
+    ranks = (np.arange(photo.shape[0]) + 0.5) / photo.shape[0]
+    out = np.empty(colour.shape, dtype=np.float64)
+    for c in range(3):
+        v = colour[:, :, c].astype(np.float64).ravel()
+        order = np.argsort(v, kind="stable")
+        target = np.interp(u, ranks, np.sort(photo[:, c]))
+        values = np.maximum.accumulate(weight * target + (1.0 - weight) * v[order])
+        flat = np.empty(h * w)
+        flat[order] = np.clip(values, target[0], target[-1])
+        out[:, :, c] = flat.reshape(h, w)
+        if photo_clipped is not None and clipped_fraction(out[:, :, c]) > photo_clipped[c] + CLIP_ROOM:
+            out[:, :, c] = _fold_range(colour[:, :, c], photo[:, c])
+    return out
+
+
+def _fold_range(values, photo, share=TAIL_SHARE / 2):
+    """``values`` (one channel) inside the ``photo``'s range: below the photo's quantile ``share`` (above
+    ``1 - share``) the values are moved linearly so that their extreme meets the photo's, where they pass
+    it; the rest as they are."""
+    v = values.astype(np.float64)
+    p0, p1 = float(photo.min()), float(photo.max())
+    q0, q1 = np.quantile(photo, [share, 1.0 - share])
+    out = v.copy()
+    v0, v1 = float(v.min()), float(v.max())
+    if v0 < p0:
+        low = v < q0
+        out[low] = p0 + (v[low] - v0) * (q0 - p0) / max(q0 - v0, 1e-12)
+    if v1 > p1:
+        high = v > q1
+        out[high] = p1 - (v1 - v[high]) * (p1 - q1) / max(v1 - q1, 1e-12)
+    return np.clip(out, p0, p1)
+
+
+def _clip_guard(problem, colour, alpha, exemplar, layer_list, tile_px, ratio):
+    """The coarse layers' opacities halved while the texture's bakes (the exemplar's place and every
+    far one) clip more of their values than the photo by over ``CLIP_ROOM`` (at most
+    ``CLIP_HALVINGS`` times); returns the layers and the depth kept (1: as the fit made them)."""
+    import dataclasses
+
+    from ..metrics import clipped_fraction
+    from ._core import _FAR
+
+    problem.set_regions(len(_FAR) + 1, tile_px=tile_px, ratio=ratio)
+    own = clipped_fraction(exemplar)
+    depth = 1.0
+    for halvings in range(CLIP_HALVINGS + 1):
+        bakes = problem.bakes(colour, alpha, extra=False)
+        if halvings == CLIP_HALVINGS or float(np.mean([clipped_fraction(b) for b in bakes])) <= own + CLIP_ROOM:
+            break
+        depth *= 0.5
+        layer_list = [layer_list[0]] + [dataclasses.replace(lay, opacity=round(lay.opacity * 0.5, 6))
+                                        for lay in layer_list[1:]]
+        problem.layers = layer_list
+    return layer_list, depth
+
+
 def _trial(exemplar, pixel_size, candidates, patch, period):
     """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
 
@@ -858,10 +952,11 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     layers, ratio, opacity, iterations, rng, tiling, patch = check_options(
         layers=layers, ratio=ratio, opacity=opacity, iterations=iterations, rng=rng, tiling=tiling, patch=patch,
         progress=progress)
-    from ..metrics import band_power
+    from ..metrics import band_power, clipped_fraction
     from ..texture import Layer, layer_placement
 
     exemplar, notes = prepare_exemplar(image, max_size=max_size)
+    photo = exemplar  # as the user gave it (its lighting, perspective and one-off content not yet changed)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
     exemplar, lighting, levelled, one_off = _photo_as_ground(exemplar, notes, keep_lighting=keep_lighting,
@@ -932,12 +1027,16 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     region = (min(h, 256), min(w, 256))
     slope = min(AUTO_MAX_SLOPE, _coarse_slope(band_power(exemplar, segment=region)[1]))
     mean, axis, noise = _coarse_tile(exemplar, n, ratio, slope, rng)
-    lo = np.quantile(exemplar.reshape(-1, 3), 0.005, axis=0)
-    hi = np.quantile(exemplar.reshape(-1, 3), 0.995, axis=0)
+
+    # the overlay's modulation d = opacity (2 x - 1): x = 1/2 + (the coarse deviation along the colour
+    # axis) / (2 room), room the mean's distance to black or white, so that at the mean colour a layer of
+    # opacity a moves the colour by a times the deviation, as the alpha blend did; held to [0, 1]
+    # symmetrically, so d averages 0 and the layers keep the finest layer's mean
+    room = np.maximum(np.minimum(mean, 1.0 - mean), 1.0 / 255.0)
 
     def coarse(g):
         rgba = np.ones((n, n, 4), dtype=np.float32)
-        rgba[:, :, :3] = np.clip(mean + g * noise[:, :, None] * axis, lo, hi)
+        rgba[:, :, :3] = 0.5 + 0.5 * np.clip(g * noise[:, :, None] * axis / room, -1.0, 1.0)
         return rgba
 
     q = float(np.clip(10.0 ** (slope * math.log2(ratio) / 20.0), 0.25, 1.0))
@@ -957,6 +1056,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     tick()
     history = []
     n_cont = 2
+    photo_mean = exemplar.reshape(-1, 3).astype(np.float64).mean(axis=0)
     for _ in range(iterations):
         # one set of bakes per round: the band step (a radial gain, mean kept) and the means' shift
         # both read it
@@ -965,27 +1065,29 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         history.append(err.tolist())
         fine_err = err[:-n_cont]
         shaped = _shape_spectrum(colour, np.concatenate([np.clip(0.8 * fine_err, -6.0, 6.0), [0.0, 0.0]]))
-        colour = problem.histogram_step(shaped, bakes, shift_only=True)
+        # the means: the overlay layers keep the finest layer's mean over the plane (d averages 0,
+        # independent of the colour below), so the tile's own mean is the texture's; unclipped until
+        # the tails below (clipping here piled a dark photo's shaped tile at 0: 13% of deep field's)
+        colour = shaped + (photo_mean - shaped.reshape(-1, 3).mean(axis=0))
         if len(history) == 1:
             # the coarse tile's contrast, once (its stochastic tables are then made once more only):
             # its power follows gain^2 until the photo's range clips it
             gain = float(np.clip(gain * 10.0 ** (float(np.mean(err[-n_cont:])) / 20.0), 0.1, 8.0))
             problem.coarse_tile = coarse(gain)
         tick()
-    # the tile inside the photo's range per channel (no colour the photo lacks); the means are the
-    # rounds' (a further shift on fresh bakes moved them by 0.01-0.17 of an 8-bit step on gravel, moon,
-    # tissue and deep field: not worth a third set of bakes and stochastic tables, a third of the time).
-    # Not the exact histogram step (the bakes' histograms mapped to the photo's) that was here: a few
-    # bake regions of a non-stationary photo (moon's flat maria beside its craters) pool local contrasts
-    # 10 dB apart, and the quantile map fitted to that sample stretched the tile's flat parts, raising
-    # moon's finest bands by 3 dB with a speckle of grain (structural distance 1.15 against 1.04 without
-    # it; tissue 0.88 against 0.81; within 0.03 on the others, docs/fitting.md)
-    colour = np.clip(colour, exemplar.reshape(-1, 3).min(axis=0), exemplar.reshape(-1, 3).max(axis=0))
+    # the tile inside the photo's range per channel (no colour the photo lacks), its extremes the
+    # photo's; the means are the rounds'. Not the exact histogram step (the bakes' histograms mapped to
+    # the photo's) that was here: a few bake regions of a non-stationary photo (moon's flat maria beside
+    # its craters) pool local contrasts 10 dB apart, and the quantile map fitted to that sample stretched
+    # the tile's flat parts, raising moon's finest bands by 3 dB with a speckle of grain (structural
+    # distance 1.15 against 1.04 without it; tissue 0.88 against 0.81; within 0.03 on the others)
+    colour = _match_tails(colour, exemplar, photo_clipped=[clipped_fraction(photo[:, :, c]) for c in range(3)])
+    layer_list, depth = _clip_guard(problem, colour, alpha, exemplar, layer_list, n, ratio)
     tick()
     texture = problem.texture(colour, alpha)
     params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
-              "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0,
+              "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0, "coarse_depth": depth,
               "band_error_history_db": history, "tilings": [lay.tiling for lay in layer_list],
               "structure_peak": structure, "orientation_deg": angle, "orientation_drift_deg": drift,
               "turn_deg": turn, "period_px": period,

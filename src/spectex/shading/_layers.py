@@ -31,6 +31,7 @@ from .constants import (
     BLEND_DETAIL,
     BLEND_FINE,
     BLEND_FIRST,
+    BLEND_OVERLAY,
     FADE_END,
     FADE_START,
     LOD_FLOOR,
@@ -121,6 +122,17 @@ def blend_detail(c, x):
 
 
 @_jit_inline
+def blend_overlay(c, x, a):
+    """The overlay blend at alpha ``a``: ``c (1 + d)`` below mid-grey, ``1 - (1 - c)(1 - d)`` from it,
+    ``d = a (2 x - 1)`` (``a`` of the way from ``c`` to the overlay of ``x`` on ``c``): black and white
+    stay where they are and the contrast below is kept, scaled by ``1 +- d``."""
+    d = a * (2.0 * x - 1.0)
+    if c < 0.5:
+        return c * (1.0 + d)
+    return 1.0 - (1.0 - c) * (1.0 - d)
+
+
+@_jit_inline
 def variance_norm(a):
     """``1 / sqrt(a^2 + (1 - a)^2)``, the variance-preserving blend's normalisation."""
     return 1.0 / math.sqrt(a * a + (1.0 - a) * (1.0 - a))
@@ -164,6 +176,8 @@ def blend(code, cr, cg, cb, r, g, b, a, mr, mg, mb):
         return blend_alpha(cr, r, a), blend_alpha(cg, g, a), blend_alpha(cb, b, a)
     if code == BLEND_DETAIL:
         return blend_detail(cr, r), blend_detail(cg, g), blend_detail(cb, b)
+    if code == BLEND_OVERLAY:
+        return blend_overlay(cr, r, a), blend_overlay(cg, g, a), blend_overlay(cb, b, a)
     nn = variance_norm(a)
     return blend_variance(cr, r, a, mr, nn), blend_variance(cg, g, a, mg, nn), blend_variance(cb, b, a, mb, nn)
 
@@ -383,6 +397,16 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
 
 
 @_jit_inline
+def _overlay_row(cr, cg, cb, lr, lg, lb, la, op, m):
+    """The overlay blend over ``m`` samples of a row (:func:`shade_row`)."""
+    for x in range(m):
+        a = la[x] * op
+        cr[x] = blend_overlay(cr[x], lr[x], a)
+        cg[x] = blend_overlay(cg[x], lg[x], a)
+        cb[x] = blend_overlay(cb[x], lb[x], a)
+
+
+@_jit_inline
 def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacity, on, lod_off, anchor,
               px, py, lamw, lam_lo, lam_hi, cr, cg, cb, lr, lg, lb, la, m, stochastic, fade_bias):
     """Section 6 on ``m`` samples of a row (the fast path): world points
@@ -435,6 +459,8 @@ def shade_row(flat, stride, offsets, size0, tile, mats, blend_code, mean, opacit
                 cr[x] = blend_detail(cr[x], lr[x])
                 cg[x] = blend_detail(cg[x], lg[x])
                 cb[x] = blend_detail(cb[x], lb[x])
+        elif code == BLEND_OVERLAY:
+            _overlay_row(cr, cg, cb, lr, lg, lb, la, op, m)
         elif code == BLEND_FINE or code == BLEND_COVER:  # the alpha faded to 0 (fine) or to 1 (cover)
             mr = mean[k, 0]
             mg = mean[k, 1]

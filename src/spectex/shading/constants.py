@@ -15,6 +15,7 @@ from __future__ import annotations
 
 __all__ = [
     "BLENDS", "BLEND_FIRST", "BLEND_ALPHA", "BLEND_DETAIL", "BLEND_VARIANCE", "BLEND_FINE", "BLEND_COVER",
+    "BLEND_OVERLAY",
     "FADE_START", "FADE_END", "DEFAULT_ANISOTROPY",
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
@@ -28,8 +29,8 @@ __all__ = [
 
 # ------------------------------------------------------------------ layers
 #: How a layer goes over the layers drawn before it; the code is the index.
-BLENDS = ("alpha", "detail", "variance", "fine", "cover")
-BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE, BLEND_FINE, BLEND_COVER = 0, 1, 2, 3, 4
+BLENDS = ("alpha", "detail", "variance", "fine", "cover", "overlay")
+BLEND_ALPHA, BLEND_DETAIL, BLEND_VARIANCE, BLEND_FINE, BLEND_COVER, BLEND_OVERLAY = 0, 1, 2, 3, 4, 5
 #: ``"fine"``: the variance blend with the layer's alpha faded out by its
 #: footprint, for a detail layer finer than the others: full alpha while a
 #: pixel covers at most ``2**FADE_START`` of its texels (isotropic lambda, the

@@ -283,6 +283,14 @@ float spectex_fade_lod(vec2 dx, vec2 dy, vec2 tex_size) {
     return log2(max(max(length(dx * tex_size), length(dy * tex_size)), SPX_LOD_FLOOR));
 }
 
+// Section 6, the overlay blend of one channel c with d = a (2 x - 1).
+float spectex_overlay(float c, float d) {
+    if (c < 0.5) {
+        return c * (1.0 + d);
+    }
+    return 1.0 - (1.0 - c) * (1.0 - d);
+}
+
 // Section 6: the colour after a layer's sample x (RGBA) goes over c.
 // blend: SPX_BLEND_FIRST (the first drawn layer: sets the colour),
 // SPX_BLEND_ALPHA, SPX_BLEND_DETAIL, SPX_BLEND_VARIANCE (mean: the
@@ -290,8 +298,9 @@ float spectex_fade_lod(vec2 dx, vec2 dy, vec2 tex_size) {
 // alpha times spectex_fade(lam), lam the layer's isotropic lambda; unused
 // by the other blends) or SPX_BLEND_COVER (the variance blend with the alpha
 // raised to 1 - (1 - a) spectex_fade(lam): the layers before it fade out
-// where their periods shrink to a few pixels). Pass a constant and the
-// branches fold away.
+// where their periods shrink to a few pixels) or SPX_BLEND_OVERLAY (with
+// d = a (2 x - 1): c (1 + d) below mid-grey, 1 - (1 - c)(1 - d) from it;
+// black and white stay). Pass a constant and the branches fold away.
 vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float lam) {
     float a = x.a * opacity;
     if (blend == SPX_BLEND_FIRST) {
@@ -300,6 +309,9 @@ vec3 spectex_blend(int blend, vec3 c, vec4 x, float opacity, vec3 mean, float la
         return a * x.rgb + (1.0 - a) * c;
     } else if (blend == SPX_BLEND_DETAIL) {
         return 2.0 * x.rgb * c;
+    } else if (blend == SPX_BLEND_OVERLAY) {
+        vec3 d = a * (2.0 * x.rgb - 1.0);
+        return vec3(spectex_overlay(c.r, d.r), spectex_overlay(c.g, d.g), spectex_overlay(c.b, d.b));
     } else if (blend == SPX_BLEND_FINE) {
         a *= spectex_fade(lam);
     } else if (blend == SPX_BLEND_COVER) {
