@@ -316,3 +316,56 @@ def test_fit_report_with_the_photos_half_made_beforehand_is_the_same_report(fitt
         fit_report(tex, _crop("grass"), prepared=prepared)
     with pytest.raises(ValueError, match="prepared"):
         fit_report(tex, _crop("gravel"), coarse_zoom=4, prepared=prepared)
+
+
+def test_fit_coarse_layers_overlay_keeping_black_and_the_photos_extremes():
+    """The coarse layers overlay the finest one: floor tiles in black grout keep it black (the alpha blend's
+    veil lifted it towards the coarse colour) and the fit's tile stays inside the photo's range."""
+    from helpers import floor_photo
+
+    photo, grout = floor_photo(256, period=32, grout=3)
+    photo[grout] = 0.0
+    result = fit_result(photo, rng=0)
+    assert {layer.blend for layer in result.texture.layers[1:]} == {"overlay"}
+    near = bake(result.texture, (256, 256), pixel_size=result.pixel_size)
+    assert grout.mean() > 0.05 and float(np.percentile(near, 1)) <= 0.005, np.percentile(near, 1)
+    # the control: the same texture with the coarse layers alpha-blended lifts the gaps
+    from dataclasses import replace
+
+    veiled = SpectralTexture(list(result.texture.tiles), [result.texture.layers[0]]
+                             + [replace(layer, blend="alpha") for layer in result.texture.layers[1:]])
+    assert float(np.percentile(bake(veiled, (256, 256), pixel_size=result.pixel_size), 1)) > 0.02
+    tile = np.asarray(result.texture.tiles[0])[:, :, :3]
+    for c in range(3):
+        assert tile[:, :, c].min() >= photo[:, :, c].min() and tile[:, :, c].max() <= photo[:, :, c].max()
+
+
+def test_clip_guard_halves_the_coarse_layers_while_their_bakes_clip_more_than_the_photo():
+    """``_clip_guard`` on a texture whose darkest coarse phase darkens near-black values to 0: halved until the
+    bakes clip no more than the photo; a photo that clips as much (the control) keeps the layers as they are."""
+    from spectex.fitting import _auto
+    from spectex.texture import Layer
+
+    fine = np.ones((8, 8, 4), dtype=np.float32)
+    fine[:, :, :3] = 0.55 / 255.0  # an overlay of d = -0.1 takes it under half an 8-bit step
+    coarse = np.ones((8, 8, 4), dtype=np.float32)
+    coarse[:, :, :3] = 0.0  # every coarse texel at its darkest phase: d = -opacity
+
+    class Problem:
+        layers = [Layer(size=8.0), Layer(size=32.0, tile=1, blend="overlay", opacity=0.1)]
+
+        def set_regions(self, n, *, tile_px, ratio):
+            self.n = n
+
+        def bakes(self, colour, alpha, extra=False):
+            tex = SpectralTexture([fine, coarse], self.layers, bits=None)  # (float tiles: 8 bits would round them)
+            return [bake(tex, (16, 16), origin=(3.0 * i, 5.0 * i), pixel_size=1.0) for i in range(self.n)]
+
+    photo = np.full((32, 32, 3), 0.55 / 255.0, dtype=np.float32)
+    problem = Problem()
+    layers, depth = _auto._clip_guard(problem, None, None, photo, problem.layers, 8, 4.0)
+    assert depth == 0.5 and layers[1].opacity == 0.05 and problem.n == 6  # the fit's place and 5 far ones
+    assert float(np.mean([(b <= 0.5 / 255.0).mean() for b in problem.bakes(None, None)])) == 0.0
+    problem = Problem()
+    layers, depth = _auto._clip_guard(problem, None, None, np.zeros((32, 32, 3), np.float32), problem.layers, 8, 4.0)
+    assert depth == 1.0 and layers[1].opacity == 0.1
