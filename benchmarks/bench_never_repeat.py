@@ -150,6 +150,8 @@ def main(argv=None) -> int:
     ap.add_argument("--gl-only", action="store_true", help="only the paper preset's GL frame ratio")
     ap.add_argument("--cells-only", action="store_true",
                     help="only the GL frame of snapped fits (tiles, brick) with their cells against without")
+    ap.add_argument("--coarse-blend-only", action="store_true",
+                    help="only the default fits' GL frame with the coarse layers overlaid against alpha-blended")
     args = ap.parse_args(argv)
 
     import skimage.data
@@ -166,9 +168,10 @@ def main(argv=None) -> int:
     load = os.getloadavg()
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
-    if args.gl_only or args.cells_only:
+    if args.gl_only or args.cells_only or args.coarse_blend_only:
         if gl:
-            (_cells_ratio if args.cells_only else _paper_ratio)(args.repeats)
+            (_cells_ratio if args.cells_only else _coarse_blend_ratio if args.coarse_blend_only
+             else _paper_ratio)(args.repeats)
         return 0
     print(f"photos cropped to {args.crop} x {args.crop}; near: 2048^2 at the photo's pixel size, "
           f"far: 1024^2 at 8x; t&b patch {args.patch} tiles")
@@ -289,6 +292,37 @@ def _cells_ratio(repeats: int) -> None:
             print(f"GL CPU time per frame, {name} fit (snap {tuple(tex.layers[0].snap)}), {view}, 1920 x 1080: "
                   f"with cells {np.median(c) * 1e3:.1f} ms, without {np.median(p) * 1e3:.1f} ms, ratio "
                   f"{np.median(c / p):.2f} (runs: {', '.join(f'{v:.2f}' for v in c / p)}; load {load[0]:.2f})",
+                  flush=True)
+
+
+def _coarse_blend_ratio(repeats: int) -> None:
+    """Default fits (gravel, the tiles floor), their coarse layers overlaying the finest one (issue 22, since
+    2026-11-26) against the same texture with the coarse layers alpha-blended (the code before): GL CPU time
+    per frame, two views each."""
+    import dataclasses
+    import sys
+    from pathlib import Path
+
+    from spectex.fitting import fit
+    from spectex.render import Camera
+    from spectex.texture import SpectralTexture
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from exemplars import load as load_photo
+
+    for name in ("gravel", "tiles"):
+        tex = fit(load_photo(name), pixel_size=1.0)
+        veiled = SpectralTexture(tex.tiles, [tex.layers[0], *(dataclasses.replace(layer, blend="alpha")
+                                                               for layer in tex.layers[1:])], bits=tex.bits)
+        size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
+        for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
+                          ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
+            frames = _gl_frames({"overlay": tex, "alpha": veiled}, repeats, camera=cam)
+            o, a = frames["overlay"][1], frames["alpha"][1]
+            load = os.getloadavg()
+            print(f"GL CPU time per frame, {name} fit, {view}, 1920 x 1080: coarse layers overlaid "
+                  f"{np.median(o) * 1e3:.1f} ms, alpha-blended {np.median(a) * 1e3:.1f} ms, ratio "
+                  f"{np.median(o / a):.2f} (runs: {', '.join(f'{v:.2f}' for v in o / a)}; load {load[0]:.2f})",
                   flush=True)
 
 
