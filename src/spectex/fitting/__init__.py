@@ -60,9 +60,13 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     stochastically with sharpened blend weights (no cross-faded double
     images). The coarser layers draw a second tile, random-phase noise that
     continues the photo's spectrum below its lowest frequency, on the main
-    axis of its low-passed colours (never the photo magnified), alpha-blended
-    at a low opacity (0.1). The tile's colours end with the bakes' means
-    shifted to the photo's, inside the photo's range per channel. Scale: ``pixel_size``, or
+    axis of its low-passed colours (never the photo magnified), overlaid at
+    a low opacity (0.1; ``Layer.blend="overlay"``: they scale the colour
+    below, so black and white stay and the detail keeps its contrast). The
+    tile's colours end with its means at the photo's, its extremes the
+    photo's (inside the photo's range per channel, nothing piled at black
+    or white) and its coarsest bands lowered where a bake over twice the
+    photo shows more contrast at the photo's scale than the photo. Scale: ``pixel_size``, or
     ``photo_size`` (metres across the photo's longer side), or, with
     neither, a photo 1.5 m across (``DEFAULT_PHOTO_SIZE``; said in the
     result's notes). Content the photo shows once (a leaf on gravel, a
