@@ -30,8 +30,10 @@ What each layer carries, and why (``docs/fitting.md``):
 * **Colours** end with the rounds' shift of the tile's means to the photo's
   (the overlay layers keep the finest layer's mean), the tile's extremes
   made the photo's, rank for rank (:func:`_match_tails`: inside the
-  photo's range, nothing piled at black or white), and the coarse layers'
-  opacities halved where the bakes still clip more than the photo
+  photo's range, nothing piled at black or white), its two coarsest bands
+  lowered where a bake over twice the photo holds more contrast at the
+  photo's scale than the photo (:func:`_even_blotches`), and the coarse
+  layers' opacities halved where the bakes still clip more than the photo
   (:func:`_clip_guard`); not the exact histogram step, which fitted a few
   bake regions' pooled histogram and stretched a non-stationary photo's
   flat parts (see the last step in :func:`fit_auto`).
