@@ -74,14 +74,16 @@ def paper_texture():
 
 
 def mixed_texture():
-    """Two non-square (64 x 128, seamless) float tiles, all three blends, offsets and rotations."""
+    """Two non-square (64 x 128, seamless) float tiles, four blends (the fit's overlay among them), offsets and
+    rotations."""
     a = make_test_tile(128, 1)[::2].copy()
     b = make_test_tile(128, 2)[1::2].copy()
     a[:, :, 3] = np.clip(a[:, :, 3] * 1.2 - 0.1, 0.0, 1.0)
     layers = [Layer(size=7.0, tile=0, offset=(1.5, -2.0), rotation=10.0),
               Layer(size=31.0, tile=1, offset=(-3.0, 4.0), rotation=137.5, blend="variance", opacity=0.8),
               Layer(size=170.0, tile=0, rotation=-61.0, blend="detail"),
-              Layer(size=900.0, tile=1, offset=(100.0, 50.0), rotation=200.0, blend="alpha", opacity=0.6)]
+              Layer(size=900.0, tile=1, offset=(100.0, 50.0), rotation=200.0, blend="alpha", opacity=0.6),
+              Layer(size=2300.0, tile=0, offset=(-40.0, 20.0), rotation=-101.0, blend="overlay", opacity=0.7)]
     return SpectralTexture([a, b], layers, bits=None)
 
 
@@ -304,15 +306,15 @@ def test_stochastic_toggles_and_no_mipmaps_match_cpu(browser, exports, textures)
     page = open_page(browser, view_url(exports["mixed_stochastic"], camera, extra="&hud=0&aniso=1"))
     try:
         page.keyboard.press("Digit2")
-        wait_drawn(page, "d.layers === '1-34'")
+        wait_drawn(page, "d.layers === '1-345'")
         toggled = screenshot(page)
         page.keyboard.press("KeyM")
-        wait_drawn(page, "d.layers === '1-34' && !d.mipmaps")
+        wait_drawn(page, "d.layers === '1-345' && !d.mipmaps")
         no_mip = screenshot(page)
     finally:
         page.close()
     texture = textures["mixed_stochastic"]
-    enabled = [True, False, True, True]
+    enabled = [True, False, True, True, True]
     reference = render(texture, camera, SIZE, backend="cpu", enabled=enabled, anisotropy=1.0).image
     assert psnr(toggled, reference) >= 40.0
     reference = render(texture, camera, SIZE, backend="cpu", enabled=enabled, filter="linear", anisotropy=1.0).image
