@@ -260,39 +260,54 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3) -> di
         ctx.release()
 
 
+def _fits_side_by_side(names, variant, labels, repeats: int) -> None:
+    """Per photo of ``names`` (``exemplars.py``), its default fit against ``variant(fit)`` (``(texture, note)``,
+    or None: skipped), GL CPU time per 1920 x 1080 frame, interleaved, at two views (40 and 300 texels up);
+    ``labels``: how the two are named in the printed line."""
+    import sys
+    from pathlib import Path
+
+    from spectex.fitting import fit
+    from spectex.render import Camera
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from exemplars import load as load_photo
+
+    for name in names:
+        tex = fit(load_photo(name), pixel_size=1.0)
+        made = variant(tex)
+        if made is None:
+            print(f"{name}: no {labels[1]} variant of its fit; skipped")
+            continue
+        other, note = made
+        size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
+        for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
+                          ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
+            frames = _gl_frames({"this": tex, "other": other}, repeats, camera=cam)
+            a, b = frames["this"][1], frames["other"][1]
+            load = os.getloadavg()
+            print(f"GL CPU time per frame, {name} fit{note}, {view}, 1920 x 1080: {labels[0]} "
+                  f"{np.median(a) * 1e3:.1f} ms, {labels[1]} {np.median(b) * 1e3:.1f} ms, ratio "
+                  f"{np.median(a / b):.2f} (runs: {', '.join(f'{v:.2f}' for v in a / b)}; load {load[0]:.2f})",
+                  flush=True)
+
+
 def _cells_ratio(repeats: int) -> None:
     """Snapped fits (the procedural tiles floor, scikit-image's brick wall), their finest layer drawn with its
     structural cells (issue 22: a whole floor tile from one patch, one fetch of the Gaussian tile inside a
     cell) against the same texture with the layer's snap off (the triangle grid's three patches everywhere,
     the shader's code and cost before the cells): GL CPU time per frame, two views each."""
     import dataclasses
-    import sys
-    from pathlib import Path
 
-    from spectex.fitting import fit
-    from spectex.render import Camera
     from spectex.texture import SpectralTexture
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from exemplars import load as load_photo
-
-    for name in ("tiles", "brick"):
-        tex = fit(load_photo(name), pixel_size=1.0)
+    def plain(tex):
         if tuple(tex.layers[0].snap) == (0, 0):
-            print(f"{name}: the fit did not snap its finest layer; skipped")
-            continue
-        plain = SpectralTexture(tex.tiles, [dataclasses.replace(tex.layers[0], snap=(0, 0)), *tex.layers[1:]],
-                                bits=tex.bits)
-        size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
-        for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
-                          ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
-            frames = _gl_frames({"cells": tex, "plain": plain}, repeats, camera=cam)
-            c, p = frames["cells"][1], frames["plain"][1]
-            load = os.getloadavg()
-            print(f"GL CPU time per frame, {name} fit (snap {tuple(tex.layers[0].snap)}), {view}, 1920 x 1080: "
-                  f"with cells {np.median(c) * 1e3:.1f} ms, without {np.median(p) * 1e3:.1f} ms, ratio "
-                  f"{np.median(c / p):.2f} (runs: {', '.join(f'{v:.2f}' for v in c / p)}; load {load[0]:.2f})",
-                  flush=True)
+            return None  # the fit did not snap its finest layer
+        return (SpectralTexture(tex.tiles, [dataclasses.replace(tex.layers[0], snap=(0, 0)), *tex.layers[1:]],
+                                bits=tex.bits), f" (snap {tuple(tex.layers[0].snap)})")
+
+    _fits_side_by_side(("tiles", "brick"), plain, ("with cells", "without"), repeats)
 
 
 def _coarse_blend_ratio(repeats: int) -> None:
@@ -300,30 +315,14 @@ def _coarse_blend_ratio(repeats: int) -> None:
     2026-11-26) against the same texture with the coarse layers alpha-blended (the code before): GL CPU time
     per frame, two views each."""
     import dataclasses
-    import sys
-    from pathlib import Path
 
-    from spectex.fitting import fit
-    from spectex.render import Camera
     from spectex.texture import SpectralTexture
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from exemplars import load as load_photo
+    def veiled(tex):
+        return (SpectralTexture(tex.tiles, [tex.layers[0], *(dataclasses.replace(layer, blend="alpha")
+                                                             for layer in tex.layers[1:])], bits=tex.bits), "")
 
-    for name in ("gravel", "tiles"):
-        tex = fit(load_photo(name), pixel_size=1.0)
-        veiled = SpectralTexture(tex.tiles, [tex.layers[0], *(dataclasses.replace(layer, blend="alpha")
-                                                               for layer in tex.layers[1:])], bits=tex.bits)
-        size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
-        for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
-                          ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
-            frames = _gl_frames({"overlay": tex, "alpha": veiled}, repeats, camera=cam)
-            o, a = frames["overlay"][1], frames["alpha"][1]
-            load = os.getloadavg()
-            print(f"GL CPU time per frame, {name} fit, {view}, 1920 x 1080: coarse layers overlaid "
-                  f"{np.median(o) * 1e3:.1f} ms, alpha-blended {np.median(a) * 1e3:.1f} ms, ratio "
-                  f"{np.median(o / a):.2f} (runs: {', '.join(f'{v:.2f}' for v in o / a)}; load {load[0]:.2f})",
-                  flush=True)
+    _fits_side_by_side(("gravel", "tiles"), veiled, ("coarse layers overlaid", "alpha-blended"), repeats)
 
 
 def _paper_ratio(repeats: int) -> None:
