@@ -259,6 +259,7 @@ def main(argv=None) -> int:
              f"{'grain':>6s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
+    nears = {m: [] for m in methods}
     for name, photo in sets:
         h, w = photo.shape[:2]
         near_shape = (2 * h, 2 * w)
@@ -275,6 +276,7 @@ def main(argv=None) -> int:
             made[m] = (near, far)
             r = _measure(photo, near, far, period, straight, prepared)
             means[m].append(r["s 1x"])
+            nears[m].append(r["s near"])
             if first:
                 print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "
                       f"rp own {metrics_rp(photo):.3f}"
@@ -292,6 +294,15 @@ def main(argv=None) -> int:
         if args.grid is not None:  # after every photo: a long run stopped early keeps its picture
             _grid(rows, args.grid)
     print("mean s 1x: " + ", ".join(f"{m} {np.mean(v):.2f}" for m, v in means.items() if v))
+    print("mean s near: " + ", ".join(f"{m} {np.mean(v):.2f}" for m, v in nears.items() if v))
+    if len(means.get("fit", ())) == len(rows):
+        # the count: photos where the fit is as close as a peer or closer, at the photo's own place
+        # (one set of windows) and over the near render (windows spread over four photo areas)
+        for m in methods:
+            if m != "fit" and len(means[m]) == len(rows):
+                at_1x = sum(f <= p for f, p in zip(means["fit"], means[m]))
+                near = sum(f <= p for f, p in zip(nears["fit"], nears[m]))
+                print(f"fit at or below {m}: s 1x on {at_1x} of {len(rows)} photos, s near on {near} of {len(rows)}")
     if args.grid is not None:
         print(f"wrote {args.grid}")
     return 0
