@@ -296,9 +296,18 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     own = metrics.coarse_copies(rolled, photo, zoom=8, prepared=ref)
     assert own.within, own
     px = 1.5 / 512
-    view = bake(fit_result(photo, pixel_size=px).texture, (512, 512), pixel_size=8 * px)
+    texture = fit_result(photo, pixel_size=px).texture
+    view = bake(texture, (512, 512), pixel_size=8 * px)
     fit = metrics.coarse_copies(view, photo, zoom=8, prepared=ref)
-    assert fit.within, fit  # measured 0.05 against its range's 0.02 at that magnification
+    assert fit.within, fit  # measured 0.079 against its range's 0.021 at a magnification of 16
+    # at a far place the fit's view (its finest layer alone scores as much: no coarse layer in it) is
+    # within the photo's zoom-out laid as a mosaic (0.106 against 0.055); against the lattice of copies
+    # alone (the control, the measure before the mosaics) it was flagged (0.106 against 0.040)
+    far_view = bake(texture, (512, 512), pixel_size=8 * px, origin=(37.3 * 512 * px, -11.1 * 512 * px))
+    far = metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref)
+    assert far.within, far
+    monkeypatch.setattr(ts, "_OWN_MOSAICS", ())
+    assert not metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref).within
     # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
     big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
     copied = metrics.coarse_copies(0.7 * view[:, :, 0] + 0.3 * big, photo, zoom=8, prepared=ref)
@@ -306,6 +315,7 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     assert int(np.nanargmax(copied.per_magnification)) == copied.magnifications.index(16.0)
     # the control: with one offset as the reference (the measure as it was), the photo's own
     # zoom-out is flagged (measured 0.27 against 0.18); the prepared half holds the first offset only
+    # (the mosaics are off since the far view's control above)
     monkeypatch.setattr(ts, "_OWN_ROLLS", ts._OWN_ROLLS[:1])
     assert not metrics.coarse_copies(rolled, photo, zoom=8, prepared=ref).within
 
