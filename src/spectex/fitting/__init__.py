@@ -171,7 +171,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     opacity : float, optional
         Opacity of the first coarse layer, in (0, 1]; default 0.1 (legacy 0.2).
     iterations : int, optional
-        Rounds of the band-power step, >= 1; default 2 (legacy 3).
+        Rounds of the band-power step, >= 1; default 1 (legacy 3).
     tile_size : int, optional
         Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
         exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
