@@ -1047,13 +1047,14 @@ def coarse_copies(view, reference, *, zoom: float, magnifications=(2, 4, 8, 16, 
     # about 0.02 at a magnification of 16 where the default fit's finest layer alone, the photo's content
     # at its own scale with no coarse layer at all, scored 0.07-0.10: clusters of small craters placed at
     # random look like a large one, a lattice of them does not.
-    small = None
+    views = None  # the photo's other zoom-outs, made once, where a magnification first needs them
     for j in range(len(mags)):
         if not np.any(per[:, j] - own[:, j] > tolerance):
             continue
-        small = _resample(p, 1.0 / zoom) if small is None else small
-        views = [_own_view(small, v.shape, roll) for roll in _OWN_ROLLS[1:]]
-        views += [_own_mosaic(small, v.shape, seed) for seed in _OWN_MOSAICS]
+        if views is None:
+            small = _resample(p, 1.0 / zoom)
+            views = [_own_view(small, v.shape, roll) for roll in _OWN_ROLLS[1:]]
+            views += [_own_mosaic(small, v.shape, seed) for seed in _OWN_MOSAICS]
         for own_view in views:
             again = _search(own_view, targets, zoom, (mags[j],), angles, pieces)[:, 0]
             own[:, j] = np.where(np.isfinite(again), np.fmax(own[:, j], again), own[:, j])
