@@ -22,9 +22,11 @@ QUICK = ("gravel", "brick", "paving")
 #: crops of gravel and grass with an orange leaf pasted on (:func:`with_leaf`); photos lit unevenly,
 #: gravel and paving under a light from one side with a vignette (:func:`lit`) and scikit-image's
 #: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384); photos
-#: of gravel, paving and grass taken at an angle (:func:`oblique`).
+#: of gravel, paving and grass taken at an angle (:func:`oblique`); small photos of objects larger than a
+#: quilt's overlap: scikit-image's ``coins`` (303 x 384, coins of about 50 pixels on a cloth lit from one
+#: side) and :func:`pebbles` (256 x 256).
 EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
-         "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof")
+         "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof", "coins", "pebbles")
 
 
 def _skimage(name):
@@ -206,6 +208,15 @@ def lawn() -> np.ndarray:
     return _skimage("camera")[380:512, 380:512]
 
 
+def pebbles(side: int = 256) -> np.ndarray:
+    """Large stones: scikit-image's gravel, its top-left 80 x 80 magnified 3.2 times (cubic), so that its
+    stones are 30 to 60 pixels across, cut to ``side`` (a small photo of pebbles whose stones are larger than
+    a quilt's overlap; softer than a photo, as any magnification is)."""
+    from scipy import ndimage
+
+    return np.clip(ndimage.zoom(_skimage("gravel")[:80, :80], 3.2, order=3), 0.0, 1.0)[:side, :side].astype(np.float32)
+
+
 def load(name: str) -> np.ndarray:
     """One exemplar by name (see :data:`NAMES`)."""
     if name in ("gravel", "brick", "grass", "moon"):
@@ -228,6 +239,10 @@ def load(name: str) -> np.ndarray:
         return lit(paving())
     if name == "page":
         return _skimage("page")
+    if name == "coins":
+        return _skimage("coins")
+    if name == "pebbles":
+        return pebbles()
     made = {"scales": scales, "roof": roof, "wall_turned": lambda: turned(running_bond(), 14.0),
             "tiles_turned": lambda: turned(tiles(side=800, period=48), 25.0)}
     if name in made:

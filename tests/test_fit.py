@@ -103,13 +103,24 @@ def test_fit_layers_start_at_the_exemplar_scale(fitted):
 
 
 def test_fit_does_not_repeat_the_exemplar():
-    # the tile is quilted larger than a small exemplar: no copy of it at its own period
-    from spectex.metrics import repetition
+    # a small exemplar is its own tile, drawn stochastically: it does not repeat (no exact copy one
+    # period away, no peak of the detail's autocorrelation at any lag); drawn periodic, the tile is
+    # quilted larger than it. The control: the exemplar's own crop drawn periodic repeats (0.9997).
+    from spectex.metrics import repeat_peak, repetition
 
-    res = fit_result(_crop("gravel", 64))
-    assert res.params["tile_px"] == 256
+    photo = _crop("gravel", 64)
+    res = fit_result(photo)
+    assert res.params["tile_px"] == 64 and res.params["tile_method"] == "seamless crop"
+    assert res.texture.layers[0].tiling == "stochastic"
     baked = bake(res.texture, (256, 256), pixel_size=res.pixel_size)
     assert repetition(baked, (64, 64)) < 0.05
+    assert repeat_peak(baked) < 0.1  # measured 0.036
+    periodic = fit_result(photo, tiling="periodic")
+    assert periodic.params["tile_px"] == 256 and periodic.params["tile_method"].startswith("tileable quilt")
+    baked = bake(periodic.texture, (256, 256), pixel_size=periodic.pixel_size)
+    assert repetition(baked, (64, 64)) < 0.05 and repeat_peak(baked) < 0.1  # 0.046
+    cropped = fit_result(photo, tiling="periodic", tile_size=64)
+    assert repeat_peak(bake(cropped.texture, (256, 256), pixel_size=cropped.pixel_size)) > 0.5
 
 
 def test_fit_pixel_size_scales_the_layers_only():

@@ -56,9 +56,10 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     its wrap edges show least, kept unless a trial bake of the stochastic
     alternative is clearly closer by the structural distance
     (:func:`spectex.metrics.structural_distance`); otherwise the photo's
-    seamless crop or a tileable quilt with a reuse penalty, drawn
-    stochastically with sharpened blend weights (no cross-faded double
-    images). The coarser layers draw a second tile, random-phase noise that
+    seamless crop (drawn stochastically it never repeats, so even a small
+    photo is its own tile; a tileable quilt with a reuse penalty where the
+    layer is periodic), drawn stochastically with sharpened blend weights
+    (no cross-faded double images). The coarser layers draw a second tile, random-phase noise that
     continues the photo's spectrum below its lowest frequency, on the main
     axis of its low-passed colours (never the photo magnified), overlaid at
     a low opacity (0.1; ``Layer.blend="overlay"``: they scale the colour
@@ -173,12 +174,15 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     iterations : int, optional
         Rounds of the band-power step, >= 1; default 1 (legacy 3).
     tile_size : int, optional
-        Tile side in texels. Default ``max(m, min(512, 4 m))`` for the
-        exemplar's shorter side ``m``: 512 for exemplars of 128 to 512
-        pixels, four times smaller ones. A tile larger than the
+        Tile side in texels. Default (``method="auto"``): the exemplar's
+        shorter side ``m`` where the finest layer is drawn stochastically
+        (it never repeats, so the photo itself is its tile), ``max(m,
+        min(512, 4 m))`` where it is periodic (``tiling="periodic"``) and
+        for the legacy method: 512 for exemplars of 128 to 512 pixels,
+        four times smaller ones. A tile larger than the
         exemplar is synthesised from it by tileable image quilting
         (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
-        the finest layer does not repeat at the exemplar's period; otherwise
+        a periodic layer does not repeat at the exemplar's period; otherwise
         it is the exemplar's central crop made seamless.
     max_size : int
         Larger exemplars are analysed on a central crop of this size.
