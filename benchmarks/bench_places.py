@@ -100,7 +100,8 @@ def main(argv=None) -> int:
     names = args.only.split(",") if args.only else DEFAULT
     print(f"# {cpu_name()}; structural distance / floor at {args.places} whole-pixel places; "
           f"this checkout ({here}) against {args.against}" + (f"; photos cut to {args.side} px" if args.side else ""))
-    print(f"{'photo':14s} {'checkout':8s} {'mean':>6s}  {'places':28s} {'clip %':>13s} {'1st pct':>13s} {'rp':>5s} {'s':>5s}")
+    print(f"{'photo':14s} {'checkout':8s} {'mean':>6s}  {'places':28s} {'clip %':>13s} {'1st pct':>13s} "
+          f"{'rp':>5s} {'s':>5s}")
     means = {"this": [], "other": []}
     for name in names:
         for label, src in (("other", args.against), ("this", here)):
