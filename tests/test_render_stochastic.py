@@ -206,7 +206,19 @@ def _views_against_reference(texture, gl):
 @pytest.fixture(scope="module")
 def fitted():
     """spectex.fit's default on a gravel crop (a sharpened stochastic finest layer, periodic coarse
-    layers on their own noise tile), at a scale like the paper texture's (a 15 m finest tile)."""
+    layers on their own noise tile), at a scale like the paper texture's (a 15 m finest tile: the
+    256-pixel crop is its own tile; until 2026-11-26 a 64-pixel crop quilted to 256 texels)."""
+    import skimage.data
+
+    from spectex.fitting import fit
+
+    return fit(skimage.data.gravel()[:256, :256], pixel_size=0.06, iterations=1)
+
+
+@pytest.fixture(scope="module")
+def fitted_small():
+    """The same for a 64-pixel crop, its own tile since 2026-11-26: a 3.84 m finest tile, patches of 32
+    texels, so every view but the close one sees it minified by more than the 15 m tile."""
     import skimage.data
 
     from spectex.fitting import fit
@@ -226,7 +238,8 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
     aliased, 36.5-38.1 dB from the 16 x 16 one there (below 39 dB and the mip-mapped render's
     figure: asserted), and the mip-mapped renders
     scored 36.3 and 37.3 dB against it (the same with the finest layer periodic, 36.6 and 37.5: not
-    the stochastic weights). Against 16 x 16 they score 39.5 and 44.7 dB; the 16 x 16 reference
+    the stochastic weights). Against 16 x 16 they score 39.6 and 44.3 dB (39.5 and 44.7 for the quilted tile
+    of a 64-pixel crop this fixture was until 2026-11-26); the 16 x 16 reference
     agrees with an independent one (8 x 8 mip-mapped samples) to 45 dB. The controls: a single
     sample per pixel without mip-maps is far worse (17-26 dB), and so is the 8 x 8 reference on the
     high view."""
@@ -241,6 +254,25 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
             assert psnr(ref8, ref) < min(mip[name], 39.0), (psnr(ref8, ref), mip[name])
     assert min(mip.values()) >= 38.0 and min(gl_mip.values()) >= 38.0, (mip, gl_mip)
     assert all(plain[k] <= mip[k] - 3.0 for k in VIEWS if k != "close"), (mip, plain)
+
+
+@pytest.mark.slow
+@pytest.mark.gl
+def test_small_photos_fit_gl_matches_cpu_and_is_alias_free(gl, fitted_small):
+    """A 64-pixel photo's own tile (3.84 m): GL = CPU >= 40 dB, and alias-free where aliasing shows
+    (both pictures low-passed, as the fitted floor's test measures). Full-band the aerial view (400 m)
+    scores 37.3 dB against 39.5 for the 15 m tile: the view sees the small tile minified 4 times more,
+    where the trilinear filter's shape, not aliasing, decides a nearly white tile's full band (the same
+    15 m tile scores 32.7 and 35.3 full-band at 100 and 200 m, drawn periodic with plain mip-mapping
+    35.6 and 37.2: docs/fitting.md, "A small photo is its own tile"). Low-passed it scores 47.3 (15 m:
+    49.3), every view >= 43; the control, without mip-maps, 18-30 dB less on every minified view."""
+    assert fitted_small.layers[0].tiling == "stochastic" and fitted_small.tiles[0].shape[0] == 64
+    low, gl_low, plain = {}, {}, {}
+    for name, _, c, g, ref, no_mip in _views_against_reference(fitted_small, gl):
+        low[name], gl_low[name] = psnr_low(c, ref), psnr_low(g, ref)
+        plain[name] = psnr_low(no_mip, ref)
+    assert min(low.values()) >= 40.0 and min(gl_low.values()) >= 40.0, (low, gl_low)
+    assert all(plain[k] <= low[k] - 8.0 for k in VIEWS if k != "close"), (low, plain)
 
 
 
