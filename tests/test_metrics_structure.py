@@ -306,7 +306,18 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     far_view = bake(texture, (512, 512), pixel_size=8 * px, origin=(37.3 * 512 * px, -11.1 * 512 * px))
     far = metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref)
     assert far.within, far
+    # at another place the fit's view read 0.117 at 16 times, over the photo's own views as lit (at most
+    # 0.055) by 0.062: moon has lighting (a 5 % drift, 4 times chance), which the fit evens out, and the
+    # photo evened out reads up to 0.097 there (light is not the texture): within. The control: without
+    # the photo evened out in its range, flagged.
+    lit_view = bake(texture, (512, 512), pixel_size=8 * px,
+                    origin=(-35.58403873 * 512 * px, 44.86494471 * 512 * px))
+    assert metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
+    monkeypatch.setattr(ts, "_OWN_EVENED", False)
+    assert not metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
+    monkeypatch.setattr(ts, "_OWN_EVENED", True)
     monkeypatch.setattr(ts, "_OWN_MOSAICS", ())
+    monkeypatch.setattr(ts, "_OWN_EVENED", False)
     assert not metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref).within
     # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
     big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]
@@ -315,7 +326,7 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     assert int(np.nanargmax(copied.per_magnification)) == copied.magnifications.index(16.0)
     # the control: with one offset as the reference (the measure as it was), the photo's own
     # zoom-out is flagged (measured 0.27 against 0.18); the prepared half holds the first offset only
-    # (the mosaics are off since the far view's control above)
+    # (the mosaics and the evened photo are off since the far view's control above)
     monkeypatch.setattr(ts, "_OWN_ROLLS", ts._OWN_ROLLS[:1])
     assert not metrics.coarse_copies(rolled, photo, zoom=8, prepared=ref).within
 
