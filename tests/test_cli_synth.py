@@ -68,6 +68,19 @@ def test_synth_tileable_quilt(folder):
     assert metrics.tileability(read_image(out)) <= 2.0
 
 
+def test_synth_reuse_is_the_librarys_penalty(folder):
+    # --reuse reaches quilt(reuse=): the same quilt as the library's with it, another than without it
+    from spectex.synthesis import quilt
+
+    out = folder / "reuse.png"
+    assert main(["synth", str(folder / "grey.png"), "--size", "96x96", "--block", "16", "--reuse", "1",
+                 "--seed", "2", "-o", str(out)]) == 0
+    exemplar = read_image(folder / "grey.png")
+    expected = quilt(exemplar, (96, 96), block=16, rng=2, reuse=1.0)
+    np.testing.assert_allclose(read_image(out), expected, atol=0.5 / 255)
+    assert np.abs(quilt(exemplar, (96, 96), block=16, rng=2) - expected).max() > 0.1
+
+
 @pytest.mark.parametrize("name, channels", [("palette.png", 3), ("rgba.png", 4), ("grey.png", None)])
 def test_synth_documented_conversions(folder, name, channels):
     out = folder / f"out_{name}"
@@ -96,6 +109,8 @@ def test_synth_16_bit_in_and_out(folder):
     (["--block", "80"], "exemplar of 64x64 pixels is smaller than block=80"),
     (["--block", "16", "--overlap", "16"], "overlap must be smaller than block=16, got 16"),
     (["--bit-depth", "16", "-o", "{folder}/x.jpg"], "--bit-depth 16 needs a .png output"),
+    (["--reuse", "-1"], "--reuse must be >= 0.0, got -1.0"),
+    (["--method", "histogram", "--reuse", "1"], "--reuse does not apply to --method histogram (only to quilting)"),
 ])
 def test_synth_bad_input_is_one_line_exit_2_and_no_file(folder, capsys, args, message):
     args = [a.replace("{folder}", str(folder)) for a in args]

@@ -34,6 +34,9 @@ def register(subparsers) -> None:
                    help="quilting: block overlap (default: block/6)")
     p.add_argument("--tolerance", type=_common.finite_float, default=0.1,
                    help="quilting: relative error tolerance of the block choice (default: 0.1)")
+    p.add_argument("--reuse", type=_common.finite_float, default=0.0,
+                   help="quilting: penalty on reusing a source block, so that none dominates (default: 0, the "
+                        "paper's plain choice; 1: as spectex fit, more variety, stronger seams)")
     p.add_argument("--colours", choices=("joint", "per-channel"), default="joint",
                    help="histogram: keep the joint colour distribution (default) or only each channel's")
     p.add_argument("--match", type=_common.existing_file, default=None, metavar="IMAGE",
@@ -89,7 +92,7 @@ def run(args) -> int | None:
         with _common.Progress("quilting") as bar:
             result = synthesis.quilt(exemplar, args.size, block=args.block, overlap=args.overlap,
                                      tolerance=args.tolerance, rng=args.seed, tileable=args.tileable,
-                                     progress=bar)
+                                     reuse=args.reuse, progress=bar)
     write_image(output, result, bit_depth=args.bit_depth)
     h, w = result.shape[:2]
     _common.report(f"wrote {output} ({w}x{h}, {args.method})")
@@ -109,6 +112,7 @@ def _plan(args):
             check_shape("--size", args.size)
         elif args.method == "quilting":
             check_float("tolerance", args.tolerance, minimum=0.0)
+            check_float("reuse", args.reuse, minimum=0.0, maximum=1e6)
             _limits.check_quilting(exemplar_shape, args.size, block=args.block, overlap=args.overlap,
                                    tileable=args.tileable, channels=exemplar_shape[2])
         else:
@@ -123,7 +127,7 @@ def _refuse_unused(args) -> None:
     if method != "efros-leung":
         _common.refuse(args, ["window", "exhaustive"], f"to --method {method} (only to efros-leung)")
     if method != "quilting":
-        _common.refuse(args, ["block", "overlap", "tolerance"], f"to --method {method} (only to quilting)")
+        _common.refuse(args, ["block", "overlap", "tolerance", "reuse"], f"to --method {method} (only to quilting)")
     if method != "histogram":
         _common.refuse(args, ["colours"], f"to --method {method} (only to histogram)")
     if args.match is not None:

@@ -186,7 +186,13 @@ def quilt(exemplar, shape, *, block: int = 32, overlap: int | None = None, toler
         blocks evenly over the output (overlaps slightly larger than asked).
     reuse : float
         Penalty on reusing a source block (see above), >= 0; 0 (default)
-        is the plain choice. :func:`spectex.fit` uses 1.
+        is the paper's plain choice, 1 what :func:`spectex.fit` uses. A
+        trade: on 256-pixel crops of six photos (block 32) the most-used
+        source cell supplied 2-4 % of the blocks with 0 and 1 % with 1, and
+        the quilt was closer to the photo by the structural distance on five
+        of them, but its seams were stronger on all six
+        (:func:`spectex.metrics.seam_energy` 0.95-1.24 with 0, 1.01-1.70
+        with 1: fresh blocks match their neighbours less well).
     progress : callable, optional
         Called as ``progress(done, total)`` with counts of blocks.
 
