@@ -121,6 +121,11 @@ def test_fit_does_not_repeat_the_exemplar():
     assert repetition(baked, (64, 64)) < 0.05 and repeat_peak(baked) < 0.1  # 0.046
     cropped = fit_result(photo, tiling="periodic", tile_size=64)
     assert repeat_peak(bake(cropped.texture, (256, 256), pixel_size=cropped.pixel_size)) > 0.5
+    # a photo longer than wide gives its central square, and the notes say so (a square one says nothing)
+    assert not any("finest tile is the central" in note for note in res.notes)
+    long = fit_result(skdata.gravel()[:64, :160])
+    assert long.params["tile_px"] == 64
+    assert any("finest tile is the central 64x64 crop of the 160x64 photo" in note for note in long.notes)
 
 
 def test_fit_pixel_size_scales_the_layers_only():

@@ -1036,6 +1036,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         # layer keeps the quilt (its tile repeats), and so does a structured photo's stochastic trial (a
         # 128-pixel wall's own crop, its patches of 56 pixels, lost 2 dB of its coarsest band).
         tile_size = min(h, w)
+        if h != w:
+            notes.append(f"the finest tile is the central {tile_size}x{tile_size} crop of the {w}x{h} photo (its "
+                         "shorter side): the rest of the photo is not in the texture; a square photo gives it all")
     tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0)
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
