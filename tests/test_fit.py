@@ -128,6 +128,29 @@ def test_fit_does_not_repeat_the_exemplar():
     assert any("finest tile is the central 64x64 crop of the 160x64 photo" in note for note in long.notes)
 
 
+def test_small_photos_own_tile_does_not_come_back():
+    # issue 22: a 256-pixel photo's tile is the photo itself (its seamless crop), drawn stochastically:
+    # renders of twice its side at four places, the origin and far ones, do not repeat (repeat_peak
+    # 0.043-0.059). The control: the tile quilted four times larger from it (the default until
+    # 2026-11-26), whose blocks come back (0.07-0.156, over 0.1 at two of the places).
+    from spectex.metrics import repeat_peak
+
+    photo = skdata.gravel()[:256, :256]
+    places = ((0.0, 0.0), (12.43, 3.7), (-30.23, 83.63), (411.5, -259.23))  # photo sides (bench_places)
+
+    def repeats(res):
+        p = res.pixel_size
+        return [repeat_peak(bake(res.texture, (512, 512), origin=(round(fx * 256) * p, round(fy * 256) * p),
+                                 pixel_size=p)) for fx, fy in places]
+
+    own = fit_result(photo, rng=0)
+    assert own.params["tile_px"] == 256 and own.params["tile_method"] == "seamless crop"
+    assert max(repeats(own)) <= 0.1
+    quilted = fit_result(photo, rng=0, tile_size=512)
+    assert quilted.params["tile_method"].startswith("tileable quilt")
+    assert max(repeats(quilted)) > 0.1
+
+
 def test_fit_pixel_size_scales_the_layers_only():
     img = _crop("grass", 64)
     a = fit(img, pixel_size=1.0, iterations=1)
