@@ -226,3 +226,42 @@ def even_out_lighting(photo: np.ndarray, *, trend: np.ndarray | None = None):
     lo, hi = flat.min(axis=0), flat.max(axis=0)
     out = np.clip(out, lo if img.ndim == 3 else lo[0], hi if img.ndim == 3 else hi[0])
     return out, float(np.sqrt(np.mean(trend * trend)))
+
+
+def even_lighting(photo):
+    """The photo as the fit reads it: its lighting divided out where it drifts by more than chance.
+
+    A photo lit unevenly (the sun from one side, a lens's vignetting)
+    brightens and darkens smoothly across; every patch of a texture made of
+    it would repeat that drift as bright and dark blotches
+    (:func:`spectex.metrics.lighting_blotches`). The drift is estimated as
+    a smooth field of degree 2 in the photo's coordinates, fitted to the log
+    of the mean luma of 16 x 16 blocks, and every colour channel divided by
+    it (the result kept inside the photo's range per channel). Only a drift
+    that is lighting, not chance (``spectex._lighting.is_lighting``: at least
+    1 % RMS and 3 times what the blocks' own scatter gives by chance) is
+    evened out.
+
+    Parameters
+    ----------
+    photo : ndarray, shape (h, w) or (h, w, C), float
+        As :func:`spectex.fitting.prepare_exemplar` gives it, or a luma.
+
+    Returns
+    -------
+    (ndarray, dict or None)
+        The photo (the same array where nothing was done) and
+        ``{"rms", "chance", "low", "high"}``: the drift's RMS (of natural
+        log luma), the RMS of chance, and its lowest and highest factor on
+        the brightness; or None where the photo is under 32 pixels or lit
+        evenly.
+    """
+    if min(photo.shape[:2]) < MIN_LIGHT_SIDE:
+        return photo, None
+    trend, rms, chance = lighting_drift(photo)
+    if not is_lighting(rms, chance):
+        return photo, None
+    flat, _ = even_out_lighting(photo, trend=trend)
+    light = {"rms": round(rms, 6), "chance": round(chance, 6), "low": round(float(np.exp(trend.min())), 6),
+             "high": round(float(np.exp(trend.max())), 6)}
+    return flat.astype(photo.dtype, copy=False), light

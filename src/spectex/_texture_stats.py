@@ -867,14 +867,12 @@ def _own_evened(p: np.ndarray):
     """The photo's luma ``p`` with its lighting divided out where it has lighting (a drift the fit evens
     out, ``spectex._lighting.is_lighting``), else None: light is not the texture, and a texture made of the
     photo evened out is as much the photo's own as one that keeps its light."""
-    from ._lighting import MIN_LIGHT_SIDE, even_out_lighting, is_lighting, lighting_drift
+    from ._lighting import even_lighting
 
-    if not _OWN_EVENED or min(p.shape) < MIN_LIGHT_SIDE:
+    if not _OWN_EVENED:
         return None
-    trend, rms, chance = lighting_drift(p)
-    if not is_lighting(rms, chance):
-        return None
-    return even_out_lighting(p, trend=trend)[0]
+    flat, light = even_lighting(p)
+    return None if light is None else flat
 
 
 def _own_search(p: np.ndarray, shape, zoom, mags, angles, pieces, targets) -> np.ndarray:

@@ -16,6 +16,7 @@ See ``docs/fitting.md``.
 
 from __future__ import annotations
 
+from .._lighting import even_lighting  # its home; the fit's name for it
 from .._validate import check_choice
 from ._auto import check_options  # noqa: F401 - for the command line (not in __all__)
 from ._core import (
@@ -27,7 +28,6 @@ from ._core import (
     FitReport,
     FitResult,
     ReportReference,
-    even_lighting,
     fit_report,
     prepare_exemplar,
     report_reference,

@@ -47,6 +47,7 @@ import time
 
 import numpy as np
 
+from .._lighting import even_lighting
 from .._validate import check_choice, check_float, check_int, check_rng
 from ..render.cpu import bake
 from ._core import (
@@ -58,7 +59,6 @@ from ._core import (
     _coarse_slope,
     _Problem,
     _shape_spectrum,
-    even_lighting,
     finest_tile,
     prepare_exemplar,
     structure_peak,

@@ -62,47 +62,6 @@ def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
     return tile, n, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
 
 
-def even_lighting(photo):
-    """The photo as the fit reads it: its lighting divided out where it drifts by more than chance.
-
-    A photo lit unevenly (the sun from one side, a lens's vignetting)
-    brightens and darkens smoothly across; every patch of a texture made of
-    it would repeat that drift as bright and dark blotches
-    (:func:`spectex.metrics.lighting_blotches`). The drift is estimated as
-    a smooth field of degree 2 in the photo's coordinates, fitted to the log
-    of the mean luma of 16 x 16 blocks, and every colour channel divided by
-    it (the result kept inside the photo's range per channel). Only a drift
-    that is lighting, not chance (``spectex._lighting.is_lighting``: at least
-    1 % RMS and 3 times what the blocks' own scatter gives by chance) is
-    evened out.
-
-    Parameters
-    ----------
-    photo : ndarray, shape (h, w, 3), float
-        As :func:`prepare_exemplar` gives it.
-
-    Returns
-    -------
-    (ndarray, dict or None)
-        The photo (the same array where nothing was done) and
-        ``{"rms", "chance", "low", "high"}``: the drift's RMS (of natural
-        log luma), the RMS of chance, and its lowest and highest factor on
-        the brightness; or None where the photo is under 32 pixels or lit
-        evenly.
-    """
-    from .._lighting import MIN_LIGHT_SIDE, even_out_lighting, is_lighting, lighting_drift
-
-    if min(photo.shape[:2]) < MIN_LIGHT_SIDE:
-        return photo, None
-    trend, rms, chance = lighting_drift(photo)
-    if not is_lighting(rms, chance):
-        return photo, None
-    flat, _ = even_out_lighting(photo, trend=trend)
-    light = {"rms": round(rms, 6), "chance": round(chance, 6), "low": round(float(np.exp(trend.min())), 6),
-             "high": round(float(np.exp(trend.max())), 6)}
-    return flat.astype(photo.dtype, copy=False), light
-
-
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     """The exemplar as the fit uses it: RGB float32 in [0, 1], at most ``max_size`` a side.
 
