@@ -307,15 +307,16 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     far = metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref)
     assert far.within, far
     # at another place the fit's view read 0.117 at 16 times, over the photo's own views as lit (at most
-    # 0.055) by 0.062: moon has lighting (a 5 % drift, 4 times chance), which the fit evens out, and the
-    # photo evened out reads up to 0.097 there (light is not the texture): within. The control: without
-    # the photo evened out in its range, flagged.
+    # 0.055) by 0.062, until the stochastic weights followed the patch's width (2026-11-26: a cross-fade
+    # of three patches over most of each triangle at this view's lambda = 3 before): moon has lighting (a
+    # 5 % drift, 4 times chance), which the fit evens out, so the photo evened out is in the range too
+    # (light is not the texture). The view now reads 0.101 there without the evened photo: within either
+    # way, like every place tried (12 places, 0.03-0.32 against their ranges).
     lit_view = bake(texture, (512, 512), pixel_size=8 * px,
                     origin=(-35.58403873 * 512 * px, 44.86494471 * 512 * px))
     assert metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
     monkeypatch.setattr(ts, "_OWN_EVENED", False)
-    assert not metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
-    monkeypatch.setattr(ts, "_OWN_EVENED", True)
+    assert metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
     monkeypatch.setattr(ts, "_OWN_MOSAICS", ())
     monkeypatch.setattr(ts, "_OWN_EVENED", False)
     assert not metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref).within

@@ -8,7 +8,7 @@ from scipy.special import ndtr
 
 from spectex import metrics
 from spectex.sampling import MipTexture, quantize, sample
-from spectex.shading.constants import SHARP_LOD, WEIGHT_SQUARINGS
+from spectex.shading.constants import WEIGHT_SQUARINGS
 from spectex.shading.stochastic import (
     GAUSS_SCALE,
     LUT_SIZE,
@@ -66,12 +66,17 @@ def _np_stochastic(tables, s, t, lod, patch, seed):
              (np.where(lower, ci, ci + 1), np.where(lower, cj + 1, cj), np.where(lower, fy, 1 - fy))]
     key = np.uint32(lowbias32(np.uint32(seed)))
     lam = np.clip(lod, 0.0, q)
-    # the sharpened weights: w^(2^WEIGHT_SQUARINGS), renormalised to sum 1, up to SHARP_LOD, then
-    # mixed linearly into the barycentric ones by SHARP_LOD + 1
-    power = 2 ** WEIGHT_SQUARINGS
-    total = sum(w ** power for _, _, w in verts)
-    mix = np.clip(lam - SHARP_LOD, 0.0, 1.0)
-    verts = [(vi, vj, w ** power / total + mix * (w - w ** power / total)) for vi, vj, w in verts]
+    # the sharpened weights: w^(2^e) renormalised to sum 1, e = clamp(log2(patch in texels) - lambda, 0,
+    # WEIGHT_SQUARINGS) (2^e the patch's width in pixels), the linear mix of the two whole powers about it
+    e = np.clip(math.log2(levels[0].shape[1] * patch) - lam, 0.0, WEIGHT_SQUARINGS)
+    ke = np.floor(e)
+
+    def powered(k):
+        total = sum(w ** (2.0 ** k) for _, _, w in verts)
+        return [w ** (2.0 ** k) / total for _, _, w in verts]
+
+    lo, hi = powered(ke), powered(ke + 1)
+    verts = [(vi, vj, a + (e - ke) * (b - a)) for (vi, vj, _), a, b in zip(verts, lo, hi)]
     d1 = np.minimum(np.floor(lam).astype(np.int64), q)
     beta = (lam - d1)[..., None]
     acc = 0.0
@@ -286,3 +291,31 @@ def test_expanded_table_rows_interpolate_the_levels(tables):
     mid = 0.625 * tables.lut[2] + 0.375 * tables.lut[3]
     assert np.allclose(table[2 * 8 + 3], mid, atol=1e-3)
     assert np.array_equal(table, table.astype(np.float16).astype(np.float32))
+
+
+def test_weights_follow_the_patch_width_in_pixels():
+    """The blend's weights are the barycentric ones to the power 2^e, e = log2(patch texels) - lambda
+    clamped to [0, WEIGHT_SQUARINGS]: the power 8 while a patch is 8 pixels wide or more, 1 (barycentric)
+    once it spans a pixel, continuous in lambda (no popping). The rule before 2026-11-26 dropped to the
+    barycentric weights by lambda = 3 whatever the patch: a 256-texel patch, 32 pixels wide there, was a
+    cross-fade of three (the control)."""
+    from spectex.shading.stochastic import sharpen_weights
+
+    w = (0.5, 0.3, 0.2)
+    power = 2 ** WEIGHT_SQUARINGS
+    sharp = np.array(w) ** power / np.sum(np.array(w) ** power)
+    plod = 8.0  # a 256-texel patch
+    for lam in (-1.0, 0.0, 3.0, plod - WEIGHT_SQUARINGS):
+        np.testing.assert_allclose(sharpen_weights(*w, lam, plod), sharp, rtol=1e-12)
+    for lam in (plod, plod + 2.0):
+        np.testing.assert_allclose(sharpen_weights(*w, lam, plod), w, rtol=1e-12)
+    # the power 2^e between: e = 1.5 mixes the squares and the fourth powers, each renormalised
+    sq, qu = np.array(w) ** 2 / np.sum(np.array(w) ** 2), np.array(w) ** 4 / np.sum(np.array(w) ** 4)
+    np.testing.assert_allclose(sharpen_weights(*w, plod - 1.5, plod), 0.5 * (sq + qu), rtol=1e-12)
+    # continuous: no step across the whole powers
+    lams = np.linspace(plod - WEIGHT_SQUARINGS - 0.5, plod + 0.5, 801)
+    ws = np.array([sharpen_weights(*w, lam, plod) for lam in lams])
+    assert np.abs(np.diff(ws, axis=0)).max() < 0.01
+    np.testing.assert_allclose(ws.sum(axis=1), 1.0, rtol=1e-12)
+    # the control: at lambda = 3 the old rule's weights were barycentric, these are still the power 8
+    assert np.abs(np.array(sharpen_weights(*w, 3.0, plod)) - np.array(w)).max() > 0.2

@@ -43,6 +43,7 @@ from .stochastic import (
     cell_mix,
     cell_point,
     lut_lookup,
+    patch_lod,
     sample_stochastic_grad,
     sharpen_weights,
     triangle_vertices,
@@ -320,10 +321,10 @@ def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, 
 
 
 @_jit_inline
-def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam):
+def _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny, lam, plod):
     """:func:`~spectex.shading.stochastic.patches_at` with the fast path's trilinear sampler."""
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
+    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam, plod)
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, w0, nx, ny)
     r1, g1, b1, a1 = _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
     ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, w0, nx, ny)
@@ -352,6 +353,7 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
     ny = snap[k, 1]
     cell_row = cell_rows[k]
     gk = grid[k]
+    plod = patch_lod(w0, gk)
     for x in range(m):
         dx = px[x]
         dy = py[x]
@@ -376,7 +378,7 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
                                          nx, ny)
         if not cells or tm > 0.0:
             u0, u1, u2, u3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, kx, ky, bi, bj, key, w0,
-                                          nx, ny, lam)
+                                          nx, ny, lam, plod)
             if cells:
                 v0 += tm * (u0 - v0)
                 v1 += tm * (u1 - v1)

@@ -72,9 +72,11 @@ LUT_SUBROWS = 8
 #: 0 is Heitz and Neyret's linear weights. The variance-preserving normalisation keeps the
 #: histogram for any weights.
 WEIGHT_SQUARINGS = 3
-#: The sharpened weights hold up to this level of detail and give way to the barycentric ones by
-#: ``SHARP_LOD + 1`` (linearly in lambda): where a pixel covers 8 texels or more, a transition of
-#: a few texels would alias, and the footprint's average hides the double images anyway.
+#: (The power follows the patch's width in pixels: ``2 ** e``, ``e = clamp(log2(patch texels) - lambda,
+#: 0, WEIGHT_SQUARINGS)``, ``stochastic.sharpen_weights``; a transition spans about half a pixel
+#: where a patch is under 8 pixels wide, and the weights are barycentric where it shrinks to a pixel.)
+#: The level of detail up to which a transition of a few texels is kept whole: the least level at
+#: which a snapped layer's cells give way to the blend at the point (``CELL_LOD_MARGIN``).
 SHARP_LOD = 2.0
 #: A snapped layer's cells (each brick or floor tile from one patch, ``docs/sampling.md`` 6b) hold
 #: up to ``lambda = log2(period) - CELL_LOD_MARGIN`` (``period``: the snap's shorter period in level-0

@@ -437,28 +437,47 @@ def vertex_offset(i, j, key, w0, h0, nx, ny):
 
 
 @_jit_inline
-def sharpen_weights(w1, w2, w3, lam):
+def sharpen_weights(w1, w2, w3, lam, patch_lod):
     """The blend's weights from the barycentric ones, at level of detail ``lam``.
 
-    Up to ``lam = SHARP_LOD``: raised to the power ``2 ** WEIGHT_SQUARINGS``
-    and renormalised to sum 1 (``constants.WEIGHT_SQUARINGS``): sharp
-    transitions between the patches, continuous, 1 at a vertex. From
-    ``SHARP_LOD + 1`` on: the barycentric weights themselves, whose wide
-    transitions a coarse pixel footprint cannot alias; in between, the
-    linear mix of the two (no popping). Sharper masks for the finer
-    levels, as in Wronski and Pesce's Laplacian-pyramid blending.
+    The barycentric weights raised to the power ``2 ** e`` and renormalised
+    to sum 1, ``e = clamp(patch_lod - lam, 0, WEIGHT_SQUARINGS)``, where
+    ``patch_lod`` is ``log2`` of the patch's side in level-0 texels
+    (:func:`patch_lod`): ``2 ** e`` is the patch's width in pixels, up to
+    ``2 ** WEIGHT_SQUARINGS``. A transition between two patches then spans
+    about half a pixel wherever a patch is under 8 pixels wide, and at most a
+    sixteenth of the patch closer: sharp transitions, continuous, 1 at a
+    vertex, most of a triangle one patch at full contrast (no cross-faded
+    double images), until a patch shrinks to a pixel, where the weights are
+    the barycentric ones. A fractional ``e`` takes the linear mix of the
+    two renormalised powers about it (no popping). Sharper masks for the
+    finer levels, as in Wronski and Pesce's Laplacian-pyramid blending.
     """
+    e = min(max(patch_lod - lam, 0.0), float(WEIGHT_SQUARINGS))
+    k = math.floor(e)
     s1, s2, s3 = w1, w2, w3
-    for _ in range(WEIGHT_SQUARINGS):
-        s1 = s1 * s1
-        s2 = s2 * s2
-        s3 = s3 * s3
+    for i in range(WEIGHT_SQUARINGS):
+        if i < k:
+            s1 = s1 * s1
+            s2 = s2 * s2
+            s3 = s3 * s3
+    n1 = s1 * s1
+    n2 = s2 * s2
+    n3 = s3 * s3
     inv = 1.0 / (s1 + s2 + s3)
     s1 *= inv
     s2 *= inv
     s3 *= inv
-    t = min(max(lam - SHARP_LOD, 0.0), 1.0)
-    return s1 + t * (w1 - s1), s2 + t * (w2 - s2), s3 + t * (w3 - s3)
+    inv = 1.0 / (n1 + n2 + n3)
+    f = e - k
+    return s1 + f * (n1 * inv - s1), s2 + f * (n2 * inv - s2), s3 + f * (n3 * inv - s3)
+
+
+@_jit_inline
+def patch_lod(w0, grid):
+    """``log2`` of a stochastic layer's patch (the triangle grid's side) in level-0 texels: ``w0 / grid[0, 0]``
+    (``grid[0, 0]`` is ``1 / patch``, :func:`triangle_grid_matrix`; ``w0`` the tile's width in texels)."""
+    return math.log2(w0 / grid[0, 0])
 
 
 @_jit_inline
@@ -591,16 +610,16 @@ def winner_patch_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, 
 
 @_jit_inline
 def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam, min_filter,
-               mag_filter, wrap_s, wrap_t):
+               mag_filter, wrap_s, wrap_t, plod):
     """The blended Gaussian RGBA at ``(s, t)`` of the patches whose weights are taken at grid point ``(gx, gy)``.
 
     The vertices of ``(gx, gy)``'s triangle (relative to vertex ``(bi, bj)``)
-    with their weights sharpened at ``lam`` (:func:`sharpen_weights`), the
+    with their weights sharpened at ``lam`` for patches of ``2 ** plod`` texels (:func:`sharpen_weights`), the
     three patches sampled at ``(s, t)`` plus their offsets and blended
     (:func:`blend_patches`); the one patch of a cell: :func:`winner_patch_at`.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam)
+    w1, w2, w3 = sharpen_weights(w1, w2, w3, lam, plod)
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
     r1, g1, b1, a1 = sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter,
                                    mag_filter, wrap_s, wrap_t)
@@ -663,7 +682,7 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
                                          nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
     if not cells or tm > 0.0:
         u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
-                                    lam, min_filter, mag_filter, wrap_s, wrap_t)
+                                    lam, min_filter, mag_filter, wrap_s, wrap_t, patch_lod(w0, grid))
         if cells:  # l_c < lambda < l_c + 1: towards the blend at the point
             v0 += tm * (u0 - v0)
             v1 += tm * (u1 - v1)

@@ -177,7 +177,7 @@ vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
 // (0, 1), (1, 0); as d = 0 or 1: (d, d), (1 - d, d), (d, 1 - d), so that the first two
 // share their row's hash; the weights as |.| of one expression for both.
 vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
-                        vec2 snap, vec2 tex_size, float lam) {
+                        vec2 snap, vec2 tex_size, float lam, float patch_lod) {
     vec2 c = floor(g);
     vec2 f = g - c;
     float fs = f.x + f.y;
@@ -189,14 +189,20 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
     SPX_UINT hj = spectex_hash((j0 + d) ^ key);
     SPX_UINT hk = spectex_hash((j0 + 1u - d) ^ key);
     vec3 w = abs(vec3(1.0 - fs, e - f.x, e - f.y));
-    // sharpened (stochastic.sharpen_weights): raised to the power 2^SPX_WEIGHT_SQUARINGS and
-    // renormalised up to lambda = SPX_SHARP_LOD, the barycentric weights from SPX_SHARP_LOD + 1 on
+    // sharpened (stochastic.sharpen_weights): raised to the power 2^sh and renormalised,
+    // sh = clamp(patch_lod - lambda, 0, SPX_WEIGHT_SQUARINGS) (2^sh: the patch's width in pixels,
+    // at most 2^SPX_WEIGHT_SQUARINGS), the linear mix of the powers 2^floor(sh) and 2^(floor(sh) + 1)
+    float sh = clamp(patch_lod - lam, 0.0, float(SPX_WEIGHT_SQUARINGS));
+    float ke = floor(sh);
     vec3 ws = w;
     for (int k = 0; k < SPX_WEIGHT_SQUARINGS; k++) {
-        ws = ws * ws;
+        if (float(k) < ke) {
+            ws = ws * ws;
+        }
     }
+    vec3 wn = ws * ws;
     ws = ws * (1.0 / (ws.x + ws.y + ws.z));
-    w = ws + clamp(lam - SPX_SHARP_LOD, 0.0, 1.0) * (w - ws);
+    w = ws + (sh - ke) * (wn * (1.0 / (wn.x + wn.y + wn.z)) - ws);
     vec2 inv_size = 1.0 / tex_size;
     vec4 x1 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + d) ^ hj), tex_size, inv_size, snap), lam);
     vec4 x2 = SPX_LOD(gauss, st + spectex_hash_offset(spectex_hash((i0 + 1u - d) ^ hj), tex_size, inv_size, snap), lam);
@@ -234,7 +240,9 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
         gb = SPX_LOD(gauss, st + off, lam);
     }
     if (!cells || tm > 0.0) {
-        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam);
+        // log2 of the patch's side in level-0 texels (grid.x = 1 / patch: stochastic.patch_lod)
+        vec4 gp = spectex_patches_at(SPX_TEX(gauss), st, g, base_i, base_j, key, snap, tex_size, lam,
+                                     log2(tex_size.x / grid.x));
         gb = cells ? gb + tm * (gp - gb) : gp;
     }
     vec4 v = spectex_lut(SPX_TEX(lut), gb, lut_row0, spectex_lut_level(lam, min_filter, q), lut_rows);
