@@ -24,9 +24,12 @@ QUICK = ("gravel", "brick", "paving")
 #: ``page`` (a scanned page of text, lit unevenly by the scanner: real uneven light, 191 x 384); photos
 #: of gravel, paving and grass taken at an angle (:func:`oblique`); small photos of objects larger than a
 #: quilt's overlap: scikit-image's ``coins`` (303 x 384, coins of about 50 pixels on a cloth lit from one
-#: side) and :func:`pebbles` (256 x 256).
+#: side) and :func:`pebbles` (256 x 256); :func:`planks` (floor boards: a structure along one axis only),
+#: :func:`weave` (a basket weave, a regular pattern) and :func:`ripples` (sand ripples, quasi-periodic
+#: across one direction).
 EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
-         "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof", "coins", "pebbles")
+         "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof", "coins", "pebbles", "planks", "weave",
+         "ripples")
 
 
 def _skimage(name):
@@ -217,6 +220,69 @@ def pebbles(side: int = 256) -> np.ndarray:
     return np.clip(ndimage.zoom(_skimage("gravel")[:80, :80], 3.2, order=3), 0.0, 1.0)[:side, :side].astype(np.float32)
 
 
+def planks(side: int = 512, board: float = 46.0, rng=5) -> np.ndarray:
+    """A floor of wooden boards, RGB: rows ``board`` pixels high, each row's boards of random lengths
+    (2 to 6 rows long) with dark joints, each board its own brown with a grain of fine streaks along the
+    rows: a structure periodic across the rows only."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    row = (yy // board).astype(int)
+    img = np.zeros((side, side, 3))
+    joint = np.zeros((side, side), bool)
+    for r in range(int(side / board) + 1):
+        on_row = row == r
+        x = -gen.uniform(0.0, 5.0 * board)
+        while x < side:
+            length = gen.uniform(2.0, 6.0) * board
+            on = on_row & (xx >= x) & (xx < x + length)
+            tone = np.array([0.55, 0.36, 0.2]) * gen.uniform(0.75, 1.2) + gen.normal(0.0, 0.02, 3)
+            phase = gen.uniform(0.0, 2.0 * np.pi)
+            streak = 0.5 + 0.5 * np.sin(yy[on] * gen.uniform(0.5, 0.9) + 3.0 * np.sin(xx[on] / gen.uniform(40, 90))
+                                        + phase)
+            img[on] = tone * (0.85 + 0.2 * streak)[:, None]
+            joint |= on & (np.abs(xx - x) < 1.5)
+            x += length
+    grain = 1.0 + 0.06 * _noise((side, side), gen, (0.6, 6.0))
+    img *= grain[:, :, None]
+    joint |= (yy % board) < 2.0
+    img[joint] *= 0.35
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def weave(side: int = 512, strand: int = 16, rng=9) -> np.ndarray:
+    """A basket weave, RGB: pairs of straw-coloured strands ``strand`` pixels wide going over and under
+    each other in 2 x 2 checks, each strand shaded round across its width, with fibres along it: a regular
+    pattern (period ``4 strand``)."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    cy, cx = (yy // (2 * strand)).astype(int), (xx // (2 * strand)).astype(int)
+    horizontal = (cy + cx) % 2 == 0
+    across = np.where(horizontal, yy % strand, xx % strand) / strand  # 0-1 across the strand
+    dome = np.sin(np.pi * across) ** 0.7
+    fibres = np.where(horizontal, _noise((side, side), gen, (0.5, 8.0)), _noise((side, side), gen, (8.0, 0.5)))
+    tone = 0.35 + 0.5 * dome + 0.05 * fibres
+    img = tone[:, :, None] * np.array([0.85, 0.72, 0.45])
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def ripples(side: int = 512, wavelength: float = 38.0, rng=4) -> np.ndarray:
+    """Sand ripples, RGB: crests about ``wavelength`` pixels apart running across the photo at about 20
+    degrees, meandering, forking and varying in height, lit from one side (steep lee faces darker), with
+    sand grain: quasi-periodic across one direction, not a lattice."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    a = np.deg2rad(20.0)
+    u = xx * np.cos(a) + yy * np.sin(a)
+    phase = 2.0 * np.pi * u / wavelength + 2.5 * _noise((side, side), gen, 60.0) + 1.5 * _noise((side, side), gen, 20.0)
+    saw = (phase / (2.0 * np.pi)) % 1.0
+    height = np.where(saw < 0.75, saw / 0.75, (1.0 - saw) / 0.25)  # a gentle stoss slope, a steep lee face
+    amp = 0.75 + 0.25 * _noise((side, side), gen, 40.0)
+    shade = 0.62 + 0.22 * amp * np.where(saw < 0.75, 1.0, -1.2) * 0.5 + 0.08 * height
+    grain = 0.05 * _noise((side, side), gen, 0.7)
+    img = (shade + grain)[:, :, None] * np.array([0.92, 0.8, 0.6])
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
 def load(name: str) -> np.ndarray:
     """One exemplar by name (see :data:`NAMES`)."""
     if name in ("gravel", "brick", "grass", "moon"):
@@ -241,9 +307,8 @@ def load(name: str) -> np.ndarray:
         return _skimage("page")
     if name == "coins":
         return _skimage("coins")
-    if name == "pebbles":
-        return pebbles()
-    made = {"scales": scales, "roof": roof, "wall_turned": lambda: turned(running_bond(), 14.0),
+    made = {"scales": scales, "roof": roof, "pebbles": pebbles, "planks": planks, "weave": weave, "ripples": ripples,
+            "wall_turned": lambda: turned(running_bond(), 14.0),
             "tiles_turned": lambda: turned(tiles(side=800, period=48), 25.0)}
     if name in made:
         return made[name]()
