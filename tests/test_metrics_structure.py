@@ -318,7 +318,6 @@ def test_coarse_copies_judges_a_self_similar_photo_against_its_own_range(monkeyp
     monkeypatch.setattr(ts, "_OWN_EVENED", False)
     assert metrics.coarse_copies(lit_view, photo, zoom=8, prepared=ref).within
     monkeypatch.setattr(ts, "_OWN_MOSAICS", ())
-    monkeypatch.setattr(ts, "_OWN_EVENED", False)
     assert not metrics.coarse_copies(far_view, photo, zoom=8, prepared=ref).within
     # a copy magnified 16 times (2 in the view), rotated, at 30 %, over the fit's view: flagged (0.31)
     big = ndimage.rotate(ndimage.zoom(photo, 2.0, order=1), 50.0, reshape=False, mode="reflect")[256:768, 256:768]

@@ -70,11 +70,11 @@ LUT_SUBROWS = 8
 #: contrast instead of a cross-fade of two or three (the double images of a linear blend;
 #: Mikkelsen, JCGT 11(1) 2022, and Burley, JCGT 8(4) 2019, raise the weights to a power too).
 #: 0 is Heitz and Neyret's linear weights. The variance-preserving normalisation keeps the
-#: histogram for any weights.
+#: histogram for any weights. Further away the power follows the patch's width in pixels: ``2 ** e``,
+#: ``e = clamp(log2(patch texels) - lambda, 0, WEIGHT_SQUARINGS)`` (``stochastic.sharpen_weights``); a
+#: transition spans about half a pixel where a patch is under 8 pixels wide, and the weights are
+#: barycentric where it shrinks to a pixel.
 WEIGHT_SQUARINGS = 3
-#: (The power follows the patch's width in pixels: ``2 ** e``, ``e = clamp(log2(patch texels) - lambda,
-#: 0, WEIGHT_SQUARINGS)``, ``stochastic.sharpen_weights``; a transition spans about half a pixel
-#: where a patch is under 8 pixels wide, and the weights are barycentric where it shrinks to a pixel.)
 #: The level of detail up to which a transition of a few texels is kept whole: the least level at
 #: which a snapped layer's cells give way to the blend at the point (``CELL_LOD_MARGIN``).
 SHARP_LOD = 2.0

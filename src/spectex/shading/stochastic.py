@@ -437,12 +437,12 @@ def vertex_offset(i, j, key, w0, h0, nx, ny):
 
 
 @_jit_inline
-def sharpen_weights(w1, w2, w3, lam, patch_lod):
+def sharpen_weights(w1, w2, w3, lam, plod):
     """The blend's weights from the barycentric ones, at level of detail ``lam``.
 
     The barycentric weights raised to the power ``2 ** e`` and renormalised
-    to sum 1, ``e = clamp(patch_lod - lam, 0, WEIGHT_SQUARINGS)``, where
-    ``patch_lod`` is ``log2`` of the patch's side in level-0 texels
+    to sum 1, ``e = clamp(plod - lam, 0, WEIGHT_SQUARINGS)``, where
+    ``plod`` is ``log2`` of the patch's side in level-0 texels
     (:func:`patch_lod`): ``2 ** e`` is the patch's width in pixels, up to
     ``2 ** WEIGHT_SQUARINGS``. A transition between two patches then spans
     about half a pixel wherever a patch is under 8 pixels wide, and at most a
@@ -453,7 +453,7 @@ def sharpen_weights(w1, w2, w3, lam, patch_lod):
     two renormalised powers about it (no popping). Sharper masks for the
     finer levels, as in Wronski and Pesce's Laplacian-pyramid blending.
     """
-    e = min(max(patch_lod - lam, 0.0), float(WEIGHT_SQUARINGS))
+    e = min(max(plod - lam, 0.0), float(WEIGHT_SQUARINGS))
     k = math.floor(e)
     s1, s2, s3 = w1, w2, w3
     for i in range(WEIGHT_SQUARINGS):
