@@ -67,10 +67,12 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
 
     Documented conversions: integers are scaled by their dtype's maximum
     (16-bit keeps its precision); grey is repeated into R, G and B; an alpha
-    channel (grey + alpha, RGBA) is dropped; an image larger than
-    ``max_size`` on a side is cropped about its centre to ``max_size``
-    (cropping, not downscaling, keeps ``pixel_size`` meaningful); float
-    values outside [0, 1] are clipped.
+    channel (grey + alpha, RGBA) is dropped; a flat frame around the photo
+    (a border, letterboxing, the wedges of a rotated photo: ``_frame.py``) is
+    cropped away, since every patch of the texture would repeat it; an image
+    larger than ``max_size`` on a side is cropped about its centre to
+    ``max_size`` (cropping, not downscaling, keeps ``pixel_size``
+    meaningful); float values outside [0, 1] are clipped.
 
     Returns
     -------
@@ -81,8 +83,9 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     Raises
     ------
     ValueError
-        For an image under 32 pixels on a side, or a flat one (luma standard
-        deviation under half an 8-bit step).
+        For an image under 32 pixels on a side (before or after its frame is
+        cropped), or a flat one (luma standard deviation under half an 8-bit
+        step).
     """
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), unit=True)
     max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
@@ -99,6 +102,7 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
         notes.append("grey repeated into RGB")
     else:
         rgb = image[:, :, :3]
+    rgb, h, w = _without_frame(rgb, notes)
     if max(h, w) > max_size:
         th, tw = min(h, max_size), min(w, max_size)
         y0, x0 = (h - th) // 2, (w - tw) // 2
@@ -110,6 +114,24 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
         raise ValueError("image is flat (constant luminance, std under half an 8-bit step): "
                          "it has no texture to fit")
     return rgb, notes
+
+
+def _without_frame(rgb, notes):
+    """``rgb`` without its flat frame (``_frame.frame_box``), said in ``notes``: ``(rgb, h, w)``."""
+    from ._frame import frame_box
+
+    h, w = rgb.shape[:2]
+    box = frame_box(np.clip(rgb, 0.0, 1.0))
+    if box is None:
+        return rgb, h, w
+    y0, y1, x0, x1 = box
+    if min(y1 - y0, x1 - x0) < MIN_SIZE:
+        raise ValueError(f"image is mostly a flat frame: without it {x1 - x0}x{y1 - y0} pixels of the {w}x{h} "
+                         f"are left, under the {MIN_SIZE}x{MIN_SIZE} a fit needs")
+    notes.append(f"left out a flat frame around the photo (top {y0}, bottom {h - y1}, left {x0}, right {w - x1} px: "
+                 "one colour along its edge, which every patch of the texture would repeat as a bar); "
+                 f"fitted to the {x1 - x0}x{y1 - y0} inside")
+    return rgb[y0:y1, x0:x1], y1 - y0, x1 - x0
 
 
 # --------------------------------------------------------------------------
