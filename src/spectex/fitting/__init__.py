@@ -28,6 +28,7 @@ from ._core import (
     FitReport,
     FitResult,
     ReportReference,
+    exemplar_scale,
     fit_report,
     prepare_exemplar,
     report_reference,
@@ -37,7 +38,7 @@ from ._legacy import _fit_legacy
 from ._structure import structure_period
 
 __all__ = ["fit", "fit_result", "fit_report", "FitResult", "FitReport", "report_reference", "ReportReference",
-           "prepare_exemplar", "even_lighting", "structure_peak", "structure_period",
+           "prepare_exemplar", "exemplar_scale", "even_lighting", "structure_peak", "structure_period",
            "MIN_SIZE", "MAX_ANALYSIS_SIZE", "STRUCTURED_PEAK", "FIT_TILINGS", "FIT_METHODS"]
 
 
@@ -155,11 +156,12 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     image : ndarray, shape (H, W) or (H, W, C)
         The exemplar, values in [0, 1] (integers scaled by their dtype's
         maximum); see :func:`prepare_exemplar` for the conversions (grey,
-        alpha, 16-bit, crop of huge images). At least 32 x 32, not flat.
+        alpha, 16-bit, a flat frame, large photos). At least 32 x 32, not flat.
     pixel_size : float, optional
-        World size of one exemplar pixel (metres); ``bake(texture, shape,
-        pixel_size=pixel_size)`` then renders at the exemplar's scale.
-        Default: from ``photo_size`` (``FitResult.pixel_size`` says it).
+        World size of one pixel of the photo (metres); ``bake(texture, shape,
+        pixel_size=FitResult.pixel_size)`` then renders at the exemplar's
+        scale (the same, or times :func:`exemplar_scale` where a large photo
+        was resampled). Default: from ``photo_size``.
     photo_size : float, optional
         Metres across the photo's longer side (not with ``pixel_size``);
         default 1.5 (a photo of ground taken standing). Method "auto" only.
@@ -185,7 +187,9 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         a periodic layer does not repeat at the exemplar's period; otherwise
         it is the exemplar's central crop made seamless.
     max_size : int
-        Larger exemplars are analysed on a central crop of this size.
+        Larger exemplars are analysed on a central crop of this size, at full
+        resolution unless its structure would not fit
+        (:func:`prepare_exemplar`).
     rng : int, numpy.random.Generator or None
         Randomness of the quilting (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give

@@ -57,10 +57,10 @@ from ._core import (
     STRUCTURED_PEAK,
     FitResult,
     _coarse_slope,
+    _prepared,
     _Problem,
     _shape_spectrum,
     finest_tile,
-    prepare_exemplar,
     structure_peak,
 )
 from ._structure import MIN_LINE_COHERENCE, orientation_vote, structure_orientation, structure_period
@@ -858,8 +858,9 @@ class _TwoTiles(_Problem):
         return SpectralTexture([rgba, self.coarse_tile], self.layers)
 
 
-def _resolve_scale(pixel_size, photo_size, full_side, notes):
-    """The fit's pixel size (metres) and the report's words for it; an assumed scale is noted in ``notes``."""
+def _resolve_scale(pixel_size, photo_size, full_side, notes, factor=1.0):
+    """The fit's pixel size (metres per pixel of the exemplar, ``factor`` photo pixels) and the report's
+    words for it; an assumed scale is noted in ``notes``."""
     if pixel_size is not None and photo_size is not None:
         raise ValueError(f"give pixel_size or photo_size, not both (got {pixel_size!r} and {photo_size!r})")
     if pixel_size is not None:
@@ -876,6 +877,9 @@ def _resolve_scale(pixel_size, photo_size, full_side, notes):
         if assumed:
             notes.append(f"assumed the photo is {photo_size:g} m across (pixel size {pixel_size:.4g} m); "
                          "say it with photo_size= / --photo-size")
+    if factor != 1.0:  # the exemplar's pixel is `factor` photo pixels
+        pixel_size *= factor
+        scale += f"; the photo resampled by 1/{factor:.4g}: {pixel_size:.4g} m per pixel of the tile's photo"
     return pixel_size, scale
 
 
@@ -999,10 +1003,10 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     from ..metrics import band_power, clipped_fraction
     from ..texture import Layer, layer_placement
 
-    exemplar, notes = prepare_exemplar(image, max_size=max_size)
+    exemplar, notes, factor = _prepared(image, max_size)
     photo = exemplar  # as the user gave it (its lighting, perspective and one-off content not yet changed)
     full_side = max(np.shape(image)[:2])
-    pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes)
+    pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes, factor)
     exemplar, lighting, levelled, one_off = _photo_as_ground(exemplar, notes, keep_lighting=keep_lighting,
                                                              keep_perspective=keep_perspective,
                                                              keep_one_off=keep_one_off)

@@ -69,10 +69,17 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     (16-bit keeps its precision); grey is repeated into R, G and B; an alpha
     channel (grey + alpha, RGBA) is dropped; a flat frame around the photo
     (a border, letterboxing, the wedges of a rotated photo: ``_frame.py``) is
-    cropped away, since every patch of the texture would repeat it; an image
-    larger than ``max_size`` on a side is cropped about its centre to
-    ``max_size`` (cropping, not downscaling, keeps ``pixel_size``
-    meaningful); float values outside [0, 1] are clipped.
+    cropped away, since every patch of the texture would repeat it; a
+    structured photo over ``max_size`` on both sides whose ``max_size`` crop
+    would hold fewer than :data:`MIN_TILE_PERIODS` of its structure's periods
+    (floor tiles, paving stones photographed at high resolution; the period
+    read on the photo resampled to a shorter side of ``max_size``) is
+    resampled (Lanczos) until it holds that many, and no further (other
+    photos keep their full resolution: their detail is what a crop keeps);
+    :func:`exemplar_scale` gives the factor, which the fit's pixel size
+    includes; then a side over ``max_size`` is cropped about its centre to
+    ``max_size`` (cropping, not downscaling, keeps the detail); float values
+    outside [0, 1] are clipped.
 
     Returns
     -------
@@ -87,6 +94,18 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
         cropped), or a flat one (luma standard deviation under half an 8-bit
         step).
     """
+    rgb, notes, _ = _prepared(image, max_size)
+    return rgb, notes
+
+
+def exemplar_scale(image, *, max_size: int = MAX_ANALYSIS_SIZE) -> float:
+    """Photo pixels per pixel of :func:`prepare_exemplar`'s exemplar (1 where it was not resampled): a
+    pixel size given for the photo times this is the exemplar's."""
+    return _prepared(image, max_size)[2]
+
+
+def _prepared(image, max_size):
+    """:func:`prepare_exemplar`'s exemplar and notes, and the photo pixels per exemplar pixel."""
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), unit=True)
     max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
     h, w = image.shape[:2]
@@ -103,6 +122,15 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     else:
         rgb = image[:, :, :3]
     rgb, h, w = _without_frame(rgb, notes)
+    factor, period = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
+    if factor > 1.0:
+        rh, rw = max(max_size, round(h / factor)), max(max_size, round(w / factor))
+        rgb = _resampled(rgb, rh, rw)
+        notes.append(f"resampled the {w}x{h} photo by 1/{factor:.4g} to {rw}x{rh} (a pixel {factor:.4g} photo "
+                     f"pixels): its structure repeats every {period:.0f} photo pixels, and the {max_size}-pixel "
+                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (pass max_size= for a larger tile at "
+                     "full resolution)")
+        h, w = rh, rw
     if max(h, w) > max_size:
         th, tw = min(h, max_size), min(w, max_size)
         y0, x0 = (h - th) // 2, (w - tw) // 2
@@ -113,7 +141,41 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     if float(np.std(_luma(rgb))) < 0.5 / 255.0:
         raise ValueError("image is flat (constant luminance, std under half an 8-bit step): "
                          "it has no texture to fit")
-    return rgb, notes
+    return rgb, notes, factor
+
+
+#: Fewest structure periods (bricks, floor tiles) along an axis the analysed photo must hold: a photo
+#: over ``max_size`` whose full-resolution crop holds fewer is resampled until it holds this many
+#: (a 2048-pixel floor of 256-pixel tiles: 2 in a 512 crop, no period found, grout cut to pieces).
+MIN_TILE_PERIODS = 6
+
+
+def _analysis_factor(rgb, max_size):
+    """Photo pixels per analysed pixel for a photo over ``max_size`` on both sides, and the structure's
+    period (photo pixels; None where it has none): 1 (a crop at full resolution, its detail kept) unless
+    its structure, read on the photo resampled to a shorter side of ``max_size``, has a period of which
+    a ``max_size`` crop holds fewer than :data:`MIN_TILE_PERIODS`; then just enough to hold them."""
+    from ._structure import structure_period
+
+    h, w = rgb.shape[:2]
+    whole = min(h, w) / max_size  # the factor that shows the whole photo's shorter side
+    preview = _resampled(rgb, max(max_size, round(h / whole)), max(max_size, round(w / whole)))
+    preview = np.clip(preview, 0.0, 1.0)
+    if structure_peak(preview) < STRUCTURED_PEAK:
+        return 1.0, None
+    periods = [p for p in (structure_period(preview) or (None, None)) if p is not None]
+    if not periods:
+        return 1.0, None
+    period = max(periods) * whole
+    return float(np.clip(MIN_TILE_PERIODS * period / max_size, 1.0, whole)), period
+
+
+def _resampled(rgb, h, w):
+    """``rgb`` resampled to ``h x w`` (Lanczos, each channel in float32)."""
+    from PIL import Image
+
+    return np.stack([np.asarray(Image.fromarray(np.ascontiguousarray(rgb[:, :, c], dtype=np.float32))
+                                .resize((w, h), Image.Resampling.LANCZOS)) for c in range(rgb.shape[2])], axis=2)
 
 
 def _without_frame(rgb, notes):
@@ -245,8 +307,8 @@ class FitResult:
     """A fitted texture and the numbers of its fit (see :func:`fit_report`)."""
 
     texture: object
-    exemplar: np.ndarray = field(repr=False)
-    pixel_size: float = 1.0
+    exemplar: np.ndarray = field(repr=False)  #: the photo as analysed (:func:`prepare_exemplar`)
+    pixel_size: float = 1.0  #: metres per pixel of ``exemplar`` (the photo's times :func:`exemplar_scale`)
     notes: list = field(default_factory=list)
     params: dict = field(default_factory=dict)
     seconds: float = 0.0

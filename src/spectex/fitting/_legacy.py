@@ -21,11 +21,11 @@ from ._core import (
     _coarse_slope,
     _layers,
     _pick_gain,
+    _prepared,
     _Problem,
     _shape_spectrum,
     _with_tilings,
     finest_tile,
-    prepare_exemplar,
     structure_peak,
 )
 
@@ -49,7 +49,8 @@ def _fit_legacy(image, *, pixel_size: float = 1.0, layers: int = 5, ratio: float
                                                              maximum=4.0)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable, got {type(progress).__name__}")
-    exemplar, notes = prepare_exemplar(image, max_size=max_size)
+    exemplar, notes, factor = _prepared(image, max_size)
+    pixel_size *= factor  # given per photo pixel; the exemplar's pixel is `factor` of them
     h, w = exemplar.shape[:2]
     structure = structure_peak(exemplar)
     if tiling == "periodic":
