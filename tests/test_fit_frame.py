@@ -58,6 +58,15 @@ def test_frame_box_finds_borders_letterboxes_bars_and_rotation_wedges():
     Image.fromarray(framed).save(buffer, "JPEG", quality=85)
     jpeg = np.asarray(Image.open(io.BytesIO(buffer.getvalue()))) / 255.0
     _check_box(jpeg, thick, 0.9)
+    # a thin frame saved as JPEG is nowhere exact (its chroma blocks reach into the photo): found as a
+    # band of uniform lines standing out from the photo
+    gravel = np.repeat(skimage.data.gravel()[:300, :300, None], 3, axis=2)
+    thin = np.zeros((300, 300), dtype=bool)
+    thin[:5], thin[-5:], thin[:, :5], thin[:, -5:] = True, True, True, True
+    gravel[thin] = 0
+    buffer = io.BytesIO()
+    Image.fromarray(gravel).save(buffer, "JPEG", quality=75)
+    _check_box(np.asarray(Image.open(io.BytesIO(buffer.getvalue()))) / 255.0, thin, 0.9)
     # the wedges a rotation by 7 degrees leaves in a square: the inscribed square is 1 / (cos + sin) of the side
     big = _photo(260)
     rotated = ndimage.rotate(big, 7.0, axes=(0, 1), reshape=False, order=1, cval=0.0)
@@ -78,6 +87,36 @@ def test_frame_box_leaves_photos_without_a_frame_alone(name):
     assert frame_box(img) is None
 
 
+def test_frame_box_leaves_stripes_and_joint_lines_alone():
+    """A line of one colour along the edge that the photo shows again inside is its own: horizontal
+    stripes (exact; taken for a frame without that test), planks with a joint along the top edge (a
+    band; taken for one without that test)."""
+    rows = np.where((np.arange(256) // 16) % 2 == 0, 0.2, 0.8)
+    stripes = np.repeat(np.repeat(rows[:, None], 256, axis=1)[:, :, None], 3, axis=2)
+    assert frame_box(stripes) is None
+    assert frame_box(_planks()) is None
+
+
+def _planks(side=256, row=32, seed=5):
+    """Boards of random lengths and browns with grain, rows ``row`` pixels high, a dark 2-pixel joint
+    between rows (one along the top edge) and between boards."""
+    rng = np.random.default_rng(seed)
+    img = np.empty((side, side, 3))
+    for y0 in range(0, side, row):
+        x = -int(rng.integers(0, 80))
+        while x < side:
+            length = int(rng.integers(60, 140))
+            brown = np.array([0.55, 0.35, 0.22]) * rng.uniform(0.8, 1.2)
+            a, b = max(x, 0), min(x + length, side)
+            img[y0:y0 + row, a:b] = brown
+            if a > 0:
+                img[y0:y0 + row, a - 1:a + 1] = (0.19, 0.12, 0.08)
+            x += length
+        img[y0:y0 + 2] = (0.19, 0.12, 0.08)
+    img += 0.03 * ndimage.gaussian_filter(rng.standard_normal((side, side, 1)), (0.6, 6.0, 0))
+    return np.clip(img, 0.0, 1.0)
+
+
 def _bars(image):
     """Share of pixels darker than 3/255 in every channel (the photo's darkest is 4/255)."""
     return float(np.mean(np.all(image[:, :, :3] < 3.0 / 255.0, axis=-1)))
@@ -93,8 +132,8 @@ def test_fit_of_a_framed_photo_shows_no_bars(monkeypatch):
     framed = photo.copy()
     framed[:4], framed[-4:], framed[:, :4], framed[:, -4:] = 0.0, 0.0, 0.0, 0.0
     result = fit_result(framed, pixel_size=1.0)
-    assert any("flat frame" in note and "top 6" in note for note in result.notes), result.notes
-    assert result.exemplar.shape[:2] == (244, 244)
+    assert any("flat frame" in note for note in result.notes), result.notes
+    assert 240 <= min(result.exemplar.shape[:2]) <= 248
     own = _bars(np.repeat(photo[:, :, None], 3, axis=2))
     assert own == 0.0 and _bars(np.repeat(framed[:, :, None], 3, axis=2)) > 0.05
     fine = bake(result.texture, (512, 512), pixel_size=1.0)
