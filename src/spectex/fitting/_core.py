@@ -121,6 +121,7 @@ def _prepared(image, max_size):
         notes.append("grey repeated into RGB")
     else:
         rgb = image[:, :, :3]
+    _check_not_flat(rgb)  # (before the frame: a flat picture is all frame)
     rgb, h, w = _without_frame(rgb, notes)
     factor, period = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
     if factor > 1.0:
@@ -137,11 +138,15 @@ def _prepared(image, max_size):
         rgb = rgb[y0:y0 + th, x0:x0 + tw]
         notes.append(f"analysed on the central {tw}x{th} crop of the {w}x{h} image")
     rgb = np.ascontiguousarray(np.clip(rgb, 0.0, 1.0), dtype=np.float32)
-    # the spectral statistics are those of the luma: a picture without luma variation has none
-    if float(np.std(_luma(rgb))) < 0.5 / 255.0:
+    _check_not_flat(rgb)
+    return rgb, notes, factor
+
+
+def _check_not_flat(rgb):
+    """The spectral statistics are those of the luma: a picture without luma variation has none."""
+    if float(np.std(_luma(np.clip(rgb, 0.0, 1.0)))) < 0.5 / 255.0:
         raise ValueError("image is flat (constant luminance, std under half an 8-bit step): "
                          "it has no texture to fit")
-    return rgb, notes, factor
 
 
 #: Fewest structure periods (bricks, floor tiles) along an axis the analysed photo must hold: a photo

@@ -186,7 +186,7 @@ def frame_box(rgb):
     colour = np.median(rgb[frame], axis=0)
 
     def near(line):
-        return np.mean(np.max(np.abs(line - colour), axis=-1) <= RING_TOL) >= 0.5
+        return line.size > 0 and np.mean(np.max(np.abs(line - colour), axis=-1) <= RING_TOL) >= 0.5
 
     # (on every side: a side whose thin frame rang too much to be found goes with the others)
     for _ in range(RING_WIDTH):
