@@ -41,11 +41,12 @@ def _reduce(level: np.ndarray) -> np.ndarray:
             out[r0:r1] = (x[:, 0, :, 0] + x[:, 0, :, 1] + x[:, 1, :, 0] + x[:, 1, :, 1]) * 0.25
         return out
     x = level.astype(np.float64)
+    # the area weights as matrix products (BLAS; einsum's loops took 2.9 of a 9 s fit of a cut tile)
     if h > 1:
-        x = np.einsum("ik,kjc->ijc", _reduce_matrix(h), x)
+        x = np.tensordot(_reduce_matrix(h), x, axes=(1, 0))
     if w > 1:
-        x = np.einsum("jk,ikc->ijc", _reduce_matrix(w), x)
-    return x.astype(np.float32)
+        x = np.moveaxis(np.tensordot(x, _reduce_matrix(w), axes=(1, 1)), 2, 1)
+    return np.ascontiguousarray(x, dtype=np.float32)
 
 
 def mip_chain(tile, *, space: str = "stored") -> list[np.ndarray]:
