@@ -19,8 +19,10 @@ def register(subparsers) -> None:
             "texture.tile0.png and texture.tile1.png (load with spectex render/view), comparison.png "
             "(exemplar | render at the same scale | render of 8x the area), band_power.png and histograms.png. "
             "Conversions: grey is repeated into RGB, an alpha channel is dropped, 16-bit keeps "
-            "its precision, images over 512 pixels on a side are analysed on their central "
-            "512 x 512 crop (said in the output). Nothing is written if anything fails."
+            "its precision, a flat frame around the photo (a border, a rotated photo's wedges) is "
+            "cropped away, images over 512 pixels on a side are analysed on their central "
+            "512 x 512 crop, resampled first where a crop would hold under 6 periods of their structure "
+            "(said in the output). Nothing is written if anything fails."
         ),
     )
     p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",

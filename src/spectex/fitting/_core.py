@@ -129,8 +129,8 @@ def _prepared(image, max_size):
         rgb = _resampled(rgb, rh, rw)
         notes.append(f"resampled the {w}x{h} photo by 1/{factor:.4g} to {rw}x{rh} (a pixel {factor:.4g} photo "
                      f"pixels): its structure repeats every {period:.0f} photo pixels, and the {max_size}-pixel "
-                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (pass max_size= for a larger tile at "
-                     "full resolution)")
+                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (crop the photo to fewer periods, or "
+                     "pass max_size= to fit, to keep its full resolution)")
         h, w = rh, rw
     if max(h, w) > max_size:
         th, tw = min(h, max_size), min(w, max_size)
