@@ -73,7 +73,7 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     structured photo over ``max_size`` on both sides whose ``max_size`` crop
     would hold fewer than :data:`MIN_TILE_PERIODS` of its structure's periods
     (floor tiles, paving stones photographed at high resolution; the period
-    read on the photo resampled to a shorter side of ``max_size``) is
+    read on the photo resampled to a shorter side of twice ``max_size``) is
     area-averaged (a box filter) until it holds that many, and no further (other
     photos keep their full resolution: their detail is what a crop keeps);
     :func:`exemplar_scale` gives the factor, which the fit's pixel size
@@ -151,27 +151,31 @@ def _check_not_flat(rgb):
 
 #: Fewest structure periods (bricks, floor tiles) along an axis the analysed photo must hold: a photo
 #: over ``max_size`` whose full-resolution crop holds fewer is resampled until it holds this many
-#: (a 2048-pixel floor of 256-pixel tiles: 2 in a 512 crop, no period found, grout cut to pieces).
+#: (a 2048-pixel floor of 256-pixel tiles: 2 in a 512 crop, no period found, grout cut to pieces;
+#: a 3072-pixel one of 150-pixel tiles is resampled by 1/1.76, of 96-pixel ones by 1/1.13).
 MIN_TILE_PERIODS = 6
 
 
 def _analysis_factor(rgb, max_size):
     """Photo pixels per analysed pixel for a photo over ``max_size`` on both sides, and the structure's
     period (photo pixels; None where it has none): 1 (a crop at full resolution, its detail kept) unless
-    its structure, read on the photo resampled to a shorter side of ``max_size``, has a period of which
+    its structure, read on the photo resampled to a shorter side of ``2 max_size``, has a period of which
     a ``max_size`` crop holds fewer than :data:`MIN_TILE_PERIODS`; then just enough to hold them."""
     from ._structure import structure_period
 
     h, w = rgb.shape[:2]
     whole = min(h, w) / max_size  # the factor that shows the whole photo's shorter side
-    preview = _resampled(rgb, max(max_size, round(h / whole)), max(max_size, round(w / whole)))
-    preview = np.clip(preview, 0.0, 1.0)
+    # read at twice that size where the photo has it, so that periods down to 12 pixels of the whole
+    # photo's view are seen (repeat_peak starts at a lag of 24)
+    side = min(min(h, w), 2 * max_size)
+    step = min(h, w) / side
+    preview = np.clip(_resampled(rgb, round(h / step), round(w / step)), 0.0, 1.0)
     if structure_peak(preview) < STRUCTURED_PEAK:
         return 1.0, None
     periods = [p for p in (structure_period(preview) or (None, None)) if p is not None]
     if not periods:
         return 1.0, None
-    period = max(periods) * whole
+    period = max(periods) * step
     return float(np.clip(MIN_TILE_PERIODS * period / max_size, 1.0, whole)), period
 
 
