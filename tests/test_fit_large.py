@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from helpers import floor_photo
+from helpers import floor_photo, run_fails
 from spectex.fitting import _core, exemplar_scale, fit_result, prepare_exemplar
 
 
@@ -51,3 +51,52 @@ def test_small_structure_in_a_large_photo_keeps_its_full_resolution():
     photo = floor_photo(1024, period=64)[0]
     assert exemplar_scale(photo) == 1.0
     assert prepare_exemplar(photo)[0].shape == (512, 512, 3)
+
+
+def _noise(h, w, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.clip(0.5 + 4.0 * ndimage.gaussian_filter(rng.random((h, w, 3)) - 0.5, (1.5, 1.5, 0)), 0, 1)
+
+
+@pytest.mark.parametrize("value", ["20", "4096"])
+def test_cli_fit_max_size_is_checked(tmp_path, capsys, value):
+    from spectex import io
+
+    path = tmp_path / "photo.png"
+    io.write_image(path, _noise(64, 64).astype(np.float32))
+    line = run_fails(["fit", str(path), "-o", str(tmp_path / "out"), "--max-size", value], capsys, tmp_path / "out")
+    assert f"--max-size must be between 32 and 2048 pixels, got {value}" in line
+
+
+@pytest.mark.slow
+def test_cli_fit_max_size_keeps_a_larger_photo_whole(tmp_path, capsys):
+    """``--max-size 600`` fits a 600-pixel photo whole, in a 600-texel tile, and reports on it as the fit
+    prepared it; the control, the default, analyses its central 512 crop."""
+    from spectex import io
+    from spectex.cli import main
+
+    path = tmp_path / "photo.png"
+    io.write_image(path, _noise(600, 600).astype(np.float32))
+    assert main(["fit", str(path), "-o", str(tmp_path / "big"), "--max-size", "600"]) == 0
+    out = capsys.readouterr().out
+    assert "a 600x600 tile" in out and "analysed on the central" not in out
+    assert main(["fit", str(path), "-o", str(tmp_path / "default")]) == 0
+    out = capsys.readouterr().out
+    assert "a 512x512 tile" in out and "analysed on the central 512x512 crop of the 600x600 image" in out
+
+
+def test_fit_report_prepares_the_photo_with_the_fits_max_size():
+    """A report made with the fit's ``max_size`` reads the photo as the fit did (its whole 600 pixels);
+    without it, a 512 crop: refused as the prepared reference of another image."""
+    from spectex.fitting import report_reference
+
+    photo = _noise(600, 600)
+    whole = report_reference(photo, coarse_zoom=None, max_size=600)
+    assert whole.exemplar.shape[:2] == (600, 600)
+    assert report_reference(photo, coarse_zoom=None).exemplar.shape[:2] == (512, 512)
+    from spectex.fitting import fit_report
+    from spectex.texture import SpectralTexture
+
+    tex = SpectralTexture.paper_preset(rng=1)
+    with pytest.raises(ValueError, match="prepared must be report_reference"):
+        fit_report(tex, photo, coarse_zoom=None, prepared=whole)

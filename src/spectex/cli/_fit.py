@@ -43,6 +43,9 @@ def register(subparsers) -> None:
     p.add_argument("--opacity", type=_common.positive_float, default=None,
                    help="opacity of the first coarse layer (default: 0.1)")
     p.add_argument("--seed", type=_common.seed, default=0, help="random seed (default: 0)")
+    p.add_argument("--max-size", type=_common.positive_int, default=None,
+                   help=f"largest side analysed, pixels, {MIN_MAX_SIZE} to {MAX_MAX_SIZE} (default: 512, a 1 MB "
+                        "tile; larger keeps more of a large photo at full resolution, in a larger tile, slower)")
     p.add_argument("--keep-one-off", action="store_true",
                    help="keep content the photo shows once (a leaf, a tripod's foot) in the tile; by default it "
                         "is filled from the rest of the photo, since the texture would repeat it everywhere")
@@ -56,6 +59,9 @@ def register(subparsers) -> None:
     _common.add_normalize(p)
     p.set_defaults(func=run)
 
+
+#: The range of --max-size, pixels: the fit's smallest photo, and a 16 MB tile (bounded work).
+MIN_MAX_SIZE, MAX_MAX_SIZE = 32, 2048
 
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
@@ -99,11 +105,21 @@ def run(args) -> int | None:
     import time
 
     from spectex._output import OutputSet
-    from spectex.fitting import check_options, even_lighting, fit_result, prepare_exemplar, report_reference
+    from spectex.fitting import (
+        MAX_ANALYSIS_SIZE,
+        check_options,
+        even_lighting,
+        fit_result,
+        prepare_exemplar,
+        report_reference,
+    )
     start = time.perf_counter()
     # a denormal opacity ran for minutes (fuzz_hostile)
     if args.opacity is not None and not MIN_OPACITY <= args.opacity <= 1.0:
         raise ValueError(f"--opacity must be between {MIN_OPACITY:g} and 1, got {args.opacity:g}")
+    max_size = MAX_ANALYSIS_SIZE if args.max_size is None else args.max_size
+    if not MIN_MAX_SIZE <= max_size <= MAX_MAX_SIZE:
+        raise ValueError(f"--max-size must be between {MIN_MAX_SIZE} and {MAX_MAX_SIZE} pixels, got {max_size}")
     if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
@@ -113,20 +129,21 @@ def run(args) -> int | None:
     # ones only when complete.
     outputs = OutputSet(args.output, _FILES, inputs=[args.exemplar])
     photo = _common.read_unit_image(args, args.exemplar, "EXEMPLAR")
-    exemplar, _ = prepare_exemplar(photo)
+    exemplar, _ = prepare_exemplar(photo, max_size=max_size)
     if not args.keep_lighting:  # measured against the photo as the fit reads it: lighting is not texture
         exemplar, _ = even_lighting(exemplar)
     # The report's measures of the photo alone (its structural floor, its own range for magnified
     # copies: half the report's work) need no texture: made in a second thread while the fit runs
     # (a daemon: a failed fit or Ctrl-C does not wait for it).
     magnifications = _layer_magnifications(args.ratio, args.layers)
-    reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications))
+    reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications,
+                                                     max_size=max_size))
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed,
                             keep_one_off=args.keep_one_off, keep_lighting=args.keep_lighting,
-                            keep_perspective=args.keep_perspective, progress=bar)
-    return _finish(args, outputs, exemplar, result, reference, magnifications, start)
+                            keep_perspective=args.keep_perspective, max_size=max_size, progress=bar)
+    return _finish(args, outputs, exemplar, result, reference, magnifications, start, max_size)
 
 
 def _layer_magnifications(ratio, layers):
@@ -159,7 +176,7 @@ class _Background:
         return self._value
 
 
-def _finish(args, outputs, exemplar, result, reference, magnifications, start) -> int:
+def _finish(args, outputs, exemplar, result, reference, magnifications, start, max_size) -> int:
     """Bake, measure, write and report a finished fit (``reference``: the photo's measures, in a thread)."""
     import math
     import time
@@ -183,7 +200,8 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start) -
 
     # the report's measures in a second thread (it waits for the photo's half), the files meanwhile
     numbers = _Background(lambda: fit_report(texture, exemplar, pixel_size=pixel_size, bake=large,
-                                             coarse_magnifications=magnifications, prepared=reference.result()))
+                                             coarse_magnifications=magnifications, prepared=reference.result(),
+                                             max_size=max_size))
     with outputs as stage:
         texture.save(stage / "texture.toml")
         # the scale the fit assumed or was given, as a comment in the texture file itself

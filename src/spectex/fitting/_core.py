@@ -129,8 +129,8 @@ def _prepared(image, max_size):
         rgb = _resampled(rgb, rh, rw)
         notes.append(f"resampled the {w}x{h} photo by 1/{factor:.4g} to {rw}x{rh} (a pixel {factor:.4g} photo "
                      f"pixels): its structure repeats every {period:.0f} photo pixels, and the {max_size}-pixel "
-                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (crop the photo to fewer periods, or "
-                     "pass max_size= to fit, to keep its full resolution)")
+                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (crop the photo to fewer periods, or pass "
+                     "max_size= / --max-size, to keep its full resolution)")
         h, w = rh, rw
     if max(h, w) > max_size:
         th, tw = min(h, max_size), min(w, max_size)
@@ -511,7 +511,8 @@ class ReportReference:
     coarse_magnifications: tuple | None  #: the magnifications it searches (None: the metric's default)
 
 
-def report_reference(image, *, coarse_zoom: float | None = 8.0, coarse_magnifications=None) -> ReportReference:
+def report_reference(image, *, coarse_zoom: float | None = 8.0, coarse_magnifications=None,
+                     max_size: int = MAX_ANALYSIS_SIZE) -> ReportReference:
     """The exemplar's half of :func:`fit_report`, which needs no texture.
 
     Its pyramid statistics (the structural distance's floor), cross-scale
@@ -520,12 +521,13 @@ def report_reference(image, *, coarse_zoom: float | None = 8.0, coarse_magnifica
     its own shape at ``coarse_zoom``) are most of the report's work on the
     photo; made before or while the texture is fitted (``spectex fit`` makes
     them in a second thread while it fits), and given to
-    ``fit_report(..., prepared=...)`` with the same image, ``coarse_zoom``
-    and ``coarse_magnifications``.
+    ``fit_report(..., prepared=...)`` with the same image, ``coarse_zoom``,
+    ``coarse_magnifications`` and ``max_size`` (the fit's: the photo is
+    prepared as the fit prepared it, :func:`prepare_exemplar`).
     """
     from ..metrics import band_power, coarse_reference, reference_statistics
 
-    exemplar, _ = prepare_exemplar(image)
+    exemplar, _ = prepare_exemplar(image, max_size=max_size)
     h, w = exemplar.shape[:2]
     if coarse_zoom is not None:
         coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
@@ -552,15 +554,16 @@ def _search_kwargs(magnifications):
 
 def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), scale: int = 2,
                bake=None, coarse_zoom: float | None = 8.0, coarse_magnifications=None,
-               prepared: ReportReference | None = None) -> FitReport:
+               prepared: ReportReference | None = None, max_size: int = MAX_ANALYSIS_SIZE) -> FitReport:
     """The fidelity numbers of a texture against an exemplar, at the exemplar's scale.
 
     The texture is baked over ``scale`` times the exemplar's size (each
     side) at ``pixel_size`` from ``origin`` (keep the origin a whole number
     of pixels, so that the finest layer is sampled at its texel centres as
     the fit did), and compared with the exemplar (prepared as by
-    :func:`prepare_exemplar`: grey becomes RGB, alpha is dropped, huge
-    images are cropped).
+    :func:`prepare_exemplar` with ``max_size``, the fit's: grey becomes RGB,
+    alpha is dropped, a frame cropped, large images cropped or resampled;
+    ``pixel_size`` is the fit's, ``FitResult.pixel_size``).
 
     With ``bake``, a bake of the texture already made (``bake(texture, ...)``
     at the exemplar's ``pixel_size``, at least the exemplar's size), that is
@@ -606,9 +609,10 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 
     if coarse_zoom is not None:
         coarse_zoom = check_float("coarse_zoom", coarse_zoom, minimum=1.0)
-    exemplar, _ = prepare_exemplar(image)
+    exemplar, _ = prepare_exemplar(image, max_size=max_size)
     if prepared is None:
-        prepared = report_reference(exemplar, coarse_zoom=coarse_zoom, coarse_magnifications=coarse_magnifications)
+        prepared = report_reference(exemplar, coarse_zoom=coarse_zoom, coarse_magnifications=coarse_magnifications,
+                                    max_size=max_size)
     elif (not isinstance(prepared, ReportReference) or prepared.coarse_zoom != coarse_zoom
           or prepared.coarse_magnifications != _magnifications(coarse_magnifications)
           or not np.array_equal(prepared.exemplar, exemplar)):
