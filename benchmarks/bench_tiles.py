@@ -15,7 +15,12 @@ Peers in the same run:
   channels), so the remaining cost (ramp, emboss, interleaving) is visible;
 * octaves by filtering under magnification (``spectral.magnify``) against
   the FFT route to the same circular convolution of the zero-stuffed input
-  (``numpy.fft``/``scipy.fft``), 128 x 128 cells to 512 x 512 and 4096 x 4096.
+  (``numpy.fft``/``scipy.fft``), 128 x 128 cells to 512 x 512 and 4096 x 4096;
+* the mip chain of a tile with sides that are not powers of two (the fit's
+  tiles cut at whole structure periods: 425, 448, 510 texels),
+  ``tiles.mip_chain`` (its area weights as BLAS matrix products) against the
+  same weights applied with ``numpy.einsum`` (how it did it before), with
+  their ratio and the largest difference of their levels.
 
 Times are the best of ``--repeat`` runs (three times as many at 512) after
 one warm-up call (numba compilation and caches excluded); the machine and
@@ -31,6 +36,7 @@ import platform
 import time
 
 import numpy as np
+from _machine import cpu_name
 
 
 def best_of(fn, repeat):
@@ -62,6 +68,26 @@ def fft_magnify(x, m, filt):
     U *= sfft.fft(h)[:, None]
     U *= H[None, :]
     return sfft.irfft2(U, s=(big, big), workers=-1)
+
+
+def einsum_chain(tile):
+    """``mip_chain``'s levels with its area weights applied by ``numpy.einsum`` (the peer)."""
+    from spectex.tiles.mipmap import _reduce_matrix
+
+    levels = [tile.astype(np.float32)]
+    while max(levels[-1].shape[:2]) > 1:
+        x = levels[-1]
+        h, w = x.shape[:2]
+        if h % 2 == 0 and w % 2 == 0:
+            y = x.reshape(h // 2, 2, w // 2, 2, -1).astype(np.float64).mean(axis=(1, 3))
+        else:
+            y = x.astype(np.float64)
+            if h > 1:
+                y = np.einsum("ik,kjc->ijc", _reduce_matrix(h), y)
+            if w > 1:
+                y = np.einsum("jk,ikc->ijc", _reduce_matrix(w), y)
+        levels.append(y.astype(np.float32))
+    return levels
 
 
 def main(argv=None):
@@ -97,8 +123,20 @@ def main(argv=None):
         add(f"magnify 128 -> {size} bspline (FFT route)",
             best_of(lambda: fft_magnify(cells, m, "bspline"), repeat))
 
+    from spectex.tiles import mip_chain
+
+    mip_ratios = []
+    for side in (425, 448, 510):
+        tile = np.random.default_rng(0).random((side, side, 4)).astype(np.float32)
+        ours = best_of(lambda: mip_chain(tile), args.repeat)
+        peer = best_of(lambda: einsum_chain(tile), args.repeat)
+        add(f"mip_chain {side} (BLAS)", ours)
+        add(f"mip_chain {side} einsum (peer)", peer)
+        diff = max(float(np.abs(a - b).max()) for a, b in zip(mip_chain(tile), einsum_chain(tile)))
+        mip_ratios.append(f"{side}: {peer / ours:.1f}x faster, levels differ by {diff:g}")
+
     load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+    print(f"machine: {cpu_name()}, {os.cpu_count()} cores, "
           f"{platform.system()} {platform.release()}, Python {platform.python_version()}, "
           f"NumPy {np.__version__}; load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} "
           f"(other work on the machine slows every number)")
@@ -107,6 +145,7 @@ def main(argv=None):
         tgt = f"{target * 1e3:12.0f}" if target else f"{'':12s}"
         ratio = f"{seconds / target:7.2f}" if target else f"{'':7s}"
         print(f"{name:46s} {seconds * 1e3:10.1f} {tgt} {ratio}")
+    print("mip_chain against einsum, same run: " + "; ".join(mip_ratios))
     return 0
 
 

@@ -144,7 +144,7 @@ def _prepared(image, max_size):
 
 def _check_not_flat(rgb):
     """The spectral statistics are those of the luma: a picture without luma variation has none."""
-    if float(np.std(_luma(np.clip(rgb, 0.0, 1.0)))) < 0.5 / 255.0:
+    if float(np.std(_luma(rgb))) < 0.5 / 255.0:
         raise ValueError("image is flat (constant luminance, std under half an 8-bit step): "
                          "it has no texture to fit")
 
@@ -193,7 +193,7 @@ def _without_frame(rgb, notes):
     from ._frame import frame_box
 
     h, w = rgb.shape[:2]
-    box = frame_box(np.clip(rgb, 0.0, 1.0))
+    box = frame_box(rgb)  # (check_image has held it to [0, 1])
     if box is None:
         return rgb, h, w
     y0, y1, x0, x1 = box

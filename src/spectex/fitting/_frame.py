@@ -123,6 +123,11 @@ def _frame_mask(rgb: np.ndarray) -> np.ndarray:
         along = np.maximum(along, np.bincount(line, minlength=n + 1) / side)
     frame = _bands(rgb)
     sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    # the flat regions away from the edge and their mean colours (the recurrence test below)
+    others = np.flatnonzero((along < MIN_EDGE_SHARE) & (sizes >= 9))
+    others = others[others > 0]
+    means = (np.stack([ndimage.mean(rgb[:, :, c], labels, others) for c in range(rgb.shape[2])], axis=-1)
+             if others.size else None)
     for k in np.flatnonzero(along >= MIN_EDGE_SHARE):
         if k == 0:
             continue
@@ -133,10 +138,7 @@ def _frame_mask(rgb: np.ndarray) -> np.ndarray:
         # a frame is there once: flat regions of its colour away from the edge as large as a quarter
         # of it (the other stripes of a striped pattern) make it the photo's own
         colour = np.median(rgb[region], axis=0)
-        others = np.flatnonzero((along < MIN_EDGE_SHARE) & (sizes >= 9))
-        others = others[others > 0]
-        if others.size:
-            means = np.stack([ndimage.mean(rgb[:, :, c], labels, others) for c in range(rgb.shape[2])], axis=-1)
+        if means is not None:
             alike = np.max(np.abs(means - colour), axis=-1) <= COLOUR_TOL
             if sizes[others[alike]].sum() >= sizes[k] / 4:
                 continue
@@ -158,10 +160,10 @@ def frame_box(rgb):
     frame, until no edge holds any; then up to :data:`RING_WIDTH` lines more on each side while half
     a line stays within :data:`RING_TOL` of the frame's colour (a JPEG's ringing, and a side whose
     thin frame rang too much to be found), and :data:`FRAME_MARGIN` pixels more on each side cropped.
-    Returns ``(y0, y1, x0, x1)``: ``rgb[y0:y1, x0:x1]`` is the
-    photo without its frame.
+    Returns ``(y0, y1, x0, x1)``: ``rgb[y0:y1, x0:x1]`` is the photo without its frame.
     """
-    frame = _frame_mask(np.asarray(rgb))
+    rgb = np.asarray(rgb)
+    frame = _frame_mask(rgb)
     if not frame.any():
         return None
     h, w = frame.shape
@@ -182,7 +184,6 @@ def frame_box(rgb):
             x1 -= 1
     # a frame saved as JPEG rings where it meets the photo (up to a block of 8 pixels): edge lines
     # still mostly near the frame's colour go with it
-    rgb = np.asarray(rgb)
     colour = np.median(rgb[frame], axis=0)
 
     def near(line):
