@@ -552,7 +552,10 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0, period=None) ->
         unbroken (mortar columns), and the detail's running mean along it
         (a Gaussian of ``2 min_lag`` pixels) is removed as well: a straight
         line correlates with itself at every lag along it without
-        repeating anything.
+        repeating anything. With a period on both axes (a floor's grout
+        grid) the running means along both are removed: at a fractional
+        period the lattice's mean (whole-pixel phases) leaves a line beside
+        each grout line.
 
     References
     ----------
@@ -580,8 +583,13 @@ def repeat_peak(image, *, min_lag: int = 24, sigma: float = 3.0, period=None) ->
         # mean one) correlates with itself at every lag along it, a straight line and not a repeat.
         # Its running mean along that axis is removed too, so only content that comes back counts
         # (a wall square-on with bricks of random length: 0.31 without this, 0.0x with it).
+        # A lattice along both axes (a floor's grout grid) has lines along both: where its period is
+        # fractional (85.33 pixels), the grout's sub-pixel phase drifts from period to period, the
+        # lattice's mean (whole-pixel phases) leaves a line beside each, and a floor of random tiles
+        # read 0.35 (its own content repeating nowhere); both running means removed, 0.0x.
+        both = all(p is not None for p in period)
         for axis, p in enumerate(period):
-            if p is None and period[1 - axis] is not None:
+            if both or (p is None and period[1 - axis] is not None):
                 detail = detail - ndimage.gaussian_filter1d(detail, 2.0 * min_lag, axis=axis, mode="wrap")
     spec = np.fft.rfft2(detail)
     acf = np.fft.irfft2(spec.real ** 2 + spec.imag ** 2, s=(h, w))

@@ -60,6 +60,7 @@ from ._core import (
     _prepared,
     _Problem,
     _shape_spectrum,
+    cubic_at,
     finest_tile,
     structure_peak,
 )
@@ -116,6 +117,13 @@ BREAK_LIMIT = 1.5
 BREAK_WINDOW = 64
 #: Side of the trial's far bake (pixels, at twice the photo's pixel size).
 TRIAL_FAR = 512
+#: Side of the trial's bake at the photo's scale, and the fewest of the structure's periods it holds (at
+#: most the photo's side): each of its 4 windows then holds 3 periods. Windows of 1.5 periods (a floor of
+#: 85-pixel tiles in 256 pixels) read the grout's place in the window more than the drawing: the band
+#: energies 4-6 times their floor for every way, the snapped floor 2.20 and a stochastic jumble of grout
+#: crosses 1.56; in 512 pixels 1.18 and 2.08.
+TRIAL_SIDE = 256
+TRIAL_PERIODS = 6
 #: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
 #: the photo's detail little (0.25 over four layers took 5 dB of its power, which the band step put
 #: back by raising the tile's contrast into clipping).
@@ -148,17 +156,18 @@ COARSE_CYCLES = 2.0
 
 
 def _straightened(exemplar, angle):
-    """``exemplar`` turned by ``-angle`` degrees (cubic) and cropped to the largest square inside it."""
-    from scipy import ndimage
-
+    """``exemplar`` turned by ``-angle`` degrees (:func:`cubic_at`: no ringing by the mortar) and cropped to
+    the largest square inside it."""
     h, w = exemplar.shape[:2]
     a = math.radians(abs(angle))
     side = int(min(h, w) / (math.cos(a) + math.sin(a))) - 2
-    turned = np.stack([ndimage.rotate(exemplar[:, :, c].astype(np.float64), angle, reshape=False, order=3,
-                                      mode="nearest") for c in range(3)], axis=2)
     y0, x0 = (h - side) // 2, (w - side) // 2
-    out = turned[y0:y0 + side, x0:x0 + side]
-    return np.clip(out, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1))).astype(exemplar.dtype)
+    # the square's pixels at their places in the photo, turned about its centre (scipy.ndimage.rotate's)
+    i, j = np.meshgrid(np.arange(y0, y0 + side) - (h - 1) / 2, np.arange(x0, x0 + side) - (w - 1) / 2,
+                       indexing="ij")
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    out = cubic_at(exemplar, (h - 1) / 2 + i * c + j * s, (w - 1) / 2 - i * s + j * c)
+    return out.astype(exemplar.dtype)
 
 
 def _straighten_structure(exemplar, structure, notes, keep_perspective=False):
@@ -383,7 +392,6 @@ def _period_tile(exemplar, period, words=None):
     instead of one straight crop along the other (:func:`_strip_tile`);
     a list ``words`` gets the phrase that says how.
     """
-    from scipy import ndimage
 
     h, w = exemplar.shape[:2]
     if period[0] is None and period[1] is None:
@@ -414,11 +422,7 @@ def _period_tile(exemplar, period, words=None):
     yy = (np.arange(side) + 0.5) * (spans[0] / side) - 0.5
     xx = (np.arange(side) + 0.5) * (spans[1] / side) - 0.5
     gy, gx = np.meshgrid(yy, xx, indexing="ij")
-    tile = np.stack([ndimage.map_coordinates(crop[:, :, c], [gy, gx], order=3, mode="nearest")
-                     for c in range(3)], axis=2)
-    tile = _whole_edge_cells(tile, exemplar, (kx, ky), (y0, x0), spans)
-    # the cubic's overshoot at sharp edges (mortar) kept inside the crop's own range
-    tile = np.clip(tile, crop.min(axis=(0, 1)), crop.max(axis=(0, 1)))
+    tile = _whole_edge_cells(cubic_at(crop, gy, gx), exemplar, (kx, ky), (y0, x0), spans)
     return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
 
 
@@ -579,7 +583,6 @@ def _strip_tile(exemplar, period, side, origin, spans):
     (:func:`_strip_cuts`), and :func:`_strip_cuts`'s counts; or None where no strip has joints to cut at.
     ``origin = (y0, x0)`` and ``spans`` are :func:`_period_tile`'s; a period along y (courses) is the same
     turned."""
-    from scipy import ndimage
 
     along_y = period[1] is None
     photo = np.swapaxes(exemplar, 0, 1) if along_y else exemplar
@@ -592,12 +595,7 @@ def _strip_tile(exemplar, period, side, origin, spans):
     rows, counts = found
     xs = x0 + (np.arange(side) + 0.5) * (span_x / side) - 0.5
     cols = np.broadcast_to(xs[None, :], rows.shape)
-    source = photo.astype(np.float64)
-    tile = np.stack([ndimage.map_coordinates(source[:, :, c], [rows, cols], order=3, mode="nearest")
-                     for c in range(3)], axis=2)
-    # the cubic's overshoot at sharp edges (mortar) kept inside the range of the photo's columns read
-    read = source[:, max(0, int(math.floor(xs[0]))):int(math.ceil(xs[-1])) + 1]
-    tile = np.clip(tile, read.min(axis=(0, 1)), read.max(axis=(0, 1)))
+    tile = cubic_at(photo, rows, cols)
     return (np.swapaxes(tile, 0, 1) if along_y else tile), counts
 
 
@@ -614,7 +612,6 @@ def _whole_edge_cells(tile, exemplar, snap, origin, spans):
     photo cell its larger part is; texels whose place falls off the photo
     keep their value. Unchanged where the tile has no cell map.
     """
-    from scipy import ndimage
 
     from ..shading.resources import cell_map
 
@@ -632,9 +629,7 @@ def _whole_edge_cells(tile, exemplar, snap, origin, spans):
     if not move.any():
         return tile
     out = tile.copy()
-    photo = exemplar.astype(np.float64)
-    for c in range(3):
-        out[:, :, c][move] = ndimage.map_coordinates(photo[:, :, c], [py[move], px[move]], order=3, mode="nearest")
+    out[move] = cubic_at(exemplar, py[move], px[move])
     return out
 
 
@@ -800,8 +795,9 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     ``candidates``: ``(label, tiling, tile, snap, scale, lattice)``, ``scale`` the tile's texels per
     photo pixel, ``lattice`` the structure's period in the bake (photo pixels; None: ``period``). ``structure``:
     structural distance / floor (:func:`spectex.metrics.structural_distance`)
-    of a bake of the photo's size (at most 256) at its pixel size, against
-    the photo's central crop of that size (4 windows each). ``repeat``:
+    of a bake of the photo's size (at most :data:`TRIAL_SIDE`, or
+    :data:`TRIAL_PERIODS` of the structure's periods where that is more) at its
+    pixel size, against the photo's central crop of that size (4 windows each). ``repeat``:
     :func:`spectex.metrics.repeat_peak` with the structure's lattice removed
     (``period``, pixels; the content's repeat beyond the structure's own) of
     a 512 x 512 bake at twice the pixel size (at least two tiles across).
@@ -810,7 +806,8 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
-    m = min(h, w, 256)
+    longest = max(p for p in period if p is not None)
+    m = min(h, w, max(TRIAL_SIDE, int(math.ceil(TRIAL_PERIODS * longest))))
     y0, x0 = (h - m) // 2, (w - m) // 2
     reference = exemplar[y0:y0 + m, x0:x0 + m]
     prepared = reference_statistics(reference, max_windows=4)

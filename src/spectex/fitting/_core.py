@@ -188,6 +188,34 @@ def _resampled(rgb, h, w):
                                 .resize((w, h), Image.Resampling.BOX)) for c in range(rgb.shape[2])], axis=2)
 
 
+def cubic_at(image, ys, xs):
+    """``image`` (h, w, c) read at photo places ``(ys, xs)`` (pixel centres at whole numbers; places off
+    the photo read its edge) by a cubic spline, each value held within the 2 x 2 pixels around its place.
+
+    The spline keeps a resampled photo's grain sharp, but rings by a sharp edge: a floor tile resampled
+    from 85.13 to 85 pixels a period by the spline alone had a dark line before its light grout, a light
+    one after, and the grout 0.02 lighter than the photo's (its profile across the grout, 6 periods
+    folded: 0.451 / 0.780 against the photo's 0.467 / 0.757). Held to the pixels it lies between, a value
+    cannot overshoot an edge; in smooth or grainy parts the spline's value lies there anyway, nearly.
+    """
+    from scipy import ndimage
+
+    h, w = image.shape[:2]
+    ys, xs = np.asarray(ys, np.float64), np.asarray(xs, np.float64)
+    y0 = np.clip(np.floor(ys), 0, h - 1).astype(np.intp)
+    x0 = np.clip(np.floor(xs), 0, w - 1).astype(np.intp)
+    y1, x1 = np.minimum(y0 + 1, h - 1), np.minimum(x0 + 1, w - 1)
+    y1 = np.where(ys < 0, y0, y1)
+    x1 = np.where(xs < 0, x0, x1)
+    out = np.empty(ys.shape + (image.shape[2],), np.float64)
+    for c in range(image.shape[2]):
+        plane = np.asarray(image[:, :, c], np.float64)
+        v = ndimage.map_coordinates(plane, [ys, xs], order=3, mode="nearest")
+        corners = (plane[y0, x0], plane[y0, x1], plane[y1, x0], plane[y1, x1])
+        out[..., c] = np.clip(v, np.minimum.reduce(corners), np.maximum.reduce(corners))
+    return out
+
+
 def _without_frame(rgb, notes):
     """``rgb`` without its flat frame (``_frame.frame_box``), said in ``notes``: ``(rgb, h, w)``."""
     from ._frame import frame_box
