@@ -159,6 +159,8 @@ def main(argv=None) -> int:
                     help="only the GL frame of snapped fits (tiles, brick) with their cells against without")
     ap.add_argument("--coarse-blend-only", action="store_true",
                     help="only the default fits' GL frame with the coarse layers overlaid against alpha-blended")
+    ap.add_argument("--free-cells-only", action="store_true",
+                    help="only the GL frame of paving's fit with its free cells (cobbles) against without")
     ap.add_argument("--fit-frame-only", action="store_true",
                     help="only the GL frame of the default and legacy fits of gravel against its periodic fit, "
                          "at anisotropy 1 and 8")
@@ -178,10 +180,11 @@ def main(argv=None) -> int:
     load = os.getloadavg()
     print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, "
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
-    if args.gl_only or args.cells_only or args.coarse_blend_only or args.fit_frame_only:
+    if args.gl_only or args.cells_only or args.coarse_blend_only or args.fit_frame_only or args.free_cells_only:
         if gl:
             (_cells_ratio if args.cells_only else _coarse_blend_ratio if args.coarse_blend_only
-             else _fit_frame_ratio if args.fit_frame_only else _paper_ratio)(args.repeats)
+             else _fit_frame_ratio if args.fit_frame_only else _free_cells_ratio if args.free_cells_only
+             else _paper_ratio)(args.repeats)
         return 0
     print(f"photos cropped to {args.crop} x {args.crop}; near: 2048^2 at the photo's pixel size, "
           f"far: 1024^2 at 8x; t&b patch {args.patch} tiles")
@@ -234,17 +237,20 @@ def main(argv=None) -> int:
     return 0
 
 
-def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, anisotropy=None) -> dict:
+def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, anisotropy=None,
+               without_free_cells=()) -> dict:
     """Per texture, (wall seconds, CPU seconds) per 1920 x 1080 frame of each of ``repeats`` runs.
 
     The textures' runs are interleaved (one run of each, then the next
     round), so that they share the machine's load alike; CPU time includes
     llvmpipe's threads. The default camera: 300 photo pixels up, looking
     20 degrees down. ``anisotropy``: the renderer's maximum anisotropy (None:
-    its default, 8).
+    its default, 8). ``without_free_cells``: the labels whose renderers are made
+    without their tiles' free cell maps (``spectex.shading._cells.free_cell_map``
+    answering None meanwhile).
     """
     from spectex.render import Camera
-    from spectex.render.gl import GLRenderer, create_context
+    from spectex.render.gl import create_context
 
     kw = {} if anisotropy is None else {"anisotropy": anisotropy}
     ctx = create_context()
@@ -255,7 +261,7 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
             if cam is None:
                 size = float(texture.layers[0].size) / texture.tile_shape[1]  # metres per tile texel
                 cam = Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0)
-            r = GLRenderer(texture, ctx=ctx)
+            r = _renderer(texture, ctx, label in without_free_cells)
             renderers[label] = (r, cam)
             r.time_frames(cam, (1080, 1920), frames=1, **kw)  # compiles the programs
         out = {label: ([], []) for label in renderers}
@@ -270,6 +276,44 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
         for r, _ in renderers.values():
             r.release()
         ctx.release()
+
+
+def _renderer(texture, ctx, without_free_cells):
+    """A GLRenderer of ``texture``, its resources made without free cell maps where asked."""
+    from spectex.render.gl import GLRenderer
+    from spectex.shading import _cells, resources
+
+    if not without_free_cells:
+        return GLRenderer(texture, ctx=ctx)
+    original = _cells.free_cell_map
+    try:
+        _cells.free_cell_map = lambda tile: None
+        resources.clear_cache()
+        return GLRenderer(texture, ctx=ctx)
+    finally:
+        _cells.free_cell_map = original
+        resources.clear_cache()
+
+
+def _free_cells_ratio(repeats: int) -> None:
+    """The default fit of ``exemplars.py``'s paving (cobbles: an unsnapped finest layer whose tile has a free
+    cell map) with its free cells against without (each point then reads three cells' entries more), GL CPU
+    time per frame at two views (40 and 300 texels up)."""
+    from exemplars import load as load_photo
+
+    from spectex.fitting import fit
+    from spectex.render import Camera
+
+    tex = fit(load_photo("paving"), pixel_size=1.0)
+    size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
+    for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
+                      ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
+        frames = _gl_frames({"cells": tex, "blend": tex}, repeats, camera=cam, without_free_cells=("blend",))
+        a, b = frames["cells"][1], frames["blend"][1]
+        load = os.getloadavg()
+        print(f"GL CPU time per frame, paving fit, {view}, 1920 x 1080: free cells {np.median(a) * 1e3:.1f} ms, "
+              f"without {np.median(b) * 1e3:.1f} ms, ratio {np.median(a / b):.2f} (runs: "
+              f"{', '.join(f'{v:.2f}' for v in a / b)}; load {load[0]:.2f})", flush=True)
 
 
 def _fits_side_by_side(names, variant, labels, repeats: int) -> None:

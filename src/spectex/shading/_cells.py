@@ -1,4 +1,4 @@
-"""The structural cells of a snapped tile: which brick or floor tile each texel belongs to.
+"""The structural cells of a tile: which brick, floor tile or cobble each texel belongs to.
 
 A stochastic layer snapped to its tile's structure (``Layer.snap = (nx, ny)``)
 draws patches offset by whole periods, so the grout lines of every patch
@@ -40,6 +40,15 @@ them, snapped along x only), there is no map (None) and the layer is sampled
 as without one. (Bands were tried, their patches blended at the point moved
 onto the band's centre line: brick's bake was no better by eye or by
 ``metrics.cell_splits``, and the GL frame paid for two samplings.)
+
+A tile drawn with free offsets (``snap`` (0, 0)) has no lattice: each patch
+shows its own cells wherever it lies. Cobbles, or pebbles set in mortar,
+are cells all the same, parted by a network of grout lines
+(:func:`free_cell_map` finds it on the tile itself); with their map, the
+sampler gives each point the patch whose own cell there lies in that
+patch's region (``shading.stochastic.cell_vertex``), so cobbles are drawn
+whole and a cobble that loses is cut along the winner's outline, in its
+grout, instead of by the triangle grid's straight cross-fades.
 """
 
 from __future__ import annotations
@@ -48,7 +57,8 @@ import numpy as np
 
 from .._otsu import otsu
 
-__all__ = ["cell_map", "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL"]
+__all__ = ["cell_map", "free_cell_map", "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL",
+           "FREE_WIDTHS", "FREE_MIN_CELLS", "FREE_MIN_INTERIOR", "FREE_MERGED", "NO_CELL"]
 
 #: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
 #: texels' variance about it (each cell of each period at its own level), and at least ``CHANCE_FACTOR``
@@ -63,10 +73,24 @@ CHANCE_FACTOR = 4.0
 MIN_INTERIOR = 0.25
 #: A component smaller than this fraction of the period cell is a speck of the grout, not a cell.
 MIN_CELL = 0.02
+#: A tile drawn without snapping (its patches offset freely: cobbles, pebbles in mortar) has cells where
+#: a network of thin lines parts at least this many
+#: (components of at least ``MIN_CELL_TEXELS`` texels; :func:`free_cell_map`) ...
+FREE_MIN_CELLS = 8
+MIN_CELL_TEXELS = 24
+#: ... which cover at least this fraction of the tile, those more than ``FREE_MERGED`` times the median
+#: cell's size left out (cells run together where a grout line is broken: a texel of one is 60 texels from
+#: its centre, and a patch showing it whole showed the break as a cut through a stone, not in the grout).
+FREE_MIN_INTERIOR = 0.35
+FREE_MERGED = 3.0
+#: The cell map's entry for a texel of no cell (a merged one's, or the grout nearest it): a centre this many
+#: texels away, which no patch's region holds, so the sampler blends there (``stochastic.cell_vertex``).
+NO_CELL = 4096.0
 
 
-def _torus_components(mask: np.ndarray):
-    """Components of ``mask`` on the torus: ``(labels, count, ids, wraps)`` of its 3 x 3 mosaic.
+def _torus_components(mask: np.ndarray, margin: int | None = None):
+    """Components of ``mask`` on the torus: ``(labels, count, ids, wraps)`` of its 3 x 3 mosaic (``margin``:
+    of the tile with that many texels of its wrap around it, a smaller mosaic where components are smaller).
 
     ``ids``: the labels met in the centre copy; ``wraps[i]``: (along y, along x) whether component ``i``
     runs around the torus (its extent in the mosaic at least one period).
@@ -74,8 +98,9 @@ def _torus_components(mask: np.ndarray):
     from scipy import ndimage
 
     ph, pw = mask.shape
-    labels, count = ndimage.label(np.tile(mask, (3, 3)))
-    centre = labels[ph:2 * ph, pw:2 * pw]
+    my, mx = (ph, pw) if margin is None else (min(margin, ph), min(margin, pw))
+    labels, count = ndimage.label(np.pad(mask, ((my, my), (mx, mx)), mode="wrap"))
+    centre = labels[my:my + ph, mx:mx + pw]
     ids = np.unique(centre[centre > 0])
     wraps = np.zeros((count + 1, 2), dtype=bool)
     for i, sl in enumerate(ndimage.find_objects(labels), start=1):
@@ -136,6 +161,8 @@ def cell_map(tile, snap) -> np.ndarray | None:
     from scipy import ndimage
 
     tile = np.asarray(tile)
+    if max(int(snap[0]), int(snap[1])) == 0:
+        return free_cell_map(tile)
     nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
     h, w = tile.shape[:2]
     if nx * ny < 4 or h < 4 * ny or w < 4 * nx:
@@ -202,4 +229,102 @@ def cell_map(tile, snap) -> np.ndarray | None:
         dx = kx[None, :] * pw + (cx[own] - bx + 0.5) * (pw / bx) - x
         d = np.stack([dx, dy], axis=2)
     d = np.round(2.0 * d) / 2.0
+    return np.ascontiguousarray(d, dtype=np.float32)
+
+
+def free_cell_map(tile) -> np.ndarray | None:
+    """:func:`cell_map` of a tile whose patches are offset freely (``snap`` (0, 0)): its cells read on the
+    tile itself (a torus: it wraps), or None.
+
+    The grout of cobbles, of pebbles set in mortar or the joints of floor boards is a network of thin lines,
+    darker or lighter than what they part: the tile's colours along their principal axis, smoothed by a
+    Gaussian of one texel, less their grey closing (or opening) over ``k x k`` texels (a top-hat: what is
+    thinner than ``k`` and darker, or lighter, than about it), split by Otsu's threshold. It is a grout
+    where one component of it runs around the torus along both axes, parting at least ``FREE_MIN_CELLS``
+    cells (components of at least ``MIN_CELL_TEXELS`` texels and at most ``FREE_MERGED`` times their median
+    size, none running around) that cover at least ``FREE_MIN_INTERIOR`` of the tile; and its lines a network at the
+    next smaller ``k`` of :data:`FREE_WIDTHS` too (a grout, not what one width happens to link: grass's
+    light blades link up at 17 texels only). The widest such width (dark lines first, then light) gives the map (the
+    grout is widened by ``GROUT_WIDEN`` texels first: a line broken for a few texels would join two
+    cells); none: None. Every texel (grout too) takes the nearest component; the map holds the vector to its
+    centre, as :func:`cell_map`'s, or ``(NO_CELL, NO_CELL)`` where that component is no cell (a merged one, or
+    one running around the torus): the sampler blends the patches there.
+    """
+    from scipy import ndimage
+
+    h, w = tile.shape[:2]
+    if min(h, w) < 4 * FREE_WIDTHS[-1]:
+        return None
+    rgb = tile[:, :, :3].astype(np.float64)
+    flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
+    axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
+    level = ndimage.gaussian_filter(rgb @ axis, 1.0, mode="wrap")
+    for sign in (1.0, -1.0):
+        for i in range(len(FREE_WIDTHS) - 1, 0, -1):  # the widest first
+            cells, _ = _free_cells(sign * level, FREE_WIDTHS[i])
+            if cells is not None and _free_cells(sign * level, FREE_WIDTHS[i - 1], network_only=True)[1]:
+                return _centres(*cells, h, w)
+    return None
+
+
+#: Widths of the top-hat :func:`free_cell_map` tries (texels), narrowest first.
+FREE_WIDTHS = (7, 11, 17)
+#: Texels the grout found is widened by on every side before the cells are told apart.
+GROUT_WIDEN = 2
+#: Texels of the tile's wrap :func:`free_cell_map` labels around it (a cell, or three merged, spans less).
+FREE_MARGIN = 128
+
+
+def _free_cells(level, k, network_only=False):
+    """``(labels, keep, merged)`` of the cells parted by the dark lines of ``level`` thinner than ``k`` texels
+    (:func:`free_cell_map`'s test), on the 3 x 3 mosaic, or None; and whether those lines are a network
+    (``network_only``: that alone, the cells not looked for)."""
+    from scipy import ndimage
+
+    h, w = level.shape
+    hat = ndimage.grey_closing(level, size=(k, k), mode="wrap") - level
+    # widened by 2 texels (on the torus): a grout line broken for a few texels (worn mortar, a stone's
+    # edge as light as it) otherwise joins two cells, and soon every cell of a tile into one
+    grout = np.pad(hat > otsu(hat.ravel())[0], GROUT_WIDEN, mode="wrap")
+    grout = ndimage.binary_dilation(grout, iterations=GROUT_WIDEN)[GROUT_WIDEN:-GROUT_WIDEN, GROUT_WIDEN:-GROUT_WIDEN]
+    _, _, gids, gwraps = _torus_components(grout, FREE_MARGIN)
+    if not gwraps[gids].all(axis=1).any():
+        return None, False
+    if network_only:
+        return None, True
+    labels, count, ids, wraps = _torus_components(~grout, FREE_MARGIN)
+    sizes = ndimage.sum_labels(np.ones(labels.shape), labels, index=np.arange(count + 1))
+    keep = sizes >= MIN_CELL_TEXELS  # every copy in the mosaic (the nearest cell of a texel by the edge)
+    keep[0] = False
+    mine = ids[keep[ids]]
+    if len(mine) < FREE_MIN_CELLS:
+        return None, True
+    merged = (sizes > FREE_MERGED * float(np.median(sizes[mine]))) | wraps.any(axis=1)
+    cells = keep & ~merged
+    m = min(FREE_MARGIN, h), min(FREE_MARGIN, w)
+    if int(np.count_nonzero(cells[mine])) < FREE_MIN_CELLS or \
+            float(cells[labels[m[0]:m[0] + h, m[1]:m[1] + w]].mean()) < FREE_MIN_INTERIOR:
+        return None, True
+    return (labels, keep, merged), True
+
+
+def _centres(labels, keep, merged, h, w):
+    """The cell map of the kept components of ``labels`` (an ``h x w`` tile with ``FREE_MARGIN`` texels of its
+    wrap around it): per texel of the tile the vector to the centre of its nearest kept component, rounded
+    to half texels, or ``NO_CELL`` where that component is ``merged``."""
+    from scipy import ndimage
+
+    count = int(labels.max())
+    kept = keep[labels]
+    yy, xx = np.indices(labels.shape, dtype=np.float64)
+    index = np.arange(count + 1)
+    n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
+    cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
+    cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
+    _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
+    my, mx = min(FREE_MARGIN, h), min(FREE_MARGIN, w)
+    owner = labels[iy, ix][my:my + h, mx:mx + w]
+    py, px = np.indices((h, w), dtype=np.float64)
+    d = np.round(2.0 * np.stack([cx[owner] - (px + mx), cy[owner] - (py + my)], axis=2)) / 2.0
+    d[merged[owner]] = NO_CELL
     return np.ascontiguousarray(d, dtype=np.float32)

@@ -41,14 +41,13 @@ from .sampler import sample_grad
 from .stochastic import (
     blend_patches,
     cell_mix,
-    cell_point,
+    cell_vertex,
     lut_lookup,
     patch_lod,
     sample_stochastic_grad,
     sharpen_weights,
     triangle_vertices,
     vertex_offset,
-    winner,
 )
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
@@ -310,12 +309,8 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0, nx, ny):
-    """:func:`~spectex.shading.stochastic.winner_patch_at` with the fast path's trilinear sampler."""
-    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
-    win = winner(w1, w2, w3)
-    ci = i1 if win == 1 else (i2 if win == 2 else i3)
-    cj = j1 if win == 1 else (j2 if win == 2 else j3)
+def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, bi, bj, key, w0, nx, ny):
+    """:func:`~spectex.shading.stochastic.vertex_patch_at` with the fast path's trilinear sampler."""
     ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, w0, nx, ny)
     return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
 
@@ -373,9 +368,12 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         cells = cell_row >= 0.0 and tm < 1.0
         v0 = v1 = v2 = v3 = 0.0
         if cells:
-            gx, gy = cell_point(lut, cell_row, s, t, kx, ky, gk, w0, w0)
-            v0, v1, v2, v3 = _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, gx, gy, bi, bj, key, w0,
-                                         nx, ny)
+            ci, cj, whole = cell_vertex(lut, cell_row, s, t, kx, ky, gk, w0, w0, bi, bj, key, nx, ny)
+            if whole:
+                v0, v1, v2, v3 = _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, bi, bj, key,
+                                             w0, nx, ny)
+            else:
+                tm = 1.0  # the blend at the point
         if not cells or tm > 0.0:
             u0, u1, u2, u3 = _row_patches(gflat, base, offsets, size0, q, d1, beta, s, t, kx, ky, bi, bj, key, w0,
                                           nx, ny, lam, plod)

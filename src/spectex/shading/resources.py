@@ -195,12 +195,13 @@ def stochastic_tables(texture) -> list:
 
 
 def cell_snaps(texture) -> tuple:
-    """Per tile, the ``snap`` its cell map is made for: that of the first stochastic layer drawing it snapped
-    (``Layer.snap`` not (0, 0)), or None (no snapped layer, no map)."""
+    """Per tile, the ``snap`` its cell map is made for: that of the first stochastic layer drawing it
+    (``Layer.snap``; (0, 0), offsets free along both axes, takes ``shading._cells.free_cell_map``'s cells
+    where the tile has a grout), or None (no stochastic layer, no map)."""
     out = [None] * len(texture.tiles)
     for layer in texture.layers:
         snap = tuple(int(v) for v in getattr(layer, "snap", (0, 0)))
-        if getattr(layer, "tiling", "periodic") == "stochastic" and max(snap) > 0 and out[layer.tile] is None:
+        if getattr(layer, "tiling", "periodic") == "stochastic" and out[layer.tile] is None:
             out[layer.tile] = snap
     return tuple(out)
 

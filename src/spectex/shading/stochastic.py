@@ -86,6 +86,7 @@ __all__ = [
     "snap_counts",
     "cell_rows",
     "cell_point",
+    "cell_vertex",
     "cell_mix",
     "stochastic_tables",
     "gaussianize",
@@ -590,19 +591,78 @@ def blend_patches(x1, x2, x3, w1, w2, w3, inv):
 
 
 @_jit_inline
-def winner_patch_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0, nx, ny, lam,
-                    min_filter, mag_filter, wrap_s, wrap_t):
-    """The Gaussian RGBA at ``(s, t)`` of the one patch of the vertex nearest grid point ``(gx, gy)``.
-
-    :func:`winner` among the vertices of ``(gx, gy)``'s triangle (relative
-    to vertex ``(bi, bj)``); its patch sampled at ``(s, t)`` plus its
-    offset, its own value (one fetch). Apart from :func:`patches_at` so
-    that each kernel inlines the texel sampler once per fetch it makes.
-    """
+def nearest_vertex(gx, gy):
+    """The vertex (relative to the grid's origin) of :func:`winner` in ``(gx, gy)``'s triangle."""
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
     win = winner(w1, w2, w3)
-    ci = i1 if win == 1 else (i2 if win == 2 else i3)
-    cj = j1 if win == 1 else (j2 if win == 2 else j3)
+    return (i1 if win == 1 else (i2 if win == 2 else i3)), (j1 if win == 1 else (j2 if win == 2 else j3))
+
+
+@_jit_inline
+def cell_score(gx, gy, ci, cj):
+    """How well vertex ``(ci, cj)`` holds a cell centred at grid point ``(gx, gy)``: its barycentric weight
+    there (the hat ``1 - max(|dx|, |dy|, |dx + dy|)``, 0 outside its six triangles), plus 1 where it is
+    the centre's nearest vertex (the cell lies in its own patch's region)."""
+    dx = gx - ci
+    dy = gy - cj
+    hat = max(1.0 - max(abs(dx), max(abs(dy), abs(dx + dy))), 0.0)
+    ni, nj = nearest_vertex(gx, gy)
+    return hat + 1.0 if (ni == ci and nj == cj) else hat
+
+
+@_jit_inline
+def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
+    """The grid vertex (relative to ``(bi, bj)``) whose patch a layer with a cell map shows whole at ``(s, t)``.
+
+    Snapped (``nx < w0`` or ``ny < h0``; the map is made for a snapped
+    tile's lattice, where every patch's cells fall where the un-offset
+    tile's do), the vertex nearest the centre of the cell under ``(s, t)``
+    (:func:`cell_point`). Free along both axes (cobbles, pebbles in mortar:
+    ``shading._cells.free_cell_map``; each patch has its own cells), each
+    vertex ``k`` of the point's triangle reads the cell its own patch has
+    under the point, centred at ``c_k``, and the one with
+    the highest :func:`cell_score` at ``c_k`` wins: a cell whose centre lies
+    in its patch's own region beats one that does not, and of two, the
+    deeper; so each cell is whole where its patch wins, and a cell that
+    loses is cut by the winner's outline (in the grout), not by a straight
+    line. Returns ``(ci, cj, whole)``: ``whole`` False where no vertex's
+    cell lies in its own region (the gaps between cells that each lie in
+    another patch's region; 6 % of a fitted paving's texels, or a texel of
+    no cell, ``_cells.NO_CELL``), where the
+    sampler blends at the point instead (a hard cut there showed
+    fragments of cells).
+    """
+    if nx < w0 or ny < h0:
+        gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
+        ci, cj = nearest_vertex(gx, gy)
+        return ci, cj, True
+    i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
+    ci, cj = nearest_vertex(kx, ky)
+    best = 0.0
+    ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
+    gx, gy = cell_point(lut, cell_row, s + ox, t + oy, kx, ky, grid, w0, h0)
+    score = cell_score(gx, gy, i1, j1)
+    if score > best:
+        best, ci, cj = score, i1, j1
+    ox, oy = vertex_offset(bi + i2, bj + j2, key, w0, h0, nx, ny)
+    gx, gy = cell_point(lut, cell_row, s + ox, t + oy, kx, ky, grid, w0, h0)
+    score = cell_score(gx, gy, i2, j2)
+    if score > best:
+        best, ci, cj = score, i2, j2
+    ox, oy = vertex_offset(bi + i3, bj + j3, key, w0, h0, nx, ny)
+    gx, gy = cell_point(lut, cell_row, s + ox, t + oy, kx, ky, grid, w0, h0)
+    score = cell_score(gx, gy, i3, j3)
+    if score > best:
+        best, ci, cj = score, i3, j3
+    return ci, cj, best >= 1.0
+
+
+@_jit_inline
+def vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, bi, bj, key, w0, h0, nx, ny, lam,
+                    min_filter, mag_filter, wrap_s, wrap_t):
+    """The Gaussian RGBA at ``(s, t)`` of the one patch of grid vertex ``(ci, cj)`` (relative to ``(bi, bj)``;
+    :func:`cell_vertex`): sampled at ``(s, t)`` plus its offset, its own value (one fetch). Apart from
+    :func:`patches_at` so that each kernel inlines the texel sampler once per fetch it makes."""
     ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
     return sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter, mag_filter,
                          wrap_s, wrap_t)
@@ -616,7 +676,7 @@ def patches_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, 
     The vertices of ``(gx, gy)``'s triangle (relative to vertex ``(bi, bj)``)
     with their weights sharpened at ``lam`` for patches of ``2 ** plod`` texels (:func:`sharpen_weights`), the
     three patches sampled at ``(s, t)`` plus their offsets and blended
-    (:func:`blend_patches`); the one patch of a cell: :func:`winner_patch_at`.
+    (:func:`blend_patches`); the one patch of a cell: :func:`vertex_patch_at`.
     """
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(gx, gy)
     w1, w2, w3 = sharpen_weights(w1, w2, w3, lam, plod)
@@ -677,9 +737,12 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
     if cells:
-        gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
-        v0, v1, v2, v3 = winner_patch_at(data, base, offsets, widths, heights, s, t, gx, gy, bi, bj, key, w0, h0,
-                                         nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
+        ci, cj, whole = cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
+        if whole:
+            v0, v1, v2, v3 = vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, bi, bj, key, w0,
+                                             h0, nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
+        else:
+            tm = 1.0  # the blend at the point
     if not cells or tm > 0.0:
         u0, u1, u2, u3 = patches_at(data, base, offsets, widths, heights, s, t, kx, ky, bi, bj, key, w0, h0, nx, ny,
                                     lam, min_filter, mag_filter, wrap_s, wrap_t, patch_lod(w0, grid))

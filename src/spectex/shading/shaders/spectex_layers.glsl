@@ -138,16 +138,14 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
-// The offset of the patch a snapped layer's structural cell takes whole
-// (stochastic.cell_point, patches_at): the texel under st reads its cell map entry
-// (dx, dy: channels 0 and 1 of the table texture from row cell_row, texel idx = y w + x
-// at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE); its cell's centre
-// (xy + 1/2 + (dx, dy)) / tex_size, the same for every texel of the cell, moved into
-// the skewed grid (grid: the tile -> grid map; g: st there, relative to the vertex
-// (base_i, base_j)), and the vertex of its triangle with the largest weight (the first
-// of equals, as stochastic.winner) gives the offset.
-vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
-                         vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
+// The centre of the cell the texel under st holds (stochastic.cell_point), in the skewed grid: its
+// cell map entry (dx, dy: channels 0 and 1 of the table texture from row cell_row, texel idx = y w + x
+// at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE) gives the centre
+// (xy + 1/2 + (dx, dy)) / tex_size, the same for every texel of the cell, moved into the skewed grid
+// (grid: the tile -> grid map) from g, the grid point (relative to the base vertex) of the point p
+// whose st this is (p's own, or p's plus a patch's offset).
+vec2 spectex_cell_centre(SPX_TEX_ARG(lut), vec2 st, vec2 g, vec2 tex_size, vec4 grid, float cell_row,
+                         float lut_rows) {
     vec2 xy = floor(st * tex_size);
     // the texel's place in the tile, wrapped in floats: GLSL leaves % of a negative int undefined
     // (llvmpipe's disagreed with the CPU's floor modulo wherever s or t was negative)
@@ -158,7 +156,12 @@ vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
     float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
     vec2 rel = (xy + 0.5 + vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x)) / tex_size
         - st;
-    vec2 gc = g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+    return g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
+}
+
+// The vertex (relative to the grid's origin) nearest grid point gc within its triangle (the largest
+// weight, the first of equals, as stochastic.nearest_vertex).
+vec2 spectex_nearest_vertex(vec2 gc) {
     vec2 c = floor(gc);
     vec2 f = gc - c;
     // the triangle's vertices and weights as in stochastic.triangle_vertices
@@ -166,9 +169,50 @@ vec2 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
     vec3 w = lower ? vec3(1.0 - f.x - f.y, f.x, f.y) : vec3(f.x + f.y - 1.0, 1.0 - f.x, 1.0 - f.y);
     vec2 win = (w.x >= w.y && w.x >= w.z) ? (lower ? vec2(0.0, 0.0) : vec2(1.0, 1.0))
         : ((w.y >= w.z) ? (lower ? vec2(1.0, 0.0) : vec2(0.0, 1.0)) : (lower ? vec2(0.0, 1.0) : vec2(1.0, 0.0)));
-    SPX_UINT i = SPX_UINT(int(c.x + win.x)) + base_i;
-    SPX_UINT j = SPX_UINT(int(c.y + win.y)) + base_j;
-    return spectex_vertex_offset(i, j, key, tex_size, 1.0 / tex_size, snap);
+    return c + win;
+}
+
+// How well vertex vk holds a cell centred at gc (stochastic.cell_score): its hat there, plus 1 where it is
+// gc's nearest vertex.
+float spectex_cell_score(vec2 gc, vec2 vk) {
+    vec2 d = gc - vk;
+    float hat = max(1.0 - max(abs(d.x), max(abs(d.y), abs(d.x + d.y))), 0.0);
+    vec2 n = spectex_nearest_vertex(gc);
+    return (n.x == vk.x && n.y == vk.y) ? hat + 1.0 : hat;
+}
+
+// The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
+// blend at the point instead); snapped, that of the vertex nearest the centre of the cell
+// under st; free along both axes, that of the vertex of g's triangle whose own patch's cell under the point
+// scores highest at its centre (spectex_cell_score), 0 where none scores 1 or more.
+vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                         vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
+    vec2 inv_size = 1.0 / tex_size;
+    vec2 win;
+    float best = 1.0;
+    if (snap.x < tex_size.x || snap.y < tex_size.y) {
+        win = spectex_nearest_vertex(spectex_cell_centre(SPX_TEX(lut), st, g, tex_size, grid, cell_row, lut_rows));
+    } else {
+        vec2 c = floor(g);
+        vec2 f = g - c;
+        float d = (f.x + f.y < 1.0) ? 0.0 : 1.0;
+        win = spectex_nearest_vertex(g);
+        best = 0.0;
+        for (int k = 0; k < 3; k++) {
+            // the triangle's vertices in stochastic.triangle_vertices' order: (d, d), (1 - d, d), (d, 1 - d)
+            vec2 vk = c + ((k == 0) ? vec2(d, d) : ((k == 1) ? vec2(1.0 - d, d) : vec2(d, 1.0 - d)));
+            vec2 off = spectex_vertex_offset(SPX_UINT(int(vk.x)) + base_i, SPX_UINT(int(vk.y)) + base_j, key,
+                                             tex_size, inv_size, snap);
+            float score = spectex_cell_score(spectex_cell_centre(SPX_TEX(lut), st + off, g, tex_size, grid,
+                                                                 cell_row, lut_rows), vk);
+            if (score > best) {
+                best = score;
+                win = vk;
+            }
+        }
+    }
+    return vec3(spectex_vertex_offset(SPX_UINT(int(win.x)) + base_i, SPX_UINT(int(win.y)) + base_j, key,
+                                      tex_size, inv_size, snap), (best >= 1.0) ? 1.0 : 0.0);
 }
 
 // The blended Gaussian value at st of the three patches of the triangle holding grid
@@ -220,7 +264,7 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
 // offset by its vertex's hash, blended with the barycentric weights preserving
 // the variance (spectex_patches_at), then the layer's row `lut_row0` (+ level) of
 // the tables and the inverse decorrelation (origin + v.x b0 + v.y b1 + v.z b2,
-// b0..b2 the basis's columns). RGBA in [0, 1]. A snapped layer with a cell map
+// b0..b2 the basis's columns). RGBA in [0, 1]. A layer with a cell map
 // (cell_row >= 0; grid: the tile -> grid map) takes its structural cell's one
 // patch whole (spectex_cell_offset) up to lambda = l_c, the blend at the point
 // from l_c + 1 on, the linear mix of the two between; l_c = max(SPX_SHARP_LOD,
@@ -235,9 +279,13 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     vec4 gb = vec4(0.0);
     if (cells) {
         // (a macro's arguments on one line: Godot's preprocessor takes no line break inside them)
-        vec2 off = spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
+        vec3 off = spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
                                        lut_rows);
-        gb = SPX_LOD(gauss, st + off, lam);
+        if (off.z > 0.5) {
+            gb = SPX_LOD(gauss, st + off.xy, lam);
+        } else {
+            tm = 1.0;  // the blend at the point
+        }
     }
     if (!cells || tm > 0.0) {
         // log2 of the patch's side in level-0 texels (grid.x = 1 / patch: stochastic.patch_lod)
