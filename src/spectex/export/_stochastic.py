@@ -18,8 +18,8 @@ exports write their IEEE half bits and lose nothing:
   as Godot's ``Image.create_from_data``, Unity's ``LoadRawTextureData`` and
   three.js's ``DataTexture`` take them.
 
-The table texture also holds, after the tables, the cell maps of snapped layers' tiles
-(``shading.resources.cell_rows``; ``docs/sampling.md``, 6b, "Cells"). Per layer the shader
+The table texture also holds, after the tables, the cell maps of stochastic layers' tiles
+(``shading.resources.cell_rows``; ``docs/sampling.md``, 6b, "Cells" and "Free cells"). Per layer the shader
 also takes its grid map, hash key, snap counts, cell-map row, first table row and
 decorrelation (:func:`layer_entries`), and, per frame, the grid position of
 the anchor (``shading.tables.anchor_coords``, columns 2-5).

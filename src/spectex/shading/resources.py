@@ -208,7 +208,8 @@ def cell_snaps(texture) -> tuple:
 
 def cell_maps(texture) -> list:
     """Per tile, its cell map (``shading._cells.cell_map``: per level-0 texel the vector to the centre of its
-    brick or floor tile) for :func:`cell_snaps`' snap, or None (no snapped layer, or no separate cells)."""
+    brick, floor tile or cobble) for :func:`cell_snaps`' snap, or None (no stochastic layer, or no separate
+    cells)."""
 
     return [None if snap is None else _kept(("cells", tile_digest(tile), snap),
                                             lambda tile=tile, snap=snap: _Maybe(cell_map(tile, snap))).value

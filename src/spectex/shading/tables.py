@@ -80,7 +80,8 @@ class ShadingTables(NamedTuple):
     #: numbers): ``Layer.snap``'s periods, or the level-0 width, height (whole texels) where it is 0
     snap: np.ndarray
     #: (L,) float64: the first row of the layer's tile's cell map in ``lut`` (``resources.cell_rows``) for a
-    #: snapped layer whose snap the map was made for, else -1 (no cells: the triangle grid's patches)
+    #: stochastic layer whose snap the map was made for (free cells for (0, 0)), else -1 (no cells: the
+    #: triangle grid's patches)
     cell_row: np.ndarray
     basis: np.ndarray      #: (L, 3, 3) float64: RGB = origin + basis @ decorrelated
     origin: np.ndarray     #: (L, 3) float64
