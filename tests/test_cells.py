@@ -424,7 +424,8 @@ def test_free_cells_draw_cobbles_whole_instead_of_cross_faded():
     """Unsnapped cobbles: with their free cell map, each point shows the patch whose own cobble there lies in
     its region, so cobbles are whole and patches meet in the mortar; blends only where no patch's cobble
     does (measured 1.2 % of the pixels blended against 4.0 % without the map, the control: the triangle
-    grid's cross-fades through the cobbles). Past l_c + 1 (SHARP_LOD + 1, a free map's) the two agree."""
+    grid's cross-fades through the cobbles). Free cells hold at every level (stochastic.cell_mix): far
+    away the cells still choose the patches, not the blend."""
     from spectex.shading._cells import free_cell_map
     from spectex.shading.constants import SHARP_LOD
     from spectex.shading.stochastic import sample_stochastic, stochastic_tables
@@ -439,11 +440,11 @@ def test_free_cells_draw_cobbles_whole_instead_of_cross_faded():
     _, stone, _, flat = _cobbles(grain=0.0)
     assert _mixed(whole, flat) <= 0.5 * _mixed(faded, flat) and _mixed(faded, flat) >= 0.02, \
         (_mixed(whole, flat), _mixed(faded, flat))
-    far = SHARP_LOD + 1.0
-    np.testing.assert_array_equal(sample_stochastic(tables, s[:64, :64], t[:64, :64], patch=0.5, seed=3, cells=cells,
-                                                    lod=far),
-                                  sample_stochastic(tables, s[:64, :64], t[:64, :64], patch=0.5, seed=3, cells=None,
-                                                    lod=far))
+    far = SHARP_LOD + 2.0
+    assert not np.array_equal(sample_stochastic(tables, s[:64, :64], t[:64, :64], patch=0.5, seed=3, cells=cells,
+                                                lod=far),
+                              sample_stochastic(tables, s[:64, :64], t[:64, :64], patch=0.5, seed=3, cells=None,
+                                                lod=far))
 
 
 @pytest.mark.gl
@@ -488,5 +489,7 @@ def test_free_cells_cpu_fast_path_matches_the_general_sampler():
     general = np.empty((48, 64, 3), np.float32)
     render_kernel_fast(tables, anchor, view, row_order(48), fast)
     render_kernel(tables, anchor, view, row_order(48), general)
+    # the same numbers to float rounding, which may move a point on a cell's edge into the other cell: a
+    # pixel or two of another cobble's colour (measured 2 of 3072, 0.20 off)
     diff = np.abs(fast - general)
-    assert np.mean(diff > 1e-5) <= 0.01 and diff.max() <= 0.03
+    assert np.mean(diff.max(axis=2) > 1e-5) <= 0.005 and diff.mean() <= 1e-3, (np.mean(diff > 1e-5), diff.mean())

@@ -699,7 +699,16 @@ def cell_mix(lam, w0, h0, nx, ny):
     """How far a snapped layer with cells has gone from the cell's one patch (0) to the blend at the point (1)
     at level ``lam``: 0 up to ``l_c = max(SHARP_LOD, log2(p) - CELL_LOD_MARGIN)``, ``p = min(w0 / nx, h0 /
     ny)`` the snap's shorter period in level-0 texels (the cells hold while they span 4 pixels), 1 from
-    ``l_c + 1``, linear in between (no popping). The one formula of the reference and the fast path."""
+    ``l_c + 1``, linear in between (no popping). The one formula of the reference and the fast path.
+
+    A layer free along both axes (``nx >= w0`` and ``ny >= h0``: free cells) keeps its cells at every
+    level (0): there the cells choose *which* patch shows a place, not only where a cell is whole, and
+    the blend's choice is another picture, so the switch would change the stones as the view comes
+    closer, and a mip-mapped view at mid distance would show the blend's stones where the supersampled
+    truth shows the cells' (fitted paving, 100 m: 31.6 / 40.2 dB full-band / low-passed against that truth
+    with the switch at ``SHARP_LOD``, 34.3 / 44.7 without it)."""
+    if nx >= w0 and ny >= h0:
+        return 0.0
     return min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, h0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
 
 

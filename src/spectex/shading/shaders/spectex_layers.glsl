@@ -268,13 +268,16 @@ vec4 spectex_patches_at(SPX_TEX_ARG(gauss), vec2 st, vec2 g, SPX_UINT base_i, SP
 // (cell_row >= 0; grid: the tile -> grid map) takes its structural cell's one
 // patch whole (spectex_cell_offset) up to lambda = l_c, the blend at the point
 // from l_c + 1 on, the linear mix of the two between; l_c = max(SPX_SHARP_LOD,
-// log2 of the snap's shorter period in texels - SPX_CELL_LOD_MARGIN).
+// log2 of the snap's shorter period in texels - SPX_CELL_LOD_MARGIN); free cells at every level.
 vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i,
                                SPX_UINT base_j, SPX_UINT key, vec2 snap, vec2 tex_size, float lam, int min_filter, float q,
                                float lut_row0, float lut_rows, vec3 b0, vec3 b1, vec3 b2, vec3 origin, vec4 grid,
                                float cell_row) {
     vec2 period = tex_size / snap;
     float tm = clamp(lam - max(SPX_SHARP_LOD, log2(min(period.x, period.y)) - SPX_CELL_LOD_MARGIN), 0.0, 1.0);
+    if (snap.x >= tex_size.x && snap.y >= tex_size.y) {
+        tm = 0.0;  // free cells hold at every level (stochastic.cell_mix)
+    }
     bool cells = cell_row >= 0.0 && tm < 1.0;
     vec4 gb = vec4(0.0);
     if (cells) {
