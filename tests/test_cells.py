@@ -493,3 +493,23 @@ def test_free_cells_cpu_fast_path_matches_the_general_sampler():
     # pixel or two of another cobble's colour (measured 2 of 3072, 0.20 off)
     diff = np.abs(fast - general)
     assert np.mean(diff.max(axis=2) > 1e-5) <= 0.005 and diff.mean() <= 1e-3, (np.mean(diff > 1e-5), diff.mean())
+
+
+@pytest.mark.slow
+def test_fit_of_cobbles_draws_them_with_free_cells_and_says_so(tmp_path, capsys):
+    """spectex fit on a photo of cobbles: its finest layer unsnapped, its tile's grout found (params
+    ``free_cells``), and the summary says so; the control, gravel (no grout network), does not."""
+    import skimage.data
+
+    from spectex import io
+    from spectex.cli import main
+    from spectex.fitting import fit_result
+
+    cobbles = _cobbles(rng=4)[0]
+    gravel = skimage.data.gravel()[:256, :256]
+    assert fit_result(cobbles).params["free_cells"] is True
+    assert fit_result(gravel).params["free_cells"] is False
+    path = tmp_path / "cobbles.png"
+    io.write_image(path, cobbles)
+    assert main(["fit", str(path), "-o", str(tmp_path / "out")]) == 0
+    assert "drawn with free cells" in capsys.readouterr().out

@@ -217,7 +217,9 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
                    f"{args.exemplar} in {fit_seconds:.1f} s")
     _common.report(f"  scale: {pr['scale']}")
     _common.report(f"  layer sizes {', '.join(f'{lay.size:.4g}' for lay in texture.layers)} m; opacities "
-                   f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; finest tile: {pr['tile_method']}")
+                   f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; finest tile: {pr['tile_method']}"
+                   + ("; drawn with free cells (its grout's network found: each cell whole from one patch, the "
+                      "patches meeting in the grout)" if pr.get("free_cells") else ""))
     w1 = max(numbers.histogram_w1)
     _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "

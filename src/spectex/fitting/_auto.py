@@ -1145,7 +1145,12 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     layer_list, depth = _clip_guard(problem, colour, alpha, exemplar, layer_list, n, ratio)
     tick()
     texture = problem.texture(colour, alpha)
-    params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "layers": layers, "ratio": ratio,
+    from ..shading.resources import cell_maps
+
+    # an unsnapped finest layer whose tile shows a grout network is drawn with free cells (cobbles whole)
+    free_cells = bool(tilings0 == "stochastic" and max(snap0) == 0 and cell_maps(texture)[0] is not None)
+    params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "free_cells": free_cells,
+              "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0, "coarse_depth": depth,
               "blotch_db": blotch_db,
