@@ -280,19 +280,14 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
 
 def _renderer(texture, ctx, without_free_cells):
     """A GLRenderer of ``texture``, its resources made without free cell maps where asked."""
+    from _switches import without_free_cells as switched_off
+
     from spectex.render.gl import GLRenderer
-    from spectex.shading import _cells, resources
 
     if not without_free_cells:
         return GLRenderer(texture, ctx=ctx)
-    original = _cells.free_cell_map
-    try:
-        _cells.free_cell_map = lambda tile: None
-        resources.clear_cache()
+    with switched_off():
         return GLRenderer(texture, ctx=ctx)
-    finally:
-        _cells.free_cell_map = original
-        resources.clear_cache()
 
 
 def _free_cells_ratio(repeats: int) -> None:

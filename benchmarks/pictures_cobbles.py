@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
+from _switches import without_free_cells  # noqa: E402
 
 CROP = 320
 ORIGINS = ((0.0, 0.0), (37.3, -81.7))
@@ -45,18 +46,15 @@ def photos():
 def _bakes(result, way):
     """The two bakes of ``result`` drawn ``way`` ("cells", or "blend": the free cell map left out)."""
     from spectex.bake._block import bake_window
-    from spectex.shading import _cells, resources
 
-    original = _cells.free_cell_map
-    try:
-        if way == "blend":
-            _cells.free_cell_map = lambda tile: None
-        resources.clear_cache()
+    def bakes():
         return [bake_window(result.texture, (0, 1024, 0, 1024), pixel_size=result.pixel_size, origin=o)
                 for o in ORIGINS]
-    finally:
-        _cells.free_cell_map = original
-        resources.clear_cache()
+
+    if way == "cells":
+        return bakes()
+    with without_free_cells():
+        return bakes()
 
 
 def _label(image, text):

@@ -205,17 +205,24 @@ def test_pack_uses_cells_only_for_the_stochastic_layers_tile(monkeypatch):
 
 
 @pytest.mark.gl
-def test_gl_matches_cpu_on_a_snapped_floor(gl):
+def _assert_gl_matches_cpu(tex, gl):
+    """GL = CPU >= 40 dB on every test view."""
     from spectex.render.cpu import render_cpu
     from spectex.render.gl import GLRenderer
 
-    tile, _ = _floor(256, 64)
-    tex = _texture(tile, (4, 4))
     with GLRenderer(tex, ctx=gl) as r:
         for name, cam in VIEWS.items():
             c = render_cpu(tex, cam, SIZE)
             g = r.render(cam, SIZE)
             assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+
+
+def test_gl_matches_cpu_on_a_snapped_floor(gl):
+    from spectex.render.cpu import render_cpu
+
+    tile, _ = _floor(256, 64)
+    tex = _texture(tile, (4, 4))
+    _assert_gl_matches_cpu(tex, gl)
     # the cells changed the picture (the control: the same texture unsnapped differs)
     cam = VIEWS["close"]
     assert psnr(render_cpu(tex, cam, SIZE), render_cpu(_texture(tile, (0, 0)), cam, SIZE)) < 35.0
@@ -448,28 +455,21 @@ def test_free_cells_draw_cobbles_whole_instead_of_cross_faded():
 
 
 @pytest.mark.gl
-def test_gl_matches_cpu_on_unsnapped_cobbles(gl):
+def test_gl_matches_cpu_on_unsnapped_cobbles(gl, monkeypatch):
     from spectex.render.cpu import render_cpu
-    from spectex.render.gl import GLRenderer
     from spectex.shading import _cells, resources
 
     tex = _texture(_cobbles()[0], (0, 0))
-    with GLRenderer(tex, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(tex, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+    _assert_gl_matches_cpu(tex, gl)
     # the control: the cells changed the picture (the same texture without its free cells)
     cam = VIEWS["close"]
     with_cells = render_cpu(tex, cam, SIZE)
-    original = _cells.free_cell_map
+    monkeypatch.setattr(_cells, "free_cell_map", lambda tile: None)
+    resources.clear_cache()
     try:
-        _cells.free_cell_map = lambda tile: None
-        resources.clear_cache()
         without = render_cpu(tex, cam, SIZE)
     finally:
-        _cells.free_cell_map = original
-        resources.clear_cache()
+        resources.clear_cache()  # (nothing kept that was made without the free cells)
     assert psnr(with_cells, without) < 35.0, psnr(with_cells, without)
 
 

@@ -207,15 +207,9 @@ def cell_map(tile, snap) -> np.ndarray | None:
     keep[ids] = sizes[ids] >= MIN_CELL * by * bx
     if not keep.any() or wraps[keep].any():
         return None  # no cells, or bands running around the torus
-    kept = keep[labels]
-    yy, xx = np.indices(labels.shape, dtype=np.float64)
-    index = np.arange(count + 1)
-    n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
-    cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
-    cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
     # every phase bin's nearest kept interior bin (itself inside one), on the mosaic so that it wraps
-    _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
-    owner = labels[iy, ix][by:2 * by, bx:2 * bx]
+    cy, cx, owner = _nearest_kept(labels, keep)
+    owner = owner[by:2 * by, bx:2 * bx]
     if h % ny == 0 and w % nx == 0:
         py, px = np.indices((by, bx), dtype=np.float64)
         d = np.stack([cx[owner] - (px + bx), cy[owner] - (py + by)], axis=2)
@@ -308,22 +302,28 @@ def _free_cells(level, k, network_only=False):
     return (labels, keep, merged), True
 
 
-def _centres(labels, keep, merged, h, w):
-    """The cell map of the kept components of ``labels`` (an ``h x w`` tile with ``FREE_MARGIN`` texels of its
-    wrap around it): per texel of the tile the vector to the centre of its nearest kept component, rounded
-    to half texels, or ``NO_CELL`` where that component is ``merged``."""
+def _nearest_kept(labels, keep):
+    """Per component of ``labels`` (a mosaic) its centre ``(cy, cx)`` over its kept texels (``keep[label]``),
+    and per texel of the mosaic the label of its nearest kept texel (itself where it is one)."""
     from scipy import ndimage
 
-    count = int(labels.max())
     kept = keep[labels]
     yy, xx = np.indices(labels.shape, dtype=np.float64)
-    index = np.arange(count + 1)
+    index = np.arange(int(labels.max()) + 1)
     n = np.maximum(ndimage.sum_labels(kept, labels, index=index), 1.0)
     cy = ndimage.sum_labels(np.where(kept, yy, 0.0), labels, index=index) / n
     cx = ndimage.sum_labels(np.where(kept, xx, 0.0), labels, index=index) / n
     _, (iy, ix) = ndimage.distance_transform_edt(~kept, return_indices=True)
+    return cy, cx, labels[iy, ix]
+
+
+def _centres(labels, keep, merged, h, w):
+    """The cell map of the kept components of ``labels`` (an ``h x w`` tile with ``FREE_MARGIN`` texels of its
+    wrap around it): per texel of the tile the vector to the centre of its nearest kept component, rounded
+    to half texels, or ``NO_CELL`` where that component is ``merged``."""
+    cy, cx, owner = _nearest_kept(labels, keep)
     my, mx = min(FREE_MARGIN, h), min(FREE_MARGIN, w)
-    owner = labels[iy, ix][my:my + h, mx:mx + w]
+    owner = owner[my:my + h, mx:mx + w]
     py, px = np.indices((h, w), dtype=np.float64)
     d = np.round(2.0 * np.stack([cx[owner] - (px + mx), cy[owner] - (py + my)], axis=2)) / 2.0
     d[merged[owner]] = NO_CELL
