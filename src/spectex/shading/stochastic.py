@@ -625,7 +625,8 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     in its patch's own region beats one that does not, and of two, the
     deeper; so each cell is whole where its patch wins, and a cell that
     loses is cut by the winner's outline (in the grout), not by a straight
-    line. Returns ``(ci, cj, whole)``: ``whole`` False where no vertex's
+    line. Returns ``(ci, cj, whole)``: ``whole`` False (and ``(ci, cj)``
+    of no meaning) where no vertex's
     cell lies in its own region (the gaps between cells that each lie in
     another patch's region; 6 % of a fitted paving's texels, or a texel of
     no cell, ``_cells.NO_CELL``), where the
@@ -637,7 +638,7 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
         ci, cj = nearest_vertex(gx, gy)
         return ci, cj, True
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
-    ci, cj = nearest_vertex(kx, ky)
+    ci, cj = i1, j1  # (kept only where a vertex scores: else not whole, and the blend is drawn)
     best = 0.0
     ox, oy = vertex_offset(bi + i1, bj + j1, key, w0, h0, nx, ny)
     gx, gy = cell_point(lut, cell_row, s + ox, t + oy, kx, ky, grid, w0, h0)

@@ -184,7 +184,7 @@ float spectex_cell_score(vec2 gc, vec2 vk) {
 // The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
 // blend at the point instead); snapped, that of the vertex nearest the centre of the cell
 // under st; free along both axes, that of the vertex of g's triangle whose own patch's cell under the point
-// scores highest at its centre (spectex_cell_score), 0 where none scores 1 or more.
+// scores highest at its centre (spectex_cell_score), 0 (and an offset of no meaning) where none scores 1 or more.
 vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
                          vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
     vec2 inv_size = 1.0 / tex_size;
@@ -196,7 +196,7 @@ vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
         vec2 c = floor(g);
         vec2 f = g - c;
         float d = (f.x + f.y < 1.0) ? 0.0 : 1.0;
-        win = spectex_nearest_vertex(g);
+        win = c + vec2(d, d);  // (kept only where a vertex scores: else the blend is drawn)
         best = 0.0;
         for (int k = 0; k < 3; k++) {
             // the triangle's vertices in stochastic.triangle_vertices' order: (d, d), (1 - d, d), (d, 1 - d)
