@@ -20,3 +20,23 @@ def without_free_cells():
     finally:
         _cells.free_cell_map = original
         resources.clear_cache()
+
+
+@contextmanager
+def without_courses():
+    """Within the block, main's code before courses (2026-11-27): a tile snapped along one axis gets no course map
+    (``spectex.shading._cells.course_map`` answers None: its layer is drawn with the triangle grid's blend) and a
+    fit's period tile gets no joint at its wrap edge (``spectex.fitting._auto._joints_at_wrap`` leaves it); the
+    shading cache is emptied on the way in and out."""
+    from spectex.fitting import _auto
+    from spectex.shading import _cells, resources
+
+    course_map, joints = _cells.course_map, _auto._joints_at_wrap
+    _cells.course_map = lambda tile, snap: None
+    _auto._joints_at_wrap = lambda tile, snap: tile
+    resources.clear_cache()
+    try:
+        yield
+    finally:
+        _cells.course_map, _auto._joints_at_wrap = course_map, joints
+        resources.clear_cache()

@@ -161,6 +161,8 @@ def main(argv=None) -> int:
                     help="only the default fits' GL frame with the coarse layers overlaid against alpha-blended")
     ap.add_argument("--free-cells-only", action="store_true",
                     help="only the GL frame of paving's fit with its free cells (cobbles) against without")
+    ap.add_argument("--courses-only", action="store_true",
+                    help="only the GL frame of planks' fit with its course map (boards) against without")
     ap.add_argument("--fit-frame-only", action="store_true",
                     help="only the GL frame of the default and legacy fits of gravel against its periodic fit, "
                          "at anisotropy 1 and 8")
@@ -180,11 +182,12 @@ def main(argv=None) -> int:
     load = os.getloadavg()
     print(f"machine: {cpu_name()}, {os.cpu_count()} CPUs, "
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
-    if args.gl_only or args.cells_only or args.coarse_blend_only or args.fit_frame_only or args.free_cells_only:
+    if (args.gl_only or args.cells_only or args.coarse_blend_only or args.fit_frame_only or args.free_cells_only
+            or args.courses_only):
         if gl:
             (_cells_ratio if args.cells_only else _coarse_blend_ratio if args.coarse_blend_only
              else _fit_frame_ratio if args.fit_frame_only else _free_cells_ratio if args.free_cells_only
-             else _paper_ratio)(args.repeats)
+             else _courses_ratio if args.courses_only else _paper_ratio)(args.repeats)
         return 0
     print(f"photos cropped to {args.crop} x {args.crop}; near: 2048^2 at the photo's pixel size, "
           f"far: 1024^2 at 8x; t&b patch {args.patch} tiles")
@@ -238,7 +241,7 @@ def main(argv=None) -> int:
 
 
 def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, anisotropy=None,
-               without_free_cells=()) -> dict:
+               without_free_cells=(), switch=None) -> dict:
     """Per texture, (wall seconds, CPU seconds) per 1920 x 1080 frame of each of ``repeats`` runs.
 
     The textures' runs are interleaved (one run of each, then the next
@@ -247,7 +250,8 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
     20 degrees down. ``anisotropy``: the renderer's maximum anisotropy (None:
     its default, 8). ``without_free_cells``: the labels whose renderers are made
     without their tiles' free cell maps (``spectex.shading._cells.free_cell_map``
-    answering None meanwhile).
+    answering None meanwhile), made within ``switch()`` (a context manager of ``_switches``, default
+    ``without_free_cells``).
     """
     from spectex.render import Camera
     from spectex.render.gl import create_context
@@ -261,7 +265,7 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
             if cam is None:
                 size = float(texture.layers[0].size) / texture.tile_shape[1]  # metres per tile texel
                 cam = Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0)
-            r = _renderer(texture, ctx, label in without_free_cells)
+            r = _renderer(texture, ctx, label in without_free_cells, switch)
             renderers[label] = (r, cam)
             r.time_frames(cam, (1080, 1920), frames=1, **kw)  # compiles the programs
         out = {label: ([], []) for label in renderers}
@@ -278,15 +282,16 @@ def _gl_frames(textures: dict, repeats: int, camera=None, frames: int = 3, aniso
         ctx.release()
 
 
-def _renderer(texture, ctx, without_free_cells):
-    """A GLRenderer of ``texture``, its resources made without free cell maps where asked."""
+def _renderer(texture, ctx, without_free_cells, switch=None):
+    """A GLRenderer of ``texture``, its resources made without free cell maps (or within ``switch()``) where
+    asked."""
     from _switches import without_free_cells as switched_off
 
     from spectex.render.gl import GLRenderer
 
     if not without_free_cells:
         return GLRenderer(texture, ctx=ctx)
-    with switched_off():
+    with (switch or switched_off)():
         return GLRenderer(texture, ctx=ctx)
 
 
@@ -307,6 +312,30 @@ def _free_cells_ratio(repeats: int) -> None:
         a, b = frames["cells"][1], frames["blend"][1]
         load = os.getloadavg()
         print(f"GL CPU time per frame, paving fit, {view}, 1920 x 1080: free cells {np.median(a) * 1e3:.1f} ms, "
+              f"without {np.median(b) * 1e3:.1f} ms, ratio {np.median(a / b):.2f} (runs: "
+              f"{', '.join(f'{v:.2f}' for v in a / b)}; load {load[0]:.2f})", flush=True)
+
+
+def _courses_ratio(repeats: int) -> None:
+    """The default fit of ``exemplars.py``'s planks (boards: a finest layer snapped across its courses whose tile
+    has a course map) drawn with its course map against without (the triangle grid's blend: three fetches a
+    tap, where the courses read up to 8 map entries and one texel), GL CPU time per frame at two views (40 and
+    300 texels up)."""
+    from _switches import without_courses
+    from exemplars import load as load_photo
+
+    from spectex.fitting import fit
+    from spectex.render import Camera
+
+    tex = fit(load_photo("planks"), pixel_size=1.0)
+    size = float(tex.layers[0].size) / tex.tile_shape[1]  # metres per tile texel
+    for view, cam in (("close", Camera((0.0, 0.0, 40.0 * size), yaw=35.0, pitch=-30.0, fov=60.0)),
+                      ("300 px up", Camera((0.0, 0.0, 300.0 * size), yaw=35.0, pitch=-20.0, fov=60.0))):
+        frames = _gl_frames({"courses": tex, "blend": tex}, repeats, camera=cam, without_free_cells=("blend",),
+                            switch=without_courses)
+        a, b = frames["courses"][1], frames["blend"][1]
+        load = os.getloadavg()
+        print(f"GL CPU time per frame, planks fit, {view}, 1920 x 1080: courses {np.median(a) * 1e3:.1f} ms, "
               f"without {np.median(b) * 1e3:.1f} ms, ratio {np.median(a / b):.2f} (runs: "
               f"{', '.join(f'{v:.2f}' for v in a / b)}; load {load[0]:.2f})", flush=True)
 

@@ -56,13 +56,15 @@ def wrap_step(tile):
 
 
 def _tiles(photo, monkeypatch):
-    """The period tile with the strips cut at their joints, and the straight cut's (the control)."""
+    """The period tile with the strips cut at their joints, and the straight cut's as before 2026-11-26 (the
+    control: no joint put where its wrap edge joins two bricks, ``_auto._joints_at_wrap``)."""
     from spectex.fitting import _auto
 
     period = _auto.structure_period(photo)
     cut = _auto._period_tile(photo, period)
     with monkeypatch.context() as m:
         m.setattr(_auto, "_strip_tile", lambda *args: None)  # the straight cut, as before
+        m.setattr(_auto, "_joints_at_wrap", lambda tile, snap: tile)  # (and no joint put at its wrap edge)
         straight = _auto._period_tile(photo, period)
     return period, cut, straight
 

@@ -219,7 +219,9 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
     _common.report(f"  layer sizes {', '.join(f'{lay.size:.4g}' for lay in texture.layers)} m; opacities "
                    f"{', '.join(f'{o:.3f}' for o in pr['opacities'])}; finest tile: {pr['tile_method']}"
                    + ("; drawn with free cells (its grout's network found: each cell whole from one patch, the "
-                      "patches meeting in the grout)" if pr.get("free_cells") else ""))
+                      "patches meeting in the grout)" if pr.get("free_cells") else "")
+                   + ("; its courses change patch at their joints (each board or brick whole, or ended by a "
+                      "joint)" if pr.get("courses") else ""))
     w1 = max(numbers.histogram_w1)
     _common.report(f"  at the exemplar's pixel size, on the render of 8x its area (comparison.png): band power "
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "

@@ -416,13 +416,16 @@ def _period_tile(exemplar, period, words=None):
                 kind = "columns" if period[1] is not None else "courses"
                 words.append(f"{one + two} of its {strips} {kind} cut at their own joints ({one} at one stretch, "
                              f"{two} at two; stretched by at most {100 * most:.0f}%)")
-            return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
+            return _joints_at_wrap(tile, (kx, ky)), side, (ky, kx), (qy, qx), float(sx if period[1] is not None
+                                                                                   else sy)
     crop = exemplar[y0:y0 + iy + 1, x0:x0 + ix + 1].astype(np.float64)
     # texel centres (i + 0.5) of the L-texel tile at photo places (i + 0.5) span / L - 0.5 of the crop
     yy = (np.arange(side) + 0.5) * (spans[0] / side) - 0.5
     xx = (np.arange(side) + 0.5) * (spans[1] / side) - 0.5
     gy, gx = np.meshgrid(yy, xx, indexing="ij")
     tile = _whole_edge_cells(cubic_at(crop, gy, gx), exemplar, (kx, ky), (y0, x0), spans)
+    if (period[0] is None) != (period[1] is None):
+        tile = _joints_at_wrap(tile, (kx, ky))
     return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
 
 
@@ -578,6 +581,54 @@ def _strip_cuts(photo, period, x0, span_x, y0, side):
     return rows, (counts[0], counts[1], len(np.unique(tile_strip)), most)
 
 
+#: A course's wrap edge joins two boards where the colour step across it is over this many times the
+#: course's median step between neighbouring lines (and over ``WRAP_STEP_FLOOR``).
+WRAP_STEP = 3.0
+WRAP_STEP_FLOOR = 0.01
+
+
+def _joints_at_wrap(tile, snap):
+    """A tile with a period along one axis only (``snap`` ``(0, ny)``: courses along x; ``(nx, 0)``: columns
+    along y) with a joint at its wrap edge in every course that joins two boards there.
+
+    Where a course was read straight across the photo (not cut at its own joints, :func:`_strip_tile`),
+    its wrap edge joins the end of one board to the middle of another: two tones meet without a joint, in
+    every patch, and the sampler, which changes patch along a course at joints only
+    (``shading.stochastic.course_vertex``), would keep them. Such a course (a step across the edge over
+    ``WRAP_STEP`` times its median step between neighbouring lines) gets one of its own joints (the
+    grout between two of its boards, ``shading._cells.course_joints``) over the edge, centred on it: the
+    two boards now end at a joint, as boards do. A course whose joint already lies at the edge, or
+    without joints, is left alone. Unchanged where no courses are found.
+    """
+    from ..shading.resources import course_joints
+
+    found = course_joints(tile, snap)
+    if found is None:
+        return tile
+    courses, _, runs = found
+    along_x = int(snap[0]) == 0
+    out = np.array(tile, copy=True)
+    view = out if along_x else out.swapaxes(0, 1)
+    w = view.shape[1]
+    for c, joints in enumerate(runs):
+        lines = courses == c
+        if not joints or not lines.any():
+            continue
+        if any(a <= 2 or a + b >= w - 2 for a, b in joints):  # a joint runs over (or next to) the edge
+            continue
+        rows = view[lines][:, :, :3].mean(axis=(0, 2))
+        steps = np.abs(np.diff(rows))
+        if abs(rows[0] - rows[-1]) <= max(WRAP_STEP * float(np.median(steps)), WRAP_STEP_FLOOR):
+            continue
+        a, width = max(joints, key=lambda j: j[1])
+        src = (a + np.arange(width)) % w
+        dst = (np.arange(width) - width // 2) % w
+        block = view[lines]
+        block[:, dst] = block[:, src]
+        view[lines] = block
+    return out
+
+
 def _strip_tile(exemplar, period, side, origin, spans):
     """The period tile of a photo with a period along one axis only, its strips cut at their own joints
     (:func:`_strip_cuts`), and :func:`_strip_cuts`'s counts; or None where no strip has joints to cut at.
@@ -616,6 +667,8 @@ def _whole_edge_cells(tile, exemplar, snap, origin, spans):
     from ..shading.resources import cell_map
 
     side = tile.shape[0]
+    if min(int(snap[0]), int(snap[1])) == 0:
+        return tile  # (a period along one axis: courses, not cells; _joints_at_wrap)
     cells = cell_map(tile, snap)
     if cells is None:
         return tile
@@ -1149,7 +1202,11 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
 
     # an unsnapped finest layer whose tile shows a grout network is drawn with free cells (cobbles whole)
     free_cells = bool(tilings0 == "stochastic" and max(snap0) == 0 and cell_maps(texture)[0] is not None)
+    # one snapped along one axis only whose tile's courses have joints changes patch at its joints (boards whole)
+    courses = bool(tilings0 == "stochastic" and max(snap0) > 0 and min(snap0) == 0
+                   and cell_maps(texture)[0] is not None)
     params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "free_cells": free_cells,
+              "courses": courses,
               "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,
               "opacities": [lay.opacity for lay in layer_list], "alpha_gain": 0.0, "coarse_depth": depth,

@@ -57,7 +57,8 @@ import numpy as np
 
 from .._otsu import otsu
 
-__all__ = ["cell_map", "free_cell_map", "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL",
+__all__ = ["cell_map", "free_cell_map", "course_map", "COURSE_MIN_JOINTED", "COURSE_MIN_UNITS", "JOINT_DEPTH",
+           "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL",
            "FREE_WIDTHS", "FREE_MIN_CELLS", "FREE_MIN_INTERIOR", "FREE_MERGED", "NO_CELL"]
 
 #: The mean period cell's variance (along its principal colour axis) must be at least this fraction of the
@@ -86,6 +87,14 @@ FREE_MERGED = 3.0
 #: The cell map's entry for a texel of no cell (a merged one's, or the grout nearest it): a centre this many
 #: texels away, which no patch's region holds, so the sampler blends there (``stochastic.cell_vertex``).
 NO_CELL = 4096.0
+#: A tile snapped along one axis only (courses of boards, columns of bricks: :func:`course_map`) has a course
+#: map where at least this share of its courses have a joint ...
+COURSE_MIN_JOINTED = 0.5
+#: ... and at least this many boards (units from a joint to the next) in all.
+COURSE_MIN_UNITS = 4
+#: A joint: a run of columns across a course at least this fraction of the grout's contrast between the
+#: courses darker (or lighter) than the course about it (a top-hat of the course's mean profile).
+JOINT_DEPTH = 0.4
 
 
 def _torus_components(mask: np.ndarray, margin: int | None = None):
@@ -163,6 +172,8 @@ def cell_map(tile, snap) -> np.ndarray | None:
     tile = np.asarray(tile)
     if max(int(snap[0]), int(snap[1])) == 0:
         return free_cell_map(tile)
+    if min(int(snap[0]), int(snap[1])) == 0:
+        return course_map(tile, snap)
     nx, ny = max(int(snap[0]), 1), max(int(snap[1]), 1)
     h, w = tile.shape[:2]
     if nx * ny < 4 or h < 4 * ny or w < 4 * nx:
@@ -328,3 +339,119 @@ def _centres(labels, keep, merged, h, w):
     d = np.round(2.0 * np.stack([cx[owner] - (px + mx), cy[owner] - (py + my)], axis=2)) / 2.0
     d[merged[owner]] = NO_CELL
     return np.ascontiguousarray(d, dtype=np.float32)
+
+
+def course_map(tile, snap) -> np.ndarray | None:
+    """:func:`cell_map` of a tile snapped along one axis only: its courses (rows of floor boards, columns of
+    bricks whose joints have no period along the column) and the joints within each, or None.
+
+    The courses: the tile's colours along their principal axis, averaged along the courses and folded
+    into the snap's period, split by Otsu's threshold; the thinner class, one run per period, is the grout
+    between courses, its centre line a course's edge. The joints: per course, the mean over its interior
+    lines of the same colours, less its grey closing (or opening, for a light grout) over ``k`` texels
+    (``k = 2 w + 3``, ``w`` the grout's width, at least 5), at least :data:`JOINT_DEPTH` times the grout's
+    own contrast; a run of such texels is a joint, and a board (a *unit*) runs from a joint's start to
+    the next's, on the torus. A map where at least :data:`COURSE_MIN_JOINTED` of the courses have a joint
+    and there are at least :data:`COURSE_MIN_UNITS` boards.
+
+    Returns
+    -------
+    ndarray, shape (H, W, 4), float32, or None
+        Along the courses (x for ``snap`` ``(0, ny)``, y for ``(nx, 0)``): the texels from the texel to the
+        start of its unit (``<= 0``) and to the next unit's start (``>= 1``), ``-NO_JOINT`` and ``NO_JOINT``
+        in a course without a joint; across them, the vector to its course's centre line (multiples of 1/2,
+        as :func:`cell_map`'s); and the tile's longest unit in texels (the same in every texel). The sampler
+        changes patch along a course at a joint (``shading.stochastic.course_vertex``).
+    """
+    from .constants import NO_JOINT
+
+    found = course_joints(tile, snap)
+    if found is None:
+        return None
+    courses, across, runs = found
+    along_x = int(snap[0]) == 0
+    h, w = (tile.shape[0], tile.shape[1]) if along_x else (tile.shape[1], tile.shape[0])
+    along = np.empty((h, w, 2))
+    along[:, :, 0], along[:, :, 1] = -NO_JOINT, NO_JOINT
+    x = np.arange(w)
+    jointed, units, longest = 0, 0, 0
+    for c, joints in enumerate(runs):
+        if not joints:
+            continue
+        first = np.array([j[0] for j in joints])
+        jointed += 1
+        units += len(first)
+        # per texel its unit's start (the last joint start at or before it) and the next, on the torus
+        at = np.searchsorted(first, x, side="right") - 1  # -1: before the first, the last one's (wrapped)
+        prev = first[at]
+        start = np.where(at >= 0, prev, prev - w)
+        following = np.concatenate([first[1:], first[:1] + w])
+        end = np.where(at >= 0, following[at], first[0])
+        longest = max(longest, int(np.max(np.diff(np.concatenate([first, first[:1] + w])))))
+        along[courses == c, :, 0] = start - x
+        along[courses == c, :, 1] = end - x
+    if jointed < COURSE_MIN_JOINTED * len(runs) or units < COURSE_MIN_UNITS:
+        return None
+    out = np.empty((h, w, 4), dtype=np.float32)
+    out[:, :, :2] = along
+    out[:, :, 2] = across[:, None]
+    out[:, :, 3] = longest
+    return np.ascontiguousarray(out if along_x else out.transpose(1, 0, 2))
+
+
+def course_joints(tile, snap):
+    """The courses and joints :func:`course_map` reads (courses along x: a tile snapped along x only is read
+    turned), or None where there is no grout between courses: ``(courses, across, runs)``, per line its
+    course's index (0 to ``n - 1``) and the vector to the course's centre line, and per course its joints,
+    ``[(start, width), ...]`` in texels along it (sorted starts; empty for a course without one)."""
+    from scipy import ndimage
+
+    along_x = int(snap[0]) == 0
+    n = int(snap[1] if along_x else snap[0])
+    rgb = np.asarray(tile)[:, :, :3].astype(np.float64)
+    if not along_x:
+        rgb = rgb.transpose(1, 0, 2)  # courses along x from here on
+    h, w = rgb.shape[:2]
+    if n < 2 or h < 4 * n:
+        return None
+    flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
+    axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
+    level = rgb @ axis
+    # the courses' edges: the grout between them, on the mean profile across the courses folded into a period
+    _, phase, bins, period = _phases(h, n)
+    rows = level.mean(axis=1)
+    profile = np.bincount(phase, weights=rows, minlength=bins) / np.maximum(np.bincount(phase, minlength=bins), 1)
+    high = profile > otsu(profile)[0]
+    grout = high if high.sum() <= (~high).sum() else ~high
+    starts = np.flatnonzero(grout & ~np.roll(grout, 1))
+    if not grout.any() or grout.all() or len(starts) != 1 or grout.mean() > 0.4:
+        return None
+    contrast = float(profile[grout].mean() - profile[~grout].mean())
+    run = int(grout.sum())
+    edge = (starts[0] + run / 2.0) * period / bins  # the grout's centre line, texels into the period
+    # each line's course (its edge below it) and that course's centre line
+    y = np.arange(h, dtype=np.float64) + 0.5
+    course = np.floor((y - edge) / period)
+    across = np.round(2.0 * (edge + (course + 0.5) * period - y)) / 2.0
+    course = course.astype(np.int64) % n
+    inside = ~grout[phase]
+    k = max(5, 2 * int(round(run * period / bins)) + 3)
+    runs = []
+    for c in range(n):
+        lines = (course == c) & inside
+        joints = []
+        if lines.any():
+            mean = level[lines].mean(axis=0)
+            if contrast < 0:  # dark grout: dark joints
+                hat = ndimage.grey_closing(mean, size=k, mode="wrap") - mean
+            else:
+                hat = mean - ndimage.grey_opening(mean, size=k, mode="wrap")
+            joint = hat >= JOINT_DEPTH * abs(contrast)
+            if joint.any() and not joint.all():
+                first = np.flatnonzero(joint & ~np.roll(joint, 1))
+                ends = np.flatnonzero(joint & ~np.roll(joint, -1))
+                for a in first:
+                    b = ends[np.searchsorted(ends, a) % len(ends)]
+                    joints.append((int(a), int((b - a) % w + 1)))
+        runs.append(joints)
+    return course, across, runs

@@ -20,6 +20,7 @@ __all__ = [
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD", "CELL_LOD_MARGIN",
+    "COURSE_SEGMENT", "COURSE_SLIVER", "COURSE_TRIES", "NO_JOINT",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -86,6 +87,19 @@ SHARP_LOD = 2.0
 #: is still 8 to 16 pixels wide at ``SHARP_LOD`` (it was cut by the triangle grid's cross-fades
 #: there, unlike the same floor seen closer: 28 dB from a supersampled render of it).
 CELL_LOD_MARGIN = 2.0
+#: A layer snapped along one axis only (courses of boards or bricks, ``shading._cells.course_map``) changes
+#: patch along each course at a joint: the course is cut into segments of whole grid cells, each at least
+#: ``COURSE_SEGMENT`` times the tile's longest board (``stochastic.course_vertex``), so that every segment
+#: holds a joint of its own patch where the patch before it gives way.
+COURSE_SEGMENT = 1.25
+#: Of the new patch's first ``COURSE_TRIES`` joints in its segment, the cut takes the one that hides least of
+#: the board the patch before shows there, and leaves none of it shorter than ``COURSE_SLIVER`` times the
+#: course's height (a sliver of a board) where it can.
+COURSE_SLIVER = 0.5
+COURSE_TRIES = 3
+#: A course map's unit start and end for a course without a joint (a band the whole tile long): the cut
+#: across it is at the segment's start.
+NO_JOINT = 4096.0
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -161,6 +175,10 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_WEIGHT_SQUARINGS {WEIGHT_SQUARINGS}")
     lines.append(f"#define SPX_SHARP_LOD {_glsl_number(SHARP_LOD)}")
     lines.append(f"#define SPX_CELL_LOD_MARGIN {_glsl_number(CELL_LOD_MARGIN)}")
+    lines.append(f"#define SPX_COURSE_SEGMENT {_glsl_number(COURSE_SEGMENT)}")
+    lines.append(f"#define SPX_COURSE_SLIVER {_glsl_number(COURSE_SLIVER)}")
+    lines.append(f"#define SPX_COURSE_TRIES {COURSE_TRIES}")
+    lines.append(f"#define SPX_NO_JOINT {_glsl_number(NO_JOINT)}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")
     lines.append(f"#define SPX_FADE_END {_glsl_number(FADE_END)}")

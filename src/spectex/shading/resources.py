@@ -17,6 +17,8 @@ function                   what it gives
                            tables (and the cell maps after them) as one
                            array each (the kernels')
 :func:`cell_rows`          per tile, where its cell map starts in them
+:func:`course_joints`      a tile's courses and their joints (what a course
+                           map is made of; the fit's period tile reads them)
 :func:`shading_resources`  those of them that ``shading.tables.pack``
                            reads, handed down in one bundle
 =========================  ===============================================
@@ -45,11 +47,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._cells import cell_map
+from ._cells import cell_map, course_joints
 
 __all__ = ["KEPT", "ShadingResources", "StochasticStore", "TexelStore", "cell_map", "cell_maps", "cell_rows",
-           "cell_snaps", "clear_cache", "mean_colours", "mip_levels", "shading_resources", "stochastic_store",
-           "stochastic_tables", "texel_store", "tile_digest"]
+           "cell_snaps", "course_joints", "clear_cache", "mean_colours", "mip_levels", "shading_resources",
+           "stochastic_store", "stochastic_tables", "texel_store", "tile_digest"]
 
 #: Entries kept (a tile's levels, a tile's stochastic tables, a texture's store: one entry each).
 KEPT = 16

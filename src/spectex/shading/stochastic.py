@@ -68,12 +68,16 @@ from .._validate import check_float, check_image, check_seed
 from ._mip_texture import MipTexture, filter_code
 from .constants import (
     CELL_LOD_MARGIN,
+    COURSE_SEGMENT,
+    COURSE_SLIVER,
+    COURSE_TRIES,
     GAUSS_MEAN,
     GAUSS_SCALE,
     HASH_MUL1,
     HASH_MUL2,
     LUT_SIZE,
     LUT_SUBROWS,
+    NO_JOINT,
     SHARP_LOD,
     WEIGHT_SQUARINGS,
 )
@@ -287,18 +291,20 @@ def expand_lut(lut: np.ndarray) -> np.ndarray:
 
 
 def cell_rows(cells: np.ndarray) -> np.ndarray:
-    """A cell map (``shading._cells.cell_map``, ``(h, w, 2)``) as rows of the expanded table, ``(rows, LUT_SIZE, 4)``.
+    """A cell map (``shading._cells.cell_map``, ``(h, w, 2)``, or a course map's ``(h, w, 4)``) as rows of the
+    expanded table, ``(rows, LUT_SIZE, 4)``.
 
     Texel ``(x, y)``'s entry is at index ``idx = y w + x``: row ``idx //
     LUT_SIZE``, entry ``idx mod LUT_SIZE``, ``dx, dy`` in channels 0 and 1
-    (2 and 3 are 0); ``ceil(h w / LUT_SIZE)`` rows, appended after the
+    (2 and 3 are 0; a course map's four values in channels 0-3); ``ceil(h w / LUT_SIZE)`` rows, appended after the
     tables (the samplers read them from the layer's ``cell_row``:
     :func:`cell_point`). Its values are multiples of 1/2, exact in half floats.
     """
-    flat = np.asarray(cells, dtype=np.float32).reshape(-1, 2)
+    cells = np.asarray(cells, dtype=np.float32)
+    flat = cells.reshape(-1, cells.shape[2])
     rows = -(-flat.shape[0] // LUT_SIZE)
     out = np.zeros((rows * LUT_SIZE, 4), dtype=np.float32)
-    out[:flat.shape[0], :2] = flat
+    out[:flat.shape[0], :flat.shape[1]] = flat
     return _half(out.reshape(rows, LUT_SIZE, 4))
 
 
@@ -611,6 +617,108 @@ def cell_score(gx, gy, ci, cj):
 
 
 @_jit_inline
+def course_entry(lut, cell_row, x, y, w0, h0, c):
+    """Channel ``c`` of the cell map's entry of level-0 texel ``(x, y)`` (whole numbers, wrapped onto the tile)."""
+    iw = np.int64(w0)
+    idx = (np.int64(y) % np.int64(h0)) * iw + np.int64(x) % iw
+    n = np.int64(lut.shape[1])
+    return lut[np.int64(cell_row) + idx // n, idx % n, c]
+
+
+@_jit_inline
+def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
+    """The grid vertex (relative to ``(bi, bj)``) whose patch a layer snapped along one axis shows at ``(s, t)``.
+
+    The layer's tile has a course map (``shading._cells.course_map``): its courses (rows of boards, or
+    columns of bricks) run along the free axis, and every patch's courses fall where the un-offset tile's
+    do. Each course changes patch at a joint, never inside a board: the course's centre line (from the
+    map) is cut into *segments* of ``m`` whole grid cells along it (``m`` the fewest whose length is at
+    least ``COURSE_SEGMENT`` times the tile's longest board; counted from the grid's absolute vertex
+    index, so the same wherever the anchor is), each segment shown by the patch of the grid vertex where
+    it starts. The segment's patch takes over at the first start of a unit (a joint and the board after
+    it) of its own in the segment: of its first ``COURSE_TRIES``, the one that hides least of the board the
+    patch before shows there (nothing where both patches have a joint there), a cut leaving that board
+    shorter than ``COURSE_SLIVER`` times the course's height (a sliver) only where every other hides more
+    than a tile. The patch before shows up to there, its board ended by the new patch's joint. A course
+    without a joint, or a segment without a joint of the new patch, is cut at the segment's start. Every
+    course decides alone: the courses change patch on the grout between them.
+    """
+    along_x = ny < h0  # snapped across y: the courses run along x
+    xt = math.floor(s * w0)
+    yt = math.floor(t * h0)
+    across = course_entry(lut, cell_row, xt, yt, w0, h0, 2)
+    longest = course_entry(lut, cell_row, xt, yt, w0, h0, 3)
+    if along_x:
+        size = w0
+        vc = (yt + 0.5 + across) / h0  # the course's centre line (t)
+        ul = kx + grid[0, 1] * (vc - t)  # the point moved onto it, in the grid
+        wl = ky + grid[1, 1] * (vc - t)
+        step = grid[0, 0]  # grid cells per tile unit along the course
+        rho = 0.0  # the other grid coordinate's change per cell along it
+        base = bi
+        u = s
+        height = h0 / ny
+        vrow = math.floor(vc * h0)
+    else:
+        size = h0
+        vc = (xt + 0.5 + across) / w0
+        ul = ky + grid[1, 0] * (vc - s)
+        wl = kx + grid[0, 0] * (vc - s)
+        step = grid[1, 1]
+        rho = grid[0, 1] / grid[1, 1]
+        base = bj
+        u = t
+        height = w0 / nx
+        vrow = math.floor(vc * w0)
+    m = np.int64(max(math.ceil(COURSE_SEGMENT * longest * step / size), 1.0))
+    fu = np.int64(math.floor(ul))
+    i0 = fu - ((base + fu) & _M32) % m  # the segment's first cell (relative), from the absolute index
+    u0 = u + (i0 - ul) / step  # the segment's start and end along the course (tile units)
+    u1 = u0 + m / step
+    j0 = np.int64(math.floor(wl + rho * (i0 - ul)))
+    jp = np.int64(math.floor(wl + rho * (i0 - m - ul)))
+    ci, cj = (i0, j0) if along_x else (j0, i0)
+    pi, pj = (i0 - m, jp) if along_x else (jp, i0 - m)
+    ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
+    qx, qy = vertex_offset(bi + pi, bj + pj, key, w0, h0, nx, ny)
+    # the offsets are whole texels: (along, across) of each patch
+    ox = math.floor(ox * w0 + 0.5)
+    oy = math.floor(oy * h0 + 0.5)
+    qx = math.floor(qx * w0 + 0.5)
+    qy = math.floor(qy * h0 + 0.5)
+    oa, ob = (ox, oy) if along_x else (oy, ox)
+    pa, pb = (qx, qy) if along_x else (qy, qx)
+    # the cut: of the new patch's first COURSE_TRIES unit starts in the segment, the one that hides least of
+    # the board the patch before shows there (none where its own joint is there too), slivers avoided
+    end = u1 * size
+    cut = u0 * size
+    best = np.inf
+    pos = float(math.floor(cut))
+    for _ in range(COURSE_TRIES):
+        if along_x:
+            b = course_entry(lut, cell_row, pos + oa, vrow + ob, w0, h0, 1)
+        else:
+            b = course_entry(lut, cell_row, vrow + ob, pos + oa, w0, h0, 1)
+        if b >= 0.5 * NO_JOINT or pos + b >= end:
+            break
+        pos += b
+        if along_x:
+            a = course_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 0)
+            hidden = course_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 1) - 1.0
+        else:
+            a = course_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 0)
+            hidden = course_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 1) - 1.0
+        if hidden > 0.0 and 1.0 - a < COURSE_SLIVER * height:
+            hidden += size  # a sliver of a board: only where nothing better
+        if hidden < best:
+            best = hidden
+            cut = pos
+    if u * size >= cut:
+        return ci, cj
+    return pi, pj
+
+
+@_jit_inline
 def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     """The grid vertex (relative to ``(bi, bj)``) whose patch a layer with a cell map shows whole at ``(s, t)``.
 
@@ -633,6 +741,9 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     sampler blends at the point instead (a hard cut there showed
     fragments of cells).
     """
+    if (nx < w0) != (ny < h0):
+        ci, cj = course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
+        return ci, cj, True
     if nx < w0 or ny < h0:
         gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
         ci, cj = nearest_vertex(gx, gy)
@@ -708,7 +819,7 @@ def cell_mix(lam, w0, h0, nx, ny):
     closer, and a mip-mapped view at mid distance would show the blend's stones where the supersampled
     truth shows the cells' (fitted paving, 100 m: 31.6 / 40.2 dB full-band / low-passed against that truth
     with the switch at ``SHARP_LOD``, 34.3 / 44.7 without it)."""
-    if nx >= w0 and ny >= h0:
+    if nx >= w0 or ny >= h0:
         return 0.0
     return min(max(lam - max(SHARP_LOD, math.log2(min(w0 / nx, h0 / ny)) - CELL_LOD_MARGIN), 0.0), 1.0)
 

@@ -181,6 +181,102 @@ float spectex_cell_score(vec2 gc, vec2 vk) {
     return (n.x == vk.x && n.y == vk.y) ? hat + 1.0 : hat;
 }
 
+// Channel c of the cell map's entry of level-0 texel xy (whole numbers, wrapped onto the tile; as
+// spectex_cell_centre reads it; stochastic.course_entry).
+float spectex_course_entry(SPX_TEX_ARG(lut), vec2 xy, vec2 tex_size, float cell_row, float lut_rows, int c) {
+    vec2 m = min(max(xy - tex_size * floor(xy / tex_size), 0.0), tex_size - 1.0);
+    int idx = int(m.y) * int(tex_size.x) + int(m.x);
+    int row = idx / SPX_LUT_SIZE;
+    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
+    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows) + 0.25 * float(c);
+    return SPX_LOD(lut, vec2(u, v), 0.0).x;
+}
+
+// The grid vertex (relative to the base vertex) whose patch a layer snapped along one axis only shows at st
+// (stochastic.course_vertex): its courses (rows of boards, columns of bricks) change patch at a joint.
+// The course's centre line is cut into segments of m grid cells (counted from the absolute vertex index),
+// each shown by its first vertex's patch from the least hiding of that patch's first SPX_COURSE_TRIES unit
+// starts in it on; before there, the previous segment's patch.
+vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+                           vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
+    vec2 inv_size = 1.0 / tex_size;
+    bool along_x = snap.y < tex_size.y;
+    vec2 xy = floor(st * tex_size);
+    float across = spectex_course_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 2);
+    float longest = spectex_course_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 3);
+    float size;
+    float vc;
+    float ul;
+    float wl;
+    float stp;
+    float rho;
+    float u;
+    float height;
+    float vrow;
+    SPX_UINT base;
+    if (along_x) {
+        size = tex_size.x;
+        vc = (xy.y + 0.5 + across) / tex_size.y;
+        ul = g.x + grid.y * (vc - st.y);
+        wl = g.y + grid.w * (vc - st.y);
+        stp = grid.x;
+        rho = 0.0;
+        base = base_i;
+        u = st.x;
+        height = tex_size.y / snap.y;
+        vrow = floor(vc * tex_size.y);
+    } else {
+        size = tex_size.y;
+        vc = (xy.x + 0.5 + across) / tex_size.x;
+        ul = g.y + grid.z * (vc - st.x);
+        wl = g.x + grid.x * (vc - st.x);
+        stp = grid.w;
+        rho = grid.y / grid.w;
+        base = base_j;
+        u = st.y;
+        height = tex_size.x / snap.x;
+        vrow = floor(vc * tex_size.x);
+    }
+    float m = max(ceil(SPX_COURSE_SEGMENT * longest * stp / size), 1.0);
+    float fu = floor(ul);
+    float i0 = fu - float((base + SPX_UINT(int(fu))) % SPX_UINT(int(m)));
+    float u0 = u + (i0 - ul) / stp;
+    float end = (u0 + m / stp) * size;
+    vec2 cur = along_x ? vec2(i0, floor(wl + rho * (i0 - ul))) : vec2(floor(wl + rho * (i0 - ul)), i0);
+    vec2 prev = along_x ? vec2(i0 - m, floor(wl + rho * (i0 - m - ul)))
+        : vec2(floor(wl + rho * (i0 - m - ul)), i0 - m);
+    vec2 oc = floor(spectex_vertex_offset(SPX_UINT(int(cur.x)) + base_i, SPX_UINT(int(cur.y)) + base_j, key,
+                                          tex_size, inv_size, snap) * tex_size + 0.5);
+    vec2 op = floor(spectex_vertex_offset(SPX_UINT(int(prev.x)) + base_i, SPX_UINT(int(prev.y)) + base_j, key,
+                                          tex_size, inv_size, snap) * tex_size + 0.5);
+    // (along, across) of each patch's whole-texel offset
+    vec2 oa = along_x ? oc : oc.yx;
+    vec2 pa = along_x ? op : op.yx;
+    float cut = u0 * size;
+    float best = 1.0e30;
+    float pos = floor(cut);
+    for (int k = 0; k < SPX_COURSE_TRIES; k++) {
+        vec2 q = vec2(pos + oa.x, vrow + oa.y);
+        float b = spectex_course_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, 1);
+        if (b >= 0.5 * SPX_NO_JOINT || pos + b >= end) {
+            break;
+        }
+        pos += b;
+        vec2 r = vec2(pos - 1.0 + pa.x, vrow + pa.y);
+        r = along_x ? r : r.yx;
+        float a = spectex_course_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 0);
+        float hidden = spectex_course_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 1) - 1.0;
+        if (hidden > 0.0 && 1.0 - a < SPX_COURSE_SLIVER * height) {
+            hidden += size;  // a sliver of a board: only where nothing better
+        }
+        if (hidden < best) {
+            best = hidden;
+            cut = pos;
+        }
+    }
+    return (u * size >= cut) ? cur : prev;
+}
+
 // The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
 // blend at the point instead); snapped, that of the vertex nearest the centre of the cell
 // under st; free along both axes, that of the vertex of g's triangle whose own patch's cell under the point
@@ -190,7 +286,10 @@ vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
     vec2 inv_size = 1.0 / tex_size;
     vec2 win;
     float best = 1.0;
-    if (snap.x < tex_size.x || snap.y < tex_size.y) {
+    if ((snap.x < tex_size.x) != (snap.y < tex_size.y)) {
+        win = spectex_course_vertex(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
+                                    lut_rows);
+    } else if (snap.x < tex_size.x || snap.y < tex_size.y) {
         win = spectex_nearest_vertex(spectex_cell_centre(SPX_TEX(lut), st, g, tex_size, grid, cell_row, lut_rows));
     } else {
         vec2 c = floor(g);
@@ -275,8 +374,8 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
                                float cell_row) {
     vec2 period = tex_size / snap;
     float tm = clamp(lam - max(SPX_SHARP_LOD, log2(min(period.x, period.y)) - SPX_CELL_LOD_MARGIN), 0.0, 1.0);
-    if (snap.x >= tex_size.x && snap.y >= tex_size.y) {
-        tm = 0.0;  // free cells hold at every level (stochastic.cell_mix)
+    if (snap.x >= tex_size.x || snap.y >= tex_size.y) {
+        tm = 0.0;  // free cells and courses hold at every level (stochastic.cell_mix)
     }
     bool cells = cell_row >= 0.0 && tm < 1.0;
     vec4 gb = vec4(0.0);
