@@ -67,10 +67,15 @@ def _two_toned(img, along_x=True, tol=0.08):
     return split / max(total, 1)
 
 
-def _bake(tex, side=512):
+#: Bake corners: one where a segment starts on a texel edge (the grid's origin: a start computed per point
+#: landed either side of it, and a board's lines took their cuts from one or the other, line by line), one not.
+ORIGINS = ((0.0, 0.0), (0.37, 0.81))
+
+
+def _bake(tex, side=512, origin=ORIGINS[1]):
     from spectex.bake._block import bake_window
 
-    return bake_window(tex, (0, side, 0, side), pixel_size=2.0 / 256, origin=(0.37, 0.81))
+    return bake_window(tex, (0, side, 0, side), pixel_size=2.0 / 256, origin=origin)
 
 
 # ------------------------------------------------------------------ the course map
@@ -123,7 +128,7 @@ def test_courses_change_patch_at_joints_only(monkeypatch):
     from spectex.shading import _cells, resources
 
     tile = _planks()[0]
-    with_map = _two_toned(_bake(_texture(tile, (0, 8))))
+    with_map = max(_two_toned(_bake(_texture(tile, (0, 8)), origin=o)) for o in ORIGINS)
     monkeypatch.setattr(_cells, "course_map", lambda tile, snap: None)
     resources.clear_cache()
     try:
@@ -136,8 +141,9 @@ def test_courses_change_patch_at_joints_only(monkeypatch):
 def test_columns_change_patch_at_joints_only():
     """The same floor turned (columns of bricks along y, snapped along x): the same rule along the other axis."""
     tile = np.ascontiguousarray(_planks()[0].transpose(1, 0, 2))
-    img = _bake(_texture(tile, (8, 0)))
-    assert _two_toned(img, along_x=False) <= 0.02, _two_toned(img, along_x=False)
+    for origin in ORIGINS:
+        img = _bake(_texture(tile, (8, 0)), origin=origin)
+        assert _two_toned(img, along_x=False) <= 0.02, (origin, _two_toned(img, along_x=False))
 
 
 def test_courses_cpu_fast_path_matches_the_general_sampler():
@@ -263,3 +269,42 @@ def test_fit_of_planks_keeps_its_boards_whole(monkeypatch, tmp_path, capsys):
     finally:
         resources.clear_cache()
     assert mapped <= 1.3 and mapped <= without - 0.08, (mapped, without)
+
+
+@pytest.mark.slow
+def test_fitted_columns_take_one_cut_per_segment():
+    """The planks turned a quarter (columns along y, snapped along x), their fit baked from the world's origin,
+    where a segment starts exactly on a texel edge: every line of a column takes the same cut, so along a
+    column the patch changes once per segment at most (the rounding ``COURSE_ROUND`` guards: measured 1
+    change over 240 lines; before it, a segment's start computed per line fell either side of the edge and
+    its lines alternated between two patches, 67 changes on one column, a board drawn in stripes)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import exemplars
+
+    from spectex.fitting import fit_result
+    from spectex.shading.stochastic import course_vertex
+    from spectex.shading.tables import anchor_coords, pack
+
+    result = fit_result(np.ascontiguousarray(exemplars.load("planks").transpose(1, 0, 2)))
+    tex = result.texture
+    assert tex.layers[0].snap[1] == 0 and tex.layers[0].snap[0] > 0
+    tables = pack(tex)
+    anchor = anchor_coords(tables, 0.0, 0.0)
+    w0 = float(tex.tiles[0].shape[0])
+    step = float(tex.layers[0].size) / w0
+    g = tables.grid[0]
+    for column in (25, 65, 140):
+        seen = []
+        for row in range(90, 330):
+            dx, dy = (column + 0.5) * step, (row + 0.5) * step
+            sr = tables.mats[0, 0, 0] * dx + tables.mats[0, 0, 1] * dy
+            tr = tables.mats[0, 1, 0] * dx + tables.mats[0, 1, 1] * dy
+            seen.append(course_vertex(tables.lut, tables.cell_row[0], anchor[0, 0] + sr, anchor[0, 1] + tr,
+                                      anchor[0, 2] + g[0, 0] * sr + g[0, 1] * tr,
+                                      anchor[0, 3] + g[1, 0] * sr + g[1, 1] * tr, g, w0, w0, int(anchor[0, 4]),
+                                      int(anchor[0, 5]), tables.key[0], tables.snap[0, 0], tables.snap[0, 1]))
+        changes = sum(a != b for a, b in zip(seen[:-1], seen[1:]))
+        assert changes <= 2, (column, changes)

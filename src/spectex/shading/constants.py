@@ -20,7 +20,7 @@ __all__ = [
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD", "CELL_LOD_MARGIN",
-    "COURSE_SEGMENT", "COURSE_SLIVER", "COURSE_TRIES", "NO_JOINT",
+    "COURSE_SEGMENT", "COURSE_SLIVER", "COURSE_TRIES", "COURSE_ROUND", "NO_JOINT",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -97,6 +97,12 @@ COURSE_SEGMENT = 1.25
 #: course's height (a sliver of a board) where it can.
 COURSE_SLIVER = 0.5
 COURSE_TRIES = 3
+#: What a segment's start (in texels) and its vertices' grid indices are floored after adding: a value the
+#: same for all of a segment's points but computed per point lands a rounding error either side of a whole
+#: number exactly where the segment starts on a texel edge (the grid's origin), and each course of a board
+#: then took its cut from one start or the other, line by line; no start the grid makes is this far past
+#: a whole number (2 minus the golden ratio).
+COURSE_ROUND = 0.3819660112501051
 #: A course map's unit start and end for a course without a joint (a band the whole tile long): the cut
 #: across it is at the segment's start.
 NO_JOINT = 4096.0
@@ -178,6 +184,7 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_COURSE_SEGMENT {_glsl_number(COURSE_SEGMENT)}")
     lines.append(f"#define SPX_COURSE_SLIVER {_glsl_number(COURSE_SLIVER)}")
     lines.append(f"#define SPX_COURSE_TRIES {COURSE_TRIES}")
+    lines.append(f"#define SPX_COURSE_ROUND {_glsl_number(COURSE_ROUND)}")
     lines.append(f"#define SPX_NO_JOINT {_glsl_number(NO_JOINT)}")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")

@@ -68,6 +68,7 @@ from .._validate import check_float, check_image, check_seed
 from ._mip_texture import MipTexture, filter_code
 from .constants import (
     CELL_LOD_MARGIN,
+    COURSE_ROUND,
     COURSE_SEGMENT,
     COURSE_SLIVER,
     COURSE_TRIES,
@@ -675,8 +676,8 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     i0 = fu - ((base + fu) & _M32) % m  # the segment's first cell (relative), from the absolute index
     u0 = u + (i0 - ul) / step  # the segment's start and end along the course (tile units)
     u1 = u0 + m / step
-    j0 = np.int64(math.floor(wl + rho * (i0 - ul)))
-    jp = np.int64(math.floor(wl + rho * (i0 - m - ul)))
+    j0 = np.int64(math.floor(wl + rho * (i0 - ul) + COURSE_ROUND))
+    jp = np.int64(math.floor(wl + rho * (i0 - m - ul) + COURSE_ROUND))
     ci, cj = (i0, j0) if along_x else (j0, i0)
     pi, pj = (i0 - m, jp) if along_x else (jp, i0 - m)
     ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
@@ -693,7 +694,7 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     end = u1 * size
     cut = u0 * size
     best = np.inf
-    pos = float(math.floor(cut))
+    pos = float(math.floor(cut + COURSE_ROUND))
     for _ in range(COURSE_TRIES):
         if along_x:
             b = course_entry(lut, cell_row, pos + oa, vrow + ob, w0, h0, 1)

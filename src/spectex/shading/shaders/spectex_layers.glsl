@@ -242,9 +242,10 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     float i0 = fu - float((base + SPX_UINT(int(fu))) % SPX_UINT(int(m)));
     float u0 = u + (i0 - ul) / stp;
     float end = (u0 + m / stp) * size;
-    vec2 cur = along_x ? vec2(i0, floor(wl + rho * (i0 - ul))) : vec2(floor(wl + rho * (i0 - ul)), i0);
-    vec2 prev = along_x ? vec2(i0 - m, floor(wl + rho * (i0 - m - ul)))
-        : vec2(floor(wl + rho * (i0 - m - ul)), i0 - m);
+    float j0 = floor(wl + rho * (i0 - ul) + SPX_COURSE_ROUND);
+    float jp = floor(wl + rho * (i0 - m - ul) + SPX_COURSE_ROUND);
+    vec2 cur = along_x ? vec2(i0, j0) : vec2(j0, i0);
+    vec2 prev = along_x ? vec2(i0 - m, jp) : vec2(jp, i0 - m);
     vec2 oc = floor(spectex_vertex_offset(SPX_UINT(int(cur.x)) + base_i, SPX_UINT(int(cur.y)) + base_j, key,
                                           tex_size, inv_size, snap) * tex_size + 0.5);
     vec2 op = floor(spectex_vertex_offset(SPX_UINT(int(prev.x)) + base_i, SPX_UINT(int(prev.y)) + base_j, key,
@@ -254,7 +255,7 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     vec2 pa = along_x ? op : op.yx;
     float cut = u0 * size;
     float best = 1.0e30;
-    float pos = floor(cut);
+    float pos = floor(cut + SPX_COURSE_ROUND);
     for (int k = 0; k < SPX_COURSE_TRIES; k++) {
         vec2 q = vec2(pos + oa.x, vrow + oa.y);
         float b = spectex_course_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, 1);
