@@ -224,21 +224,21 @@ def test_period_tile_gets_a_joint_where_its_wrap_edge_joins_two_boards():
 def test_fit_of_planks_keeps_its_boards_whole(monkeypatch, tmp_path, capsys):
     """``spectex.fit`` on a floor of planks (``benchmarks/exemplars.py``: courses 46 pixels high, boards of
     random lengths with dark joints): its finest layer is snapped across the courses and drawn with its
-    course map (params ``courses``; ``spectex fit``'s summary says so). metrics.cell_splits (boards changing colour partway) on bakes at two places measured 1.28 /
-    1.17 against 1.51 / 1.34 without the map and with the tile's seams left (main before 2026-11-27)."""
+    course map (params ``courses``; ``spectex fit``'s summary says so). metrics.cell_splits (boards changing
+    colour partway) on bakes at two places measured 1.07 / 1.15, against 1.56 / 1.32 for the same texture
+    drawn without the map (the control)."""
     import sys
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import exemplars
 
+    from spectex import io
     from spectex.bake._block import bake_window
+    from spectex.cli import main
     from spectex.fitting import fit_result, structure_period
     from spectex.metrics import cell_splits
     from spectex.shading.resources import cell_maps
-
-    from spectex import io
-    from spectex.cli import main
 
     photo = exemplars.load("planks")
     result = fit_result(photo)
@@ -268,7 +268,7 @@ def test_fit_of_planks_keeps_its_boards_whole(monkeypatch, tmp_path, capsys):
         without = splits(result.texture)
     finally:
         resources.clear_cache()
-    assert mapped <= 1.3 and mapped <= without - 0.08, (mapped, without)
+    assert mapped <= 1.25 and mapped <= without - 0.15, (mapped, without)
 
 
 @pytest.mark.slow
