@@ -343,3 +343,33 @@ def test_fitted_planks_gl_matches_cpu_and_is_alias_free(gl):
             plain[name] = psnr_low(render_cpu(tex, cam, SIZE, filter="linear"), ref)
     assert min(full.values()) >= 38.0 and min(low.values()) >= 45.0, (full, low)
     assert all(plain[k] <= low[k] - 8.0 for k in VIEWS if k != "close"), (low, plain)
+
+
+@pytest.mark.slow
+def test_fit_of_planks_at_a_fractional_period_keeps_its_courses():
+    """A floor of planks photographed at 27.06 pixels a course (``benchmarks/exemplars.py``'s planks at 900
+    pixels, resampled to 530): its trial bakes of the finest layer alone read the snapped courses at 1.16 and
+    a stochastic jumble of cross-faded boards without a course at 0.91 (the structural distance does not see
+    the jumble; over larger bakes of the whole fits, 1.08 and 1.12), so the jumble was drawn. The trial now
+    leaves out a way that splits the photo's cells (``metrics.cell_splits`` over ``SPLIT_LIMIT`` times the
+    photo's; a bake without the photo's cells at all, as the jumble: infinite), and the courses are drawn
+    with their course map. The control: the same trial's numbers without the splits choose the jumble."""
+    import sys
+    from pathlib import Path
+
+    from PIL import Image
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import exemplars
+
+    from spectex.fitting import _auto, fit_result
+
+    big = exemplars.planks(900, board=46.0, rng=11)
+    photo = np.asarray(Image.fromarray((big * 255).astype(np.uint8)).resize((530, 530), Image.LANCZOS))
+    result = fit_result(photo)
+    trial = result.params["trial"]
+    assert trial["choice"] == "snapped" and result.params["courses"] is True, trial
+    assert trial["stochastic"]["splits"] > _auto.SPLIT_LIMIT >= trial["snapped"]["splits"], trial
+    blind = {k: ({m: x for m, x in v.items() if m != "splits"} if isinstance(v, dict) else v)
+             for k, v in trial.items() if k not in ("choice", "photo_repeat")}
+    assert _auto._choose(blind, trial["photo_repeat"]) == "stochastic", blind

@@ -115,6 +115,11 @@ REPEAT_MARGIN = 0.05
 #: factor: such a way is chosen only if every way breaks them.
 BREAK_LIMIT = 1.5
 BREAK_WINDOW = 64
+#: A way of drawing the finest layer splits the structure's cells (bricks, boards, floor tiles changing
+#: colour partway: :func:`spectex.metrics.cell_splits`) when its trial bake's split exceeds the photo's by
+#: this factor: such a way is chosen only if every way splits them. Drawn whole (snapped, with cells or
+#: courses) fitted floors read 0.9-1.2, with the patches' boundaries through them 1.3-2.1.
+SPLIT_LIMIT = 1.3
 #: Side of the trial's far bake (pixels, at twice the photo's pixel size).
 TRIAL_FAR = 512
 #: Side of the trial's bake at the photo's scale, and the fewest of the structure's periods it holds (at
@@ -124,6 +129,10 @@ TRIAL_FAR = 512
 #: crosses 1.56; in 512 pixels 1.18 and 2.08.
 TRIAL_SIDE = 256
 TRIAL_PERIODS = 6
+#: Along an axis without a period (courses of boards, columns of bricks) the boards' median length counts
+#: as a period: a floor of planks 27 pixels a course, boards of 60-160 pixels, read in windows of 128
+#: pixels (a board or less) put the snapped courses at 1.25 and a stochastic jumble of cross-faded boards
+#: at 1.00, and the jumble was drawn; over 8 windows of 512 of larger bakes, 1.08 and 1.12.
 #: Default opacity of the first coarse layer (method "auto"): low, so that the coarse layers veil
 #: the photo's detail little (0.25 over four layers took 5 dB of its power, which the band step put
 #: back by raising the tile's contrast into clipping).
@@ -842,7 +851,25 @@ def _clip_guard(problem, colour, alpha, exemplar, layer_list, tile_px, ratio):
     return layer_list, depth
 
 
-def _trial(exemplar, pixel_size, candidates, patch, period):
+def _board_length(tile, snap, texel_scale):
+    """The median length (photo pixels) of the boards or bricks of a period tile with a period along one axis
+    only (``snap`` with one 0; the units between its courses' joints, ``shading.resources.course_joints``), or
+    None (no courses or joints found)."""
+    from ..shading.resources import course_joints
+
+    if min(int(snap[0]), int(snap[1])) != 0 or max(int(snap[0]), int(snap[1])) == 0:
+        return None
+    found = course_joints(tile, snap)
+    if found is None:
+        return None
+    side = tile.shape[1] if int(snap[0]) == 0 else tile.shape[0]
+    lengths = [np.diff([a for a, _ in joints] + [joints[0][0] + side]) for joints in found[2] if joints]
+    if not lengths:
+        return None
+    return float(np.median(np.concatenate(lengths))) / texel_scale
+
+
+def _trial(exemplar, pixel_size, candidates, patch, period, along=None):
     """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
 
     ``candidates``: ``(label, tiling, tile, snap, scale, lattice)``, ``scale`` the tile's texels per
@@ -850,20 +877,22 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
     structural distance / floor (:func:`spectex.metrics.structural_distance`)
     of a bake of the photo's size (at most :data:`TRIAL_SIDE`, or
     :data:`TRIAL_PERIODS` of the structure's periods where that is more) at its
-    pixel size, against the photo's central crop of that size (4 windows each). ``repeat``:
+    pixel size, against the photo's central crop of that size (4 windows each; ``along``: the structure's
+    scale along an axis without a period, its boards' length in pixels, counted as a period). ``repeat``:
     :func:`spectex.metrics.repeat_peak` with the structure's lattice removed
     (``period``, pixels; the content's repeat beyond the structure's own) of
     a 512 x 512 bake at twice the pixel size (at least two tiles across).
     """
-    from ..metrics import line_breaks, reference_statistics, repeat_peak, structural_distance
+    from ..metrics import cell_splits, line_breaks, reference_statistics, repeat_peak, structural_distance
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
-    longest = max(p for p in period if p is not None)
+    longest = max([p for p in period if p is not None] + ([along] if along else []))
     m = min(h, w, max(TRIAL_SIDE, int(math.ceil(TRIAL_PERIODS * longest))))
     y0, x0 = (h - m) // 2, (w - m) // 2
     reference = exemplar[y0:y0 + m, x0:x0 + m]
     prepared = reference_statistics(reference, max_windows=4)
+    cells = cell_splits(reference, reference, period=period) is not None  # the photo shows separate cells
     out = {}
     for label, tiling, tile, snap, scale, lattice in candidates:
         half = tuple(None if p is None else p / 2.0 for p in (lattice or period))
@@ -876,17 +905,29 @@ def _trial(exemplar, pixel_size, candidates, patch, period):
         out[label] = {"structure": structural_distance(baked, reference, prepared=prepared, max_windows=4).ratio,
                       "repeat": repeat_peak(far, period=half),
                       "breaks": line_breaks(baked, reference, window=BREAK_WINDOW).ratio if m >= 3 * BREAK_WINDOW
-                      else 1.0}
+                      else 1.0,
+                      "splits": _splits(cell_splits(baked, reference, period=period), cells)}
     return out
+
+
+def _splits(found, cells):
+    """:func:`spectex.metrics.cell_splits`' ratio of a trial bake: 1 where the photo shows no separate cells
+    (``cells`` False), infinite where it does and the bake does not (a jumble without the photo's lattice)."""
+    if not cells:
+        return 1.0
+    return math.inf if found is None else float(found.ratio)
 
 
 def _choose(trial, own_repeat):
     """The finest layer's way from :func:`_trial`: the closest structure among the ways that do not
-    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``) and do not break
-    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's), all of them if none, the
+    repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``), do not break
+    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's) and do not split its cells
+    (at most ``SPLIT_LIMIT`` times the photo's; without that, those that do not break), all of them if none, the
     snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in doubt)."""
     limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
-    allowed = [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT]
+    allowed = [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT
+               and v.get("splits", 1.0) <= SPLIT_LIMIT]
+    allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT]
     allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
     best = min(allowed, key=lambda k: trial[k]["structure"])
     if "snapped" in allowed and trial["snapped"]["structure"] <= (1.0 + TRIAL_MARGIN) * trial[best]["structure"]:
@@ -1120,7 +1161,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             trial = _trial(exemplar, pixel_size, [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
                                                   ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
                                                   ("stochastic", "stochastic", tile0, (0, 0), 1.0, None)],
-                           patch, period)
+                           patch, period, along=_board_length(cut_tile, snap, texel_scale))
             from ..metrics import repeat_peak
 
             own = repeat_peak(exemplar, period=period)
