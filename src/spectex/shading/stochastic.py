@@ -723,7 +723,9 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
 def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     """The grid vertex (relative to ``(bi, bj)``) whose patch a layer with a cell map shows whole at ``(s, t)``.
 
-    Snapped (``nx < w0`` or ``ny < h0``; the map is made for a snapped
+    Snapped along one axis only (a course map: rows of boards, columns of
+    bricks), the vertex of :func:`course_vertex`: the course changes patch
+    at a joint. Snapped along both (``nx < w0`` and ``ny < h0``; the map is made for a snapped
     tile's lattice, where every patch's cells fall where the un-offset
     tile's do), the vertex nearest the centre of the cell under ``(s, t)``
     (:func:`cell_point`). Free along both axes (cobbles, pebbles in mortar:

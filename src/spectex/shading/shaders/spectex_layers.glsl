@@ -279,7 +279,8 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
 }
 
 // The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
-// blend at the point instead); snapped, that of the vertex nearest the centre of the cell
+// blend at the point instead); snapped along one axis only (courses), that of spectex_course_vertex;
+// snapped along both, that of the vertex nearest the centre of the cell
 // under st; free along both axes, that of the vertex of g's triangle whose own patch's cell under the point
 // scores highest at its centre (spectex_cell_score), 0 (and an offset of no meaning) where none scores 1 or more.
 vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
