@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
+from _pictures import panel, save_grid  # noqa: E402
 from _switches import without_free_cells  # noqa: E402
 
 CROP = 320
@@ -55,15 +56,6 @@ def _bakes(result, way):
         return bakes()
     with without_free_cells():
         return bakes()
-
-
-def _label(image, text):
-    from PIL import Image, ImageDraw
-
-    out = Image.new("RGB", (image.width, image.height + 20), (128, 128, 128))
-    ImageDraw.Draw(out).text((4, 4), text, fill=(0, 0, 0))
-    out.paste(image, (0, 20))
-    return out
 
 
 def main(argv=None) -> int:
@@ -96,20 +88,9 @@ def main(argv=None) -> int:
               f"{len(ratios['cells'])} windows)", flush=True)
         rows.append((name, photo, firsts))
     if args.grid:
-        from PIL import Image
-
-        def tile(rgb, text):
-            rgb = np.clip(rgb[:CROP, :CROP], 0.0, 1.0)
-            return _label(Image.fromarray((rgb[:, :, :3] * 255 + 0.5).astype(np.uint8)), text)
-
-        panels = [[tile(photo, name), tile(firsts["blend"], "before: patches cross-faded"),
-                   tile(firsts["cells"], "after: free cells")] for name, photo, firsts in rows]
-        w, h = panels[0][0].width, panels[0][0].height
-        grid = Image.new("RGB", (3 * w + 16, len(panels) * h), (128, 128, 128))
-        for r, row in enumerate(panels):
-            for c, img in enumerate(row):
-                grid.paste(img, (c * (w + 8), r * h))
-        grid.save(args.grid, quality=90)
+        save_grid([[panel(photo, name, CROP), panel(firsts["blend"], "before: patches cross-faded", CROP),
+                    panel(firsts["cells"], "after: free cells", CROP)]
+                   for name, photo, firsts in rows], args.grid)
         print(f"wrote {args.grid}")
     return 0
 

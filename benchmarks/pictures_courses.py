@@ -35,6 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
+from _pictures import panel, save_grid  # noqa: E402
 from _switches import without_courses  # noqa: E402
 
 CROP = 320
@@ -71,15 +72,6 @@ def _measure(photo, way):
     return seconds, bakes, ratios, splits, result.texture.layers[0]
 
 
-def _label(image, text):
-    from PIL import Image, ImageDraw
-
-    out = Image.new("RGB", (image.width, image.height + 20), (128, 128, 128))
-    ImageDraw.Draw(out).text((4, 4), text, fill=(0, 0, 0))
-    out.paste(image, (0, 20))
-    return out
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--grid", help="write the picture here (JPEG)")
@@ -98,25 +90,9 @@ def main(argv=None) -> int:
                   f"s {np.mean(ratios):.3f}  splits {split}", flush=True)
         rows.append((name, photo, firsts))
     if args.grid:
-        from PIL import Image
-
-        def tile(rgb, text):
-            rgb = np.asarray(rgb, dtype=np.float64)
-            if rgb.max() > 1.0:
-                rgb = rgb / 255.0
-            if rgb.ndim == 2:
-                rgb = np.stack([rgb] * 3, axis=2)
-            rgb = np.clip(rgb[:CROP, :CROP, :3], 0.0, 1.0)
-            return _label(Image.fromarray((rgb * 255 + 0.5).astype(np.uint8)), text)
-
-        panels = [[tile(photo, name), tile(firsts["before"], "before: patches cut boards"),
-                   tile(firsts["after"], "after: courses change patch at joints")] for name, photo, firsts in rows]
-        w, h = panels[0][0].width, panels[0][0].height
-        grid = Image.new("RGB", (3 * w + 16, len(panels) * h), (128, 128, 128))
-        for r, row in enumerate(panels):
-            for c, img in enumerate(row):
-                grid.paste(img, (c * (w + 8), r * h))
-        grid.save(args.grid, quality=90)
+        save_grid([[panel(photo, name, CROP), panel(firsts["before"], "before: patches cut boards", CROP),
+                    panel(firsts["after"], "after: courses change patch at joints", CROP)]
+                   for name, photo, firsts in rows], args.grid)
         print(f"wrote {args.grid}")
     return 0
 

@@ -50,6 +50,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
+from _pictures import label  # noqa: E402
 
 BAKE = 1024
 CROP = 384
@@ -112,17 +113,6 @@ def _bakes(result, origins):
             for k in range(origins)]
 
 
-def _label(image, text):
-    from PIL import Image, ImageDraw
-
-    band = Image.new("RGB", (image.width, 20), (128, 128, 128))
-    ImageDraw.Draw(band).text((4, 4), text, fill=(0, 0, 0))
-    out = Image.new("RGB", (image.width, image.height + 20), (128, 128, 128))
-    out.paste(band, (0, 0))
-    out.paste(image, (0, 20))
-    return out
-
-
 def _snap_picture(names, path):
     """``--snap``: photo | default fit | forced periodic | default fit 8x out, a row per photo."""
     from PIL import Image
@@ -150,7 +140,7 @@ def _snap_picture(names, path):
                 image = np.repeat(image[:, :, None], 3, axis=2)
             img = Image.fromarray((image[:, :, :3] * 255 + 0.5).astype(np.uint8)).resize((side, side),
                                                                                         Image.LANCZOS)
-            panels.append(_label(img, f"{name}: {words}"))
+            panels.append(label(img, f"{name}: {words}"))
         rows.append(panels)
     cw, ch = rows[0][0].width, rows[0][0].height
     grid = Image.new("RGB", (4 * cw + 3 * 8, len(rows) * ch + (len(rows) - 1) * 8), (128, 128, 128))
@@ -212,7 +202,7 @@ def main(argv=None) -> int:
                      "after": "after (strips cut at their own joints)"}[way]
             if name == "tiles":
                 words = {"before": "before (main)", "after": "after (a period on both axes: unchanged)"}[way]
-            tiles.append(_label(img, f"{name}: {words}"))
+            tiles.append(label(img, f"{name}: {words}"))
         cols = 2
         rows = (len(tiles) + cols - 1) // cols
         cw, ch = tiles[0].width, tiles[0].height

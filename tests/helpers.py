@@ -176,3 +176,34 @@ def glslang_validator() -> str:
             pytest.fail("glslangValidator is missing: CI must have it (apt-get install glslang-tools)")
         pytest.skip("glslangValidator is missing (apt-get install glslang-tools)")
     return path
+
+
+def assert_gl_matches_cpu(tex, gl):
+    """GL = CPU >= 40 dB on every test view (:data:`VIEWS`) of ``tex``."""
+    from spectex.render.cpu import render_cpu
+    from spectex.render.gl import GLRenderer
+
+    with GLRenderer(tex, ctx=gl) as r:
+        for name, cam in VIEWS.items():
+            c = render_cpu(tex, cam, SIZE)
+            g = r.render(cam, SIZE)
+            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+
+
+def fast_path_against_general(tex):
+    """A 48 x 64 view of ``tex`` (a layer with a cell map, fast-path sampler state) drawn by the CPU's fast kernel
+    and by its general one: ``(fast, general)``."""
+    from spectex.shading import pack, view_params
+    from spectex.shading.tables import anchor_coords
+    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
+
+    tables = pack(tex)
+    assert tables.fast and tables.cell_row[0] >= 0
+    cam = Camera((3.0e1, -2.0e1, 1.5), yaw=40.0, pitch=-35.0, fov=60.0)
+    view = view_params(cam, (48, 64), supersample=1)
+    anchor = anchor_coords(tex.layers, *cam.position[:2])
+    fast = np.empty((48, 64, 3), np.float32)
+    general = np.empty((48, 64, 3), np.float32)
+    render_kernel_fast(tables, anchor, view, row_order(48), fast)
+    render_kernel(tables, anchor, view, row_order(48), general)
+    return fast, general

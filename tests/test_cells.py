@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from helpers import SIZE, VIEWS, psnr
+from helpers import SIZE, VIEWS, assert_gl_matches_cpu, fast_path_against_general, psnr
 from helpers import floor_photo as _floor
 
 
@@ -204,25 +204,12 @@ def test_pack_uses_cells_only_for_the_stochastic_layers_tile(monkeypatch):
     assert stochastic_store(_texture(noise, (4, 4))).lut.shape == stochastic_store(_texture(noise, (0, 0))).lut.shape
 
 
-@pytest.mark.gl
-def _assert_gl_matches_cpu(tex, gl):
-    """GL = CPU >= 40 dB on every test view."""
-    from spectex.render.cpu import render_cpu
-    from spectex.render.gl import GLRenderer
-
-    with GLRenderer(tex, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(tex, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
-
-
 def test_gl_matches_cpu_on_a_snapped_floor(gl):
     from spectex.render.cpu import render_cpu
 
     tile, _ = _floor(256, 64)
     tex = _texture(tile, (4, 4))
-    _assert_gl_matches_cpu(tex, gl)
+    assert_gl_matches_cpu(tex, gl)
     # the cells changed the picture (the control: the same texture unsnapped differs)
     cam = VIEWS["close"]
     assert psnr(render_cpu(tex, cam, SIZE), render_cpu(_texture(tile, (0, 0)), cam, SIZE)) < 35.0
@@ -460,7 +447,7 @@ def test_gl_matches_cpu_on_unsnapped_cobbles(gl, monkeypatch):
     from spectex.shading import _cells, resources
 
     tex = _texture(_cobbles()[0], (0, 0))
-    _assert_gl_matches_cpu(tex, gl)
+    assert_gl_matches_cpu(tex, gl)
     # the control: the cells changed the picture (the same texture without its free cells)
     cam = VIEWS["close"]
     with_cells = render_cpu(tex, cam, SIZE)
@@ -474,21 +461,7 @@ def test_gl_matches_cpu_on_unsnapped_cobbles(gl, monkeypatch):
 
 
 def test_free_cells_cpu_fast_path_matches_the_general_sampler():
-    from spectex.render import Camera
-    from spectex.shading import pack, view_params
-    from spectex.shading.tables import anchor_coords
-    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
-
-    tex = _texture(_cobbles()[0], (0, 0))
-    tables = pack(tex)
-    assert tables.fast and tables.cell_row[0] >= 0
-    cam = Camera((3.0e1, -2.0e1, 1.5), yaw=40.0, pitch=-35.0, fov=60.0)
-    view = view_params(cam, (48, 64), supersample=1)
-    anchor = anchor_coords(tex.layers, *cam.position[:2])
-    fast = np.empty((48, 64, 3), np.float32)
-    general = np.empty((48, 64, 3), np.float32)
-    render_kernel_fast(tables, anchor, view, row_order(48), fast)
-    render_kernel(tables, anchor, view, row_order(48), general)
+    fast, general = fast_path_against_general(_texture(_cobbles()[0], (0, 0)))
     # the same numbers to float rounding, which may move a point on a cell's edge into the other cell: a
     # pixel or two of another cobble's colour (measured 2 of 3072, 0.20 off)
     diff = np.abs(fast - general)

@@ -4,7 +4,7 @@ the samplers (CPU and GL), the fit's period tile with a joint at its wrap edge, 
 import numpy as np
 import pytest
 
-from helpers import SIZE, VIEWS, psnr
+from helpers import SIZE, VIEWS, assert_gl_matches_cpu, fast_path_against_general, psnr
 
 JOINT = 0.08  # the joints' and the grout's grey
 
@@ -37,6 +37,19 @@ def _planks(n=256, course=32, rng=4, grain=0.0, shift=0):
     img = np.where(board[:, :, None] >= 0, colours[np.maximum(board, 0)], JOINT)
     img = img + grain * gen.standard_normal(img.shape)
     return np.clip(img, 0.0, 1.0).astype(np.float32), board, colours
+
+
+def _exemplars():
+    """``benchmarks/exemplars.py`` (the planks photo the benchmarks measure), imported from there."""
+    import sys
+    from pathlib import Path
+
+    path = str(Path(__file__).resolve().parents[1] / "benchmarks")
+    if path not in sys.path:
+        sys.path.insert(0, path)
+    import exemplars
+
+    return exemplars
 
 
 def _texture(tile, snap):
@@ -147,21 +160,7 @@ def test_columns_change_patch_at_joints_only():
 
 
 def test_courses_cpu_fast_path_matches_the_general_sampler():
-    from spectex.render import Camera
-    from spectex.shading import pack, view_params
-    from spectex.shading.tables import anchor_coords
-    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
-
-    tex = _texture(_planks(grain=0.02)[0], (0, 8))
-    tables = pack(tex)
-    assert tables.fast and tables.cell_row[0] >= 0
-    cam = Camera((3.0e1, -2.0e1, 1.5), yaw=40.0, pitch=-35.0, fov=60.0)
-    view = view_params(cam, (48, 64), supersample=1)
-    anchor = anchor_coords(tex.layers, *cam.position[:2])
-    fast = np.empty((48, 64, 3), np.float32)
-    general = np.empty((48, 64, 3), np.float32)
-    render_kernel_fast(tables, anchor, view, row_order(48), fast)
-    render_kernel(tables, anchor, view, row_order(48), general)
+    fast, general = fast_path_against_general(_texture(_planks(grain=0.02)[0], (0, 8)))
     diff = np.abs(fast - general)
     assert np.mean(diff.max(axis=2) > 1e-5) <= 0.005 and diff.mean() <= 1e-3, (np.mean(diff > 1e-5), diff.mean())
 
@@ -170,18 +169,13 @@ def test_courses_cpu_fast_path_matches_the_general_sampler():
 @pytest.mark.parametrize("snap", [(0, 8), (8, 0)])
 def test_gl_matches_cpu_on_courses(gl, snap, monkeypatch):
     from spectex.render.cpu import render_cpu
-    from spectex.render.gl import GLRenderer
     from spectex.shading import _cells, resources
 
     tile = _planks(grain=0.02)[0]
     if snap[1] == 0:
         tile = np.ascontiguousarray(tile.transpose(1, 0, 2))
     tex = _texture(tile, snap)
-    with GLRenderer(tex, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(tex, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+    assert_gl_matches_cpu(tex, gl)
     # the control: the course map changed the picture
     cam = VIEWS["close"]
     with_map = render_cpu(tex, cam, SIZE)
@@ -227,12 +221,7 @@ def test_fit_of_planks_keeps_its_boards_whole(monkeypatch, tmp_path, capsys):
     course map (params ``courses``; ``spectex fit``'s summary says so). metrics.cell_splits (boards changing
     colour partway) on bakes at two places measured 1.07 / 1.15, against 1.56 / 1.32 for the same texture
     drawn without the map (the control)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import exemplars
-
+    exemplars = _exemplars()
     from spectex import io
     from spectex.bake._block import bake_window
     from spectex.cli import main
@@ -278,12 +267,7 @@ def test_fitted_columns_take_one_cut_per_segment():
     column the patch changes once per segment at most (the rounding ``COURSE_ROUND`` guards: measured 1
     change over 240 lines; before it, a segment's start computed per line fell either side of the edge and
     its lines alternated between two patches, 67 changes on one column, a board drawn in stripes)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import exemplars
-
+    exemplars = _exemplars()
     from spectex.fitting import fit_result
     from spectex.shading.stochastic import course_vertex
     from spectex.shading.tables import anchor_coords, pack
@@ -318,12 +302,7 @@ def test_fitted_planks_gl_matches_cpu_and_is_alias_free(gl):
     against 16 x 16 supersampled renders without mip-maps: >= 38 dB full-band (measured 39.6 on the aerial
     view, 42.3 without the map: each pixel takes one patch at its centre, where the reference averages the
     patches its footprint covers), >= 45 low-passed (48.3); the control, without mip-maps, far worse."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import exemplars
-
+    exemplars = _exemplars()
     from helpers import psnr_low
     from spectex.fitting import fit
     from spectex.render.cpu import render_cpu
@@ -354,14 +333,9 @@ def test_fit_of_planks_at_a_fractional_period_keeps_its_courses():
     leaves out a way that splits the photo's cells (``metrics.cell_splits`` over ``SPLIT_LIMIT`` times the
     photo's; a bake without the photo's cells at all, as the jumble: infinite), and the courses are drawn
     with their course map. The control: the same trial's numbers without the splits choose the jumble."""
-    import sys
-    from pathlib import Path
-
     from PIL import Image
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import exemplars
-
+    exemplars = _exemplars()
     from spectex.fitting import _auto, fit_result
 
     big = exemplars.planks(900, board=46.0, rng=11)

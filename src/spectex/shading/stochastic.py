@@ -558,6 +558,15 @@ def lut_lookup(lut, row0, level, g, c):
 
 
 @_jit_inline
+def cell_entry(lut, cell_row, x, y, w0, h0, c):
+    """Channel ``c`` of the cell map's entry of level-0 texel ``(x, y)`` (whole numbers, wrapped onto the tile)."""
+    iw = np.int64(w0)
+    idx = (np.int64(y) % np.int64(h0)) * iw + np.int64(x) % iw
+    n = np.int64(lut.shape[1])
+    return lut[np.int64(cell_row) + idx // n, idx % n, c]
+
+
+@_jit_inline
 def cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0):
     """Where a snapped layer takes its patches' weights: the centre of the structural cell holding ``(s, t)``.
 
@@ -572,13 +581,8 @@ def cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0):
     """
     x = math.floor(s * w0)
     y = math.floor(t * h0)
-    iw = np.int64(w0)
-    idx = (np.int64(y) % np.int64(h0)) * iw + np.int64(x) % iw
-    n = np.int64(lut.shape[1])
-    r = np.int64(cell_row) + idx // n
-    c = idx % n
-    cs = (x + 0.5 + lut[r, c, 0]) / w0 - s
-    ct = (y + 0.5 + lut[r, c, 1]) / h0 - t
+    cs = (x + 0.5 + cell_entry(lut, cell_row, x, y, w0, h0, 0)) / w0 - s
+    ct = (y + 0.5 + cell_entry(lut, cell_row, x, y, w0, h0, 1)) / h0 - t
     return kx + (grid[0, 0] * cs + grid[0, 1] * ct), ky + (grid[1, 0] * cs + grid[1, 1] * ct)
 
 
@@ -618,15 +622,6 @@ def cell_score(gx, gy, ci, cj):
 
 
 @_jit_inline
-def course_entry(lut, cell_row, x, y, w0, h0, c):
-    """Channel ``c`` of the cell map's entry of level-0 texel ``(x, y)`` (whole numbers, wrapped onto the tile)."""
-    iw = np.int64(w0)
-    idx = (np.int64(y) % np.int64(h0)) * iw + np.int64(x) % iw
-    n = np.int64(lut.shape[1])
-    return lut[np.int64(cell_row) + idx // n, idx % n, c]
-
-
-@_jit_inline
 def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     """The grid vertex (relative to ``(bi, bj)``) whose patch a layer snapped along one axis shows at ``(s, t)``.
 
@@ -647,8 +642,8 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     along_x = ny < h0  # snapped across y: the courses run along x
     xt = math.floor(s * w0)
     yt = math.floor(t * h0)
-    across = course_entry(lut, cell_row, xt, yt, w0, h0, 2)
-    longest = course_entry(lut, cell_row, xt, yt, w0, h0, 3)
+    across = cell_entry(lut, cell_row, xt, yt, w0, h0, 2)
+    longest = cell_entry(lut, cell_row, xt, yt, w0, h0, 3)
     if along_x:
         size = w0
         vc = (yt + 0.5 + across) / h0  # the course's centre line (t)
@@ -697,18 +692,18 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     pos = float(math.floor(cut + COURSE_ROUND))
     for _ in range(COURSE_TRIES):
         if along_x:
-            b = course_entry(lut, cell_row, pos + oa, vrow + ob, w0, h0, 1)
+            b = cell_entry(lut, cell_row, pos + oa, vrow + ob, w0, h0, 1)
         else:
-            b = course_entry(lut, cell_row, vrow + ob, pos + oa, w0, h0, 1)
+            b = cell_entry(lut, cell_row, vrow + ob, pos + oa, w0, h0, 1)
         if b >= 0.5 * NO_JOINT or pos + b >= end:
             break
         pos += b
         if along_x:
-            a = course_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 0)
-            hidden = course_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 1) - 1.0
+            a = cell_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 0)
+            hidden = cell_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 1) - 1.0
         else:
-            a = course_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 0)
-            hidden = course_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 1) - 1.0
+            a = cell_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 0)
+            hidden = cell_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 1) - 1.0
         if hidden > 0.0 and 1.0 - a < COURSE_SLIVER * height:
             hidden += size  # a sliver of a board: only where nothing better
         if hidden < best:

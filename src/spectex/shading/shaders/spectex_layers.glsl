@@ -138,6 +138,19 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
                 SPX_LOD(lut, vec2(u.z, v + 0.5), 0.0).x, SPX_LOD(lut, vec2(u.w, v + 0.75), 0.0).x);
 }
 
+// Channel c of the cell map's entry of level-0 texel xy (whole numbers; stochastic.cell_entry): texel
+// idx = y w + x at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE. The texel's place in the
+// tile is wrapped in floats: GLSL leaves % of a negative int undefined (llvmpipe's disagreed with the CPU's
+// floor modulo wherever s or t was negative).
+float spectex_cell_entry(SPX_TEX_ARG(lut), vec2 xy, vec2 tex_size, float cell_row, float lut_rows, int c) {
+    vec2 m = min(max(xy - tex_size * floor(xy / tex_size), 0.0), tex_size - 1.0);
+    int idx = int(m.y) * int(tex_size.x) + int(m.x);
+    int row = idx / SPX_LUT_SIZE;
+    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
+    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows) + 0.25 * float(c);
+    return SPX_LOD(lut, vec2(u, v), 0.0).x;
+}
+
 // The centre of the cell the texel under st holds (stochastic.cell_point), in the skewed grid: its
 // cell map entry (dx, dy: channels 0 and 1 of the table texture from row cell_row, texel idx = y w + x
 // at row cell_row + idx / SPX_LUT_SIZE, entry idx mod SPX_LUT_SIZE) gives the centre
@@ -147,14 +160,8 @@ vec4 spectex_lut(SPX_TEX_ARG(lut), vec4 g, float row0, float level, float rows) 
 vec2 spectex_cell_centre(SPX_TEX_ARG(lut), vec2 st, vec2 g, vec2 tex_size, vec4 grid, float cell_row,
                          float lut_rows) {
     vec2 xy = floor(st * tex_size);
-    // the texel's place in the tile, wrapped in floats: GLSL leaves % of a negative int undefined
-    // (llvmpipe's disagreed with the CPU's floor modulo wherever s or t was negative)
-    vec2 m = min(max(xy - tex_size * floor(xy / tex_size), 0.0), tex_size - 1.0);
-    int idx = int(m.y) * int(tex_size.x) + int(m.x);
-    int row = idx / SPX_LUT_SIZE;
-    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
-    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows);
-    vec2 rel = (xy + 0.5 + vec2(SPX_LOD(lut, vec2(u, v), 0.0).x, SPX_LOD(lut, vec2(u, v + 0.25), 0.0).x)) / tex_size
+    vec2 rel = (xy + 0.5 + vec2(spectex_cell_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 0),
+                                spectex_cell_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 1))) / tex_size
         - st;
     return g + vec2(grid.x * rel.x + grid.y * rel.y, grid.z * rel.x + grid.w * rel.y);
 }
@@ -181,17 +188,6 @@ float spectex_cell_score(vec2 gc, vec2 vk) {
     return (n.x == vk.x && n.y == vk.y) ? hat + 1.0 : hat;
 }
 
-// Channel c of the cell map's entry of level-0 texel xy (whole numbers, wrapped onto the tile; as
-// spectex_cell_centre reads it; stochastic.course_entry).
-float spectex_course_entry(SPX_TEX_ARG(lut), vec2 xy, vec2 tex_size, float cell_row, float lut_rows, int c) {
-    vec2 m = min(max(xy - tex_size * floor(xy / tex_size), 0.0), tex_size - 1.0);
-    int idx = int(m.y) * int(tex_size.x) + int(m.x);
-    int row = idx / SPX_LUT_SIZE;
-    float u = (float(idx - row * SPX_LUT_SIZE) + 0.5) * (1.0 / float(SPX_LUT_SIZE));
-    float v = (cell_row + float(row) + 0.5) / (4.0 * lut_rows) + 0.25 * float(c);
-    return SPX_LOD(lut, vec2(u, v), 0.0).x;
-}
-
 // The grid vertex (relative to the base vertex) whose patch a layer snapped along one axis only shows at st
 // (stochastic.course_vertex): its courses (rows of boards, columns of bricks) change patch at a joint.
 // The course's centre line is cut into segments of m grid cells (counted from the absolute vertex index),
@@ -202,8 +198,8 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     vec2 inv_size = 1.0 / tex_size;
     bool along_x = snap.y < tex_size.y;
     vec2 xy = floor(st * tex_size);
-    float across = spectex_course_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 2);
-    float longest = spectex_course_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 3);
+    float across = spectex_cell_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 2);
+    float longest = spectex_cell_entry(SPX_TEX(lut), xy, tex_size, cell_row, lut_rows, 3);
     float size;
     float vc;
     float ul;
@@ -258,15 +254,15 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     float pos = floor(cut + SPX_COURSE_ROUND);
     for (int k = 0; k < SPX_COURSE_TRIES; k++) {
         vec2 q = vec2(pos + oa.x, vrow + oa.y);
-        float b = spectex_course_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, 1);
+        float b = spectex_cell_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, 1);
         if (b >= 0.5 * SPX_NO_JOINT || pos + b >= end) {
             break;
         }
         pos += b;
         vec2 r = vec2(pos - 1.0 + pa.x, vrow + pa.y);
         r = along_x ? r : r.yx;
-        float a = spectex_course_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 0);
-        float hidden = spectex_course_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 1) - 1.0;
+        float a = spectex_cell_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 0);
+        float hidden = spectex_cell_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 1) - 1.0;
         if (hidden > 0.0 && 1.0 - a < SPX_COURSE_SLIVER * height) {
             hidden += size;  // a sliver of a board: only where nothing better
         }
