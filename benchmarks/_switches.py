@@ -40,3 +40,18 @@ def without_courses():
     finally:
         _cells.course_map, _auto._joints_at_wrap = course_map, joints
         resources.clear_cache()
+
+
+@contextmanager
+def grain_blind():
+    """Within the block, main's code before a large photo's grain was read (2026-11-27): a large photo without
+    structure is cropped at full resolution whatever the size of its stones (``_core.MIN_TILE_GRAINS`` 0; the
+    structure's rule stays)."""
+    from spectex.fitting import _core
+
+    original = _core.MIN_TILE_GRAINS
+    _core.MIN_TILE_GRAINS = 0
+    try:
+        yield
+    finally:
+        _core.MIN_TILE_GRAINS = original

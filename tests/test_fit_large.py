@@ -1,6 +1,6 @@
 """A large photo of a large structure (floor tiles photographed at high resolution) is resampled until a
-tile holds enough of its periods; other large photos keep their full resolution (issue 22: a fit that
-looks like the photo)."""
+tile holds enough of its periods, and one of large grain (gravel photographed close) until it holds enough
+grains; other large photos keep their full resolution (issue 22: a fit that looks like the photo)."""
 
 import numpy as np
 import pytest
@@ -44,6 +44,56 @@ def test_a_large_photo_without_structure_keeps_its_full_resolution():
     ex, notes = prepare_exemplar(photo)
     np.testing.assert_allclose(ex, photo[194:706, 344:856].astype(np.float32), atol=1e-6)
     assert notes == ["analysed on the central 512x512 crop of the 1200x900 image"]
+
+
+def _large_gravel(zoom):
+    import skimage.data
+
+    gravel = skimage.data.gravel().astype(np.float64) / 255.0
+    big = ndimage.zoom(gravel, zoom, order=3) + 0.015 * np.random.default_rng(0).standard_normal((512 * zoom,) * 2)
+    return gravel, np.clip(big, 0.0, 1.0).astype(np.float32)
+
+
+def test_a_large_photo_of_smooth_noise_is_resampled_just_enough_for_its_grain():
+    """Noise smoothed by sigma 4 (a grain of 2 x 4 x sqrt(ln 4) = 9.4 pixels) over 1536 pixels: a 512 crop holds
+    54 grains, so it is resampled by 128 x 9.4 / 512 = 2.35, under the whole photo's 3, said in a note."""
+    rng = np.random.default_rng(1)
+    photo = np.clip(0.5 + 0.12 * ndimage.gaussian_filter(rng.standard_normal((1536, 1536)), 4.0, mode="wrap")
+                    / 0.0705, 0, 1)
+    factor = exemplar_scale(photo)
+    assert factor == pytest.approx(128 * 2 * 4 * np.sqrt(np.log(4)) / 512, rel=0.06)
+    ex, notes = prepare_exemplar(photo)
+    assert ex.shape == (512, 512, 3)
+    assert any(f"resampled the 1536x1536 photo by 1/{factor:.4g}" in n and "its grain is 9 photo pixels" in n
+               and "must hold 128 of them" in n for n in notes)
+
+
+@pytest.mark.slow
+def test_a_large_photo_of_large_grain_is_drawn_whole_in_a_far_view():
+    """scikit-image's gravel magnified 4 times (2048 pixels, stones of about 90): resampled to the whole photo
+    (wanted 4.8, the whole photo's 4), its view of the whole photo's extent is closer to the gravel than the
+    fit of the photo's 512-pixel crop at full resolution (the control, ``MIN_TILE_GRAINS`` 0: its few stones
+    repeat as landmarks; structural distance / floor 1.87 against 1.24 in ``benchmarks/bench_large_photos.py``)."""
+    from spectex import metrics
+    from spectex.bake._block import bake_window
+
+    gravel, big = _large_gravel(4)
+    assert exemplar_scale(big) == pytest.approx(4.0)
+    reference = metrics.reference_statistics(gravel)
+    far = {}
+    for grains in (_core.MIN_TILE_GRAINS, 0):
+        monkeypatch = pytest.MonkeyPatch()
+        monkeypatch.setattr(_core, "MIN_TILE_GRAINS", grains)
+        try:
+            result = fit_result(big, photo_size=1.5)
+        finally:
+            monkeypatch.undo()
+        view = np.asarray(bake_window(result.texture, (0, 1024, 0, 1024), pixel_size=1.5 / 512,
+                                      origin=(0.0, 0.0)))[:, :, :3]
+        far[grains] = np.mean([metrics.structural_distance(view[y:y + 512, x:x + 512], gravel,
+                                                           prepared=reference).ratio
+                               for y in (0, 512) for x in (0, 512)])
+    assert far[_core.MIN_TILE_GRAINS] < 1.4 < 1.6 < far[0]
 
 
 def test_small_structure_in_a_large_photo_keeps_its_full_resolution():

@@ -64,6 +64,7 @@ __all__ = [
     "RadialSpectrum",
     "SlopeFit",
     "band_power",
+    "correlation_length",
     "hann_window",
     "power_spectrum",
     "radial_power_spectrum",
@@ -295,6 +296,79 @@ def radial_power_spectrum(image, *, window: str | None = None):
     for c in range(x.shape[2]):
         power[:, c] = np.bincount(idx, weights=wts * p2[:, :, c][sel], minlength=kmax)[good] / count[good]
     return RadialSpectrum(freqs, power[:, 0] if image.ndim == 2 else power)
+
+
+def correlation_length(image, *, level: float = 0.25, detail: float = 8.0) -> float:
+    """Lag (pixels) at which an image's detail stops resembling itself: the grain size of a texture.
+
+    The luma of ``image`` less its Gaussian blur of ``min(H, W) / detail``
+    (the photo's lighting and its largest shapes left out: what stays is the
+    texture's grain, its stones, blades or cells), its mean removed, times
+    :func:`hann_window` (a photo is not periodic); its autocorrelation, the
+    inverse transform of its power spectrum zero-padded to twice the size
+    (no wrap-around), divided by the window's own autocorrelation (the
+    estimate unbiased at every lag the window reaches) and by its value at lag
+    0, averaged over rings one pixel wide. The first ring whose mean falls
+    under ``level`` gives the length, interpolated linearly between rings.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        At least 16 x 16; one or three channels (three are taken as RGB and
+        reduced to their luma).
+    level : float
+        In (0, 1): the correlation the length is read at (0.25: a quarter of
+        a grain's width for stones in mortar or gravel, about 5 pixels for
+        gravel 22 pixels across).
+    detail : float
+        At least 2: the blur taken away is ``min(H, W) / detail`` pixels.
+
+    Returns
+    -------
+    float
+        The lag, in pixels, at least 1; ``min(H, W) / 4`` at most (where
+        the correlation stays above ``level`` that far: a texture of no
+        grain but one large shape).
+    """
+    from scipy import ndimage
+
+    image = check_image("image", image, min_size=16, channels=(None, 1, 3))
+    level = check_float("level", level, minimum=0.0, exclusive_minimum=True)
+    if level >= 1.0:
+        raise ValueError(f"level must be < 1, got {level}")
+    detail = check_float("detail", detail, minimum=2.0)
+    x = image if image.ndim == 2 else (image[:, :, 0] if image.shape[2] == 1 else luma(image))
+    x = np.asarray(x, dtype=np.float64)
+    h, w = x.shape
+    x = x - ndimage.gaussian_filter(x, min(h, w) / detail, mode="reflect")
+    x -= x.mean()
+    win = hann_window((h, w))
+
+    def autocorrelation(a):
+        from scipy import fft as sfft
+
+        f = sfft.rfft2(a, s=(2 * h, 2 * w), workers=fft_workers(4 * h * w))
+        return sfft.irfft2(f.real ** 2 + f.imag ** 2, s=(2 * h, 2 * w), workers=fft_workers(4 * h * w))
+
+    reach = max(2, min(h, w) // 4)
+    ac = np.fft.fftshift(autocorrelation(x * win))[h - reach:h + reach + 1, w - reach:w + reach + 1]
+    aw = np.fft.fftshift(autocorrelation(win))[h - reach:h + reach + 1, w - reach:w + reach + 1]
+    if ac[reach, reach] <= 0.0:
+        return 1.0  # (no detail at all: the caller's own check refuses flat images)
+    ac = ac / np.maximum(aw, 1e-12 * aw[reach, reach]) * (aw[reach, reach] / ac[reach, reach])
+    yy, xx = np.indices(ac.shape)
+    ring = np.rint(np.hypot(yy - reach, xx - reach)).astype(np.int64)
+    inside = ring <= reach
+    profile = (np.bincount(ring[inside], weights=ac[inside], minlength=reach + 1)
+               / np.bincount(ring[inside], minlength=reach + 1))
+    below = np.flatnonzero(profile < level)
+    if below.size == 0:
+        return float(reach)
+    k = int(below[0])
+    if k == 0:
+        return 1.0
+    a, b = profile[k - 1], profile[k]
+    return float(max(1.0, k - 1 + (a - level) / (a - b)))
 
 
 # --------------------------------------------------------------------------

@@ -22,7 +22,8 @@ def register(subparsers) -> None:
             "its precision, a flat frame around the photo (a border, a rotated photo's wedges) is "
             "cropped away, images over 512 pixels on a side are analysed on their central "
             "512 x 512 crop, resampled first where a crop would hold under 6 periods of their structure "
-            "(said in the output). Nothing is written if anything fails."
+            "or, without one, under 128 of their grain (said in the output). Nothing is written if anything "
+            "fails."
         ),
     )
     p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",

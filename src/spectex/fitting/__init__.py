@@ -188,7 +188,7 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         it is the exemplar's central crop made seamless.
     max_size : int
         Larger exemplars are analysed on a central crop of this size, at full
-        resolution unless its structure would not fit
+        resolution unless its structure's periods or its grain would not fit
         (:func:`prepare_exemplar`).
     rng : int, numpy.random.Generator or None
         Randomness of the quilting (scikit-image's SPEC 7): an int gives

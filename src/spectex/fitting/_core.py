@@ -74,9 +74,13 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     would hold fewer than :data:`MIN_TILE_PERIODS` of its structure's periods
     (floor tiles, paving stones photographed at high resolution; the period
     read on the photo resampled to a shorter side of twice ``max_size``) is
-    area-averaged (a box filter) until it holds that many, and no further (other
-    photos keep their full resolution: their detail is what a crop keeps);
-    :func:`exemplar_scale` gives the factor, which the fit's pixel size
+    area-averaged (a box filter) until it holds that many, and no further; any
+    other photo over ``max_size`` on both sides whose crop would hold fewer than
+    :data:`MIN_TILE_GRAINS` of its grain (:func:`spectex.spectrum.correlation_length`:
+    gravel, pebbles or cobbles photographed at high resolution, a crop of a few
+    stones that the texture would repeat as landmarks) likewise, up to the whole
+    photo's shorter side (a photo of fine grain keeps its full resolution: its
+    detail is what a crop keeps); :func:`exemplar_scale` gives the factor, which the fit's pixel size
     includes; then a side over ``max_size`` is cropped about its centre to
     ``max_size`` (cropping, not downscaling, keeps the detail); float values
     outside [0, 1] are clipped.
@@ -123,14 +127,12 @@ def _prepared(image, max_size):
         rgb = image[:, :, :3]
     _check_not_flat(rgb)  # (before the frame: a flat picture is all frame)
     rgb, h, w = _without_frame(rgb, notes)
-    factor, period = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
+    factor, why = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
     if factor > 1.0:
         rh, rw = max(max_size, round(h / factor)), max(max_size, round(w / factor))
         rgb = _resampled(rgb, rh, rw)
         notes.append(f"resampled the {w}x{h} photo by 1/{factor:.4g} to {rw}x{rh} (a pixel {factor:.4g} photo "
-                     f"pixels): its structure repeats every {period:.0f} photo pixels, and the {max_size}-pixel "
-                     f"tile must hold {MIN_TILE_PERIODS} periods to keep it (crop the photo to fewer periods, or pass "
-                     "max_size= / --max-size, to keep its full resolution)")
+                     f"pixels): {why.format(max_size=max_size)}, to keep its full resolution)")
         h, w = rh, rw
     if max(h, w) > max_size:
         th, tw = min(h, max_size), min(w, max_size)
@@ -154,13 +156,28 @@ def _check_not_flat(rgb):
 #: (a 2048-pixel floor of 256-pixel tiles: 2 in a 512 crop, no period found, grout cut to pieces;
 #: a 3072-pixel one of 150-pixel tiles is resampled by 1/1.76, of 96-pixel ones by 1/1.13).
 MIN_TILE_PERIODS = 6
+#: Fewest grains (:func:`spectex.spectrum.correlation_length`, about a quarter of a stone's width) across
+#: the analysed crop of a large photo without structure: one whose ``max_size`` crop at full resolution
+#: holds fewer is resampled until it holds this many, or the whole photo's shorter side. A 2048-pixel photo
+#: of gravel (a grain of 19 pixels, stones of about 90) cropped at full resolution held 27 grains, 6
+#: stones across: its stochastic layer drew those few stones again and again, their shadows a pattern
+#: that repeats in a view over several tiles; resampled by 1/4 (the whole photo: 4.8 wanted) it reads
+#: as the photo. Fine grain keeps its full resolution (noise of 3.6 pixels, 144 in a crop).
+MIN_TILE_GRAINS = 128
 
 
 def _analysis_factor(rgb, max_size):
-    """Photo pixels per analysed pixel for a photo over ``max_size`` on both sides, and the structure's
-    period (photo pixels; None where it has none): 1 (a crop at full resolution, its detail kept) unless
-    its structure, read on the photo resampled to a shorter side of ``2 max_size``, has a period of which
-    a ``max_size`` crop holds fewer than :data:`MIN_TILE_PERIODS`; then just enough to hold them."""
+    """Photo pixels per analysed pixel for a photo over ``max_size`` on both sides, and why (a clause of the
+    note, ``{max_size}`` in it to be filled; None at 1): 1 (a crop at full resolution, its detail kept)
+    unless a ``max_size`` crop would hold too little of the photo, and then just enough to hold it, at
+    most the factor that shows the whole photo's shorter side. Both read on the photo resampled to a
+    shorter side of ``2 max_size``:
+
+    * a structured photo: its structure's period, of which the crop must hold :data:`MIN_TILE_PERIODS`;
+    * any other: its grain (:func:`spectex.spectrum.correlation_length`), of which the crop must hold
+      :data:`MIN_TILE_GRAINS`.
+    """
+    from ..spectrum import correlation_length
     from ._structure import structure_period
 
     h, w = rgb.shape[:2]
@@ -170,13 +187,22 @@ def _analysis_factor(rgb, max_size):
     side = min(min(h, w), 2 * max_size)
     step = min(h, w) / side
     preview = np.clip(_resampled(rgb, round(h / step), round(w / step)), 0.0, 1.0)
-    if structure_peak(preview) < STRUCTURED_PEAK:
+    periods = []
+    if structure_peak(preview) >= STRUCTURED_PEAK:
+        periods = [p for p in (structure_period(preview) or (None, None)) if p is not None]
+    if periods:
+        period = max(periods) * step
+        factor = float(np.clip(MIN_TILE_PERIODS * period / max_size, 1.0, whole))
+        return factor, (f"its structure repeats every {period:.0f} photo pixels, and the {{max_size}}-pixel tile "
+                        f"must hold {MIN_TILE_PERIODS} periods to keep it (crop the photo to fewer periods, or pass "
+                        "max_size= / --max-size")
+    grain = correlation_length(preview) * step
+    factor = float(np.clip(MIN_TILE_GRAINS * grain / max_size, 1.0, whole))
+    if factor <= 1.0:
         return 1.0, None
-    periods = [p for p in (structure_period(preview) or (None, None)) if p is not None]
-    if not periods:
-        return 1.0, None
-    period = max(periods) * step
-    return float(np.clip(MIN_TILE_PERIODS * period / max_size, 1.0, whole)), period
+    return factor, (f"its grain is {grain:.0f} photo pixels (its correlation length), and the {{max_size}}-pixel "
+                    f"tile must hold {MIN_TILE_GRAINS} of them, or its stones and marks repeat as landmarks in a "
+                    "view over several tiles (pass max_size= / --max-size")
 
 
 def _resampled(rgb, h, w):
