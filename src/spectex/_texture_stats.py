@@ -1184,12 +1184,11 @@ def _rarity(photo: np.ndarray):
     _, idx = cKDTree(features).query(features, k=n)
     # the candidates' distances over the whole patch, not the components alone: what sets a rare patch
     # apart (a colour no other patch has) is little of the photo's variance, so little of its components
-    dist = np.empty(idx.shape)
-    flat = patches.astype(np.float32)
-    for start in range(0, len(flat), 1024):
-        part = flat[start:start + 1024]
-        diff = flat[idx[start:start + 1024]] - part[:, None, :]
-        dist[start:start + 1024] = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff))
+    # (by the patches' Gram matrix, one product: |a - b|^2 = |a|^2 + |b|^2 - 2 a.b about the patches' mean, in
+    # float64; gathering every candidate's 192 values instead moved 0.4 GB and took 1.5 s of a fit)
+    gram = centred @ centred.T
+    norms = np.diagonal(gram)
+    dist = np.sqrt(np.maximum(norms[:, None] + norms[idx] - 2.0 * np.take_along_axis(gram, idx, axis=1), 0.0))
     apart = np.max(np.abs(corners[idx] - corners[:, None, :]), axis=2) >= _RARE_APART * p
     ranked = np.where(apart, dist, np.inf)
     ranked.sort(axis=1)
