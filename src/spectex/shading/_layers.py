@@ -309,10 +309,10 @@ def _trilinear_repeat(flat, base, offsets, size0, q, d1, beta, s, t):
 
 
 @_jit_inline
-def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, bi, bj, key, w0, nx, ny):
+def _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, ds, dt, bi, bj, key, w0, nx, ny):
     """:func:`~spectex.shading.stochastic.vertex_patch_at` with the fast path's trilinear sampler."""
     ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, w0, nx, ny)
-    return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox, t + oy)
+    return _trilinear_repeat(gflat, base, offsets, size0, q, d1, beta, s + ox + ds, t + oy + dt)
 
 
 @_jit_inline
@@ -368,10 +368,10 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         cells = cell_row >= 0.0 and tm < 1.0
         v0 = v1 = v2 = v3 = 0.0
         if cells:
-            ci, cj, whole = cell_vertex(lut, cell_row, s, t, kx, ky, gk, w0, w0, bi, bj, key, nx, ny)
+            ci, cj, whole, ds, dt = cell_vertex(lut, cell_row, s, t, kx, ky, gk, w0, w0, bi, bj, key, nx, ny)
             if whole:
-                v0, v1, v2, v3 = _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, bi, bj, key,
-                                             w0, nx, ny)
+                v0, v1, v2, v3 = _row_winner(gflat, base, offsets, size0, q, d1, beta, s, t, ci, cj, ds, dt, bi, bj,
+                                             key, w0, nx, ny)
             else:
                 tm = 1.0  # the blend at the point
         if not cells or tm > 0.0:

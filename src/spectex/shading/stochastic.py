@@ -623,7 +623,8 @@ def cell_score(gx, gy, ci, cj):
 
 @_jit_inline
 def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
-    """The grid vertex (relative to ``(bi, bj)``) whose patch a layer snapped along one axis shows at ``(s, t)``.
+    """The grid vertex (relative to ``(bi, bj)``) whose patch a layer snapped along one axis shows at ``(s, t)``,
+    and that patch's shift along the course (texels).
 
     The layer's tile has a course map (``shading._cells.course_map``): its courses (rows of boards, or
     columns of bricks) run along the free axis, and every patch's courses fall where the un-offset tile's
@@ -631,13 +632,17 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     map) is cut into *segments* of ``m`` whole grid cells along it (``m`` the fewest whose length is at
     least ``COURSE_SEGMENT`` times the tile's longest board; counted from the grid's absolute vertex
     index, so the same wherever the anchor is), each segment shown by the patch of the grid vertex where
-    it starts. The segment's patch takes over at the first start of a unit (a joint and the board after
-    it) of its own in the segment: of its first ``COURSE_TRIES``, the one that hides least of the board the
-    patch before shows there (nothing where both patches have a joint there), a cut leaving that board
-    shorter than ``COURSE_SLIVER`` times the course's height (a sliver) only where every other hides more
-    than a tile. The patch before shows up to there, its board ended by the new patch's joint. A course
-    without a joint, or a segment without a joint of the new patch, is cut at the segment's start. Every
-    course decides alone: the courses change patch on the grout between them.
+    it starts. Every other segment (the odd ones, by the absolute index) is *aligned*: its patch is
+    shifted along the course (by at most a unit) so that one of its unit starts (a joint and the board after
+    it) falls on the patch before's first unit start in the segment, and takes over there: neither board is
+    cut. The even segments' patches are not shifted (so no chain of shifts runs along a course), and take
+    over at a unit start of their own in the segment: of their first ``COURSE_TRIES``, the one that hides
+    least of the board the (shifted) patch before shows there (nothing where both have a joint there), a
+    cut leaving that board shorter than ``COURSE_SLIVER`` times the course's height (a sliver) only where
+    every other hides more than a tile; the patch before shows up to there, its board ended by the new
+    patch's joint. A segment that cannot be aligned (no joint of the patch before in it) takes over as an
+    even one; a course without a joint, or a segment without a joint of the new patch, is cut at the
+    segment's start. Every course decides alone: the courses change patch on the grout between them.
     """
     along_x = ny < h0  # snapped across y: the courses run along x
     xt = math.floor(s * w0)
@@ -684,34 +689,77 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     qy = math.floor(qy * h0 + 0.5)
     oa, ob = (ox, oy) if along_x else (oy, ox)
     pa, pb = (qx, qy) if along_x else (qy, qx)
-    # the cut: of the new patch's first COURSE_TRIES unit starts in the segment, the one that hides least of
-    # the board the patch before shows there (none where its own joint is there too), slivers avoided
+    # the aligned change this segment reads: an odd segment's own (its patch shifted onto the patch before's
+    # first unit start in it: neither board cut), or an even one's patch before's (odd: shifted onto the one
+    # before it); one call either way
     end = u1 * size
+    start = float(math.floor(u0 * size + COURSE_ROUND))
+    odd = (((base + i0) & _M32) // m) % 2 == 1
+    jq = np.int64(math.floor(wl + rho * (i0 - 2 * m - ul) + COURSE_ROUND))
+    ri, rj = (i0 - 2 * m, jq) if along_x else (jq, i0 - 2 * m)
+    rx, ry = vertex_offset(bi + ri, bj + rj, key, w0, h0, nx, ny)
+    rx = math.floor(rx * w0 + 0.5)
+    ry = math.floor(ry * h0 + 0.5)
+    ra, rb = (rx, ry) if along_x else (ry, rx)
+    if odd:
+        j, shift = _course_align(lut, cell_row, start, end, pa, pb, oa, ob, vrow, along_x, w0, h0)
+    else:
+        before = float(math.floor((u0 - m / step) * size + COURSE_ROUND))
+        j, shift = _course_align(lut, cell_row, before, start, ra, rb, pa, pb, vrow, along_x, w0, h0)
+    if odd and j >= 0.0:
+        if u * size >= j:
+            return ci, cj, shift
+        return pi, pj, 0.0
+    prev_shift = shift if (not odd and j >= 0.0) else 0.0
+    pa += prev_shift
+    # the cut (an even segment, or an odd one not aligned): of the new patch's first COURSE_TRIES unit starts in
+    # the segment, the one that hides least of the board the patch before shows there (none where its own
+    # joint is there too), slivers avoided
     cut = u0 * size
     best = np.inf
-    pos = float(math.floor(cut + COURSE_ROUND))
+    pos = start
     for _ in range(COURSE_TRIES):
-        if along_x:
-            b = cell_entry(lut, cell_row, pos + oa, vrow + ob, w0, h0, 1)
-        else:
-            b = cell_entry(lut, cell_row, vrow + ob, pos + oa, w0, h0, 1)
+        b = _course_at(lut, cell_row, pos, vrow, oa, ob, along_x, w0, h0, 1)
         if b >= 0.5 * NO_JOINT or pos + b >= end:
             break
         pos += b
-        if along_x:
-            a = cell_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 0)
-            hidden = cell_entry(lut, cell_row, pos - 1.0 + pa, vrow + pb, w0, h0, 1) - 1.0
-        else:
-            a = cell_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 0)
-            hidden = cell_entry(lut, cell_row, vrow + pb, pos - 1.0 + pa, w0, h0, 1) - 1.0
+        a = _course_at(lut, cell_row, pos - 1.0, vrow, pa, pb, along_x, w0, h0, 0)
+        hidden = _course_at(lut, cell_row, pos - 1.0, vrow, pa, pb, along_x, w0, h0, 1) - 1.0
         if hidden > 0.0 and 1.0 - a < COURSE_SLIVER * height:
             hidden += size  # a sliver of a board: only where nothing better
         if hidden < best:
             best = hidden
             cut = pos
     if u * size >= cut:
-        return ci, cj
-    return pi, pj
+        return ci, cj, 0.0
+    return pi, pj, prev_shift
+
+
+@_jit_inline
+def _course_at(lut, cell_row, along, vrow, oa, ob, along_x, w0, h0, c):
+    """Channel ``c`` of the course map at texel ``along`` of the course in texel row ``vrow`` (across), as a patch
+    offset by ``(oa, ob)`` whole texels (along, across) shows it."""
+    if along_x:
+        return cell_entry(lut, cell_row, along + oa, vrow + ob, w0, h0, c)
+    return cell_entry(lut, cell_row, vrow + ob, along + oa, w0, h0, c)
+
+
+@_jit_inline
+def _course_align(lut, cell_row, start, end, pa, pb, oa, ob, vrow, along_x, w0, h0):
+    """An aligned patch change (:func:`course_vertex`): ``(j, shift)``, ``j`` the first unit start at or after texel
+    ``start`` (and before ``end``) of the patch before (offsets ``(pa, pb)``), ``shift`` (texels, at most 0) what
+    moves the new patch's (``(oa, ob)``) unit start at or before ``j`` onto it; ``(-1, 0)`` where the patch before
+    has no unit start there, or either course no joint."""
+    b = _course_at(lut, cell_row, start - 1.0, vrow, pa, pb, along_x, w0, h0, 1)
+    if b >= 0.5 * NO_JOINT:
+        return -1.0, 0.0
+    j = start - 1.0 + b
+    if j >= end:
+        return -1.0, 0.0
+    a = _course_at(lut, cell_row, j, vrow, oa, ob, along_x, w0, h0, 0)
+    if a <= -0.5 * NO_JOINT:
+        return -1.0, 0.0
+    return j, a
 
 
 @_jit_inline
@@ -731,7 +779,8 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     in its patch's own region beats one that does not, and of two, the
     deeper; so each cell is whole where its patch wins, and a cell that
     loses is cut by the winner's outline (in the grout), not by a straight
-    line. Returns ``(ci, cj, whole)``: ``whole`` False (and ``(ci, cj)``
+    line. Returns ``(ci, cj, whole, ds, dt)``: ``(ds, dt)`` the patch's shift (tile units; a course's
+    aligned segment, else 0); ``whole`` False (and ``(ci, cj)``
     of no meaning) where no vertex's
     cell lies in its own region (the gaps between cells that each lie in
     another patch's region; 6 % of a fitted paving's texels, or a texel of
@@ -740,12 +789,14 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     fragments of cells).
     """
     if (nx < w0) != (ny < h0):
-        ci, cj = course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
-        return ci, cj, True
+        ci, cj, shift = course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
+        if ny < h0:  # (the courses run along x)
+            return ci, cj, True, shift / w0, 0.0
+        return ci, cj, True, 0.0, shift / h0
     if nx < w0 or ny < h0:
         gx, gy = cell_point(lut, cell_row, s, t, kx, ky, grid, w0, h0)
         ci, cj = nearest_vertex(gx, gy)
-        return ci, cj, True
+        return ci, cj, True, 0.0, 0.0
     i1, j1, w1, i2, j2, w2, i3, j3, w3 = triangle_vertices(kx, ky)
     ci, cj = i1, j1  # (kept only where a vertex scores: else not whole, and the blend is drawn)
     best = 0.0
@@ -764,18 +815,19 @@ def cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
     score = cell_score(gx, gy, i3, j3)
     if score > best:
         best, ci, cj = score, i3, j3
-    return ci, cj, best >= 1.0
+    return ci, cj, best >= 1.0, 0.0, 0.0
 
 
 @_jit_inline
-def vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, bi, bj, key, w0, h0, nx, ny, lam,
+def vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, ds, dt, bi, bj, key, w0, h0, nx, ny, lam,
                     min_filter, mag_filter, wrap_s, wrap_t):
     """The Gaussian RGBA at ``(s, t)`` of the one patch of grid vertex ``(ci, cj)`` (relative to ``(bi, bj)``;
-    :func:`cell_vertex`): sampled at ``(s, t)`` plus its offset, its own value (one fetch). Apart from
-    :func:`patches_at` so that each kernel inlines the texel sampler once per fetch it makes."""
+    :func:`cell_vertex`): sampled at ``(s, t)`` plus its offset and the shift ``(ds, dt)`` its cell or course
+    gives it, its own value (one fetch). Apart from :func:`patches_at` so that each kernel inlines the
+    texel sampler once per fetch it makes."""
     ox, oy = vertex_offset(bi + ci, bj + cj, key, w0, h0, nx, ny)
-    return sample_at_lod(data, base, offsets, widths, heights, s + ox, t + oy, lam, min_filter, mag_filter,
-                         wrap_s, wrap_t)
+    return sample_at_lod(data, base, offsets, widths, heights, s + ox + ds, t + oy + dt, lam, min_filter,
+                         mag_filter, wrap_s, wrap_t)
 
 
 @_jit_inline
@@ -856,10 +908,10 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
     if cells:
-        ci, cj, whole = cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
+        ci, cj, whole, ds, dt = cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
         if whole:
-            v0, v1, v2, v3 = vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, bi, bj, key, w0,
-                                             h0, nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
+            v0, v1, v2, v3 = vertex_patch_at(data, base, offsets, widths, heights, s, t, ci, cj, ds, dt, bi, bj,
+                                             key, w0, h0, nx, ny, lam, min_filter, mag_filter, wrap_s, wrap_t)
         else:
             tm = 1.0  # the blend at the point
     if not cells or tm > 0.0:

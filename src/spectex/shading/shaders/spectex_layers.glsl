@@ -188,12 +188,40 @@ float spectex_cell_score(vec2 gc, vec2 vk) {
     return (n.x == vk.x && n.y == vk.y) ? hat + 1.0 : hat;
 }
 
-// The grid vertex (relative to the base vertex) whose patch a layer snapped along one axis only shows at st
-// (stochastic.course_vertex): its courses (rows of boards, columns of bricks) change patch at a joint.
-// The course's centre line is cut into segments of m grid cells (counted from the absolute vertex index),
-// each shown by its first vertex's patch from the least hiding of that patch's first SPX_COURSE_TRIES unit
-// starts in it on; before there, the previous segment's patch.
-vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
+// The grid vertex (relative to the base vertex) whose patch a layer snapped along one axis only shows at st,
+// and that patch's shift along the course in texels (stochastic.course_vertex): its courses (rows of boards,
+// columns of bricks) change patch at a joint. The course's centre line is cut into segments of m grid cells
+// (counted from the absolute vertex index), each shown by its first vertex's patch. An odd segment's patch
+// is shifted so that one of its unit starts falls on the previous patch's first unit start in the segment,
+// and takes over there (spectex_course_align); an even one's (or an odd one that cannot be aligned) from the
+// least hiding of its first SPX_COURSE_TRIES unit starts in it on; before there, the previous segment's patch.
+float spectex_course_at(SPX_TEX_ARG(lut), float along, float vrow, vec2 o, bool along_x, vec2 tex_size,
+                        float cell_row, float lut_rows, int c) {
+    vec2 q = vec2(along + o.x, vrow + o.y);
+    return spectex_cell_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, c);
+}
+
+// An aligned patch change (stochastic._course_align): (j, shift), j the first unit start at or after texel
+// start (before end) of the patch before (whole-texel offsets p: along, across), shift what moves the new
+// patch's (o) unit start at or before j onto it; (-1, 0) where there is none.
+vec2 spectex_course_align(SPX_TEX_ARG(lut), float start, float end, vec2 p, vec2 o, float vrow, bool along_x,
+                          vec2 tex_size, float cell_row, float lut_rows) {
+    float b = spectex_course_at(SPX_TEX(lut), start - 1.0, vrow, p, along_x, tex_size, cell_row, lut_rows, 1);
+    if (b >= 0.5 * SPX_NO_JOINT) {
+        return vec2(-1.0, 0.0);
+    }
+    float j = start - 1.0 + b;
+    if (j >= end) {
+        return vec2(-1.0, 0.0);
+    }
+    float a = spectex_course_at(SPX_TEX(lut), j, vrow, o, along_x, tex_size, cell_row, lut_rows, 0);
+    if (a <= -0.5 * SPX_NO_JOINT) {
+        return vec2(-1.0, 0.0);
+    }
+    return vec2(j, a);
+}
+
+vec3 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key,
                            vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
     vec2 inv_size = 1.0 / tex_size;
     bool along_x = snap.y < tex_size.y;
@@ -238,6 +266,7 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     float i0 = fu - float((base + SPX_UINT(int(fu))) % SPX_UINT(int(m)));
     float u0 = u + (i0 - ul) / stp;
     float end = (u0 + m / stp) * size;
+    float start = floor(u0 * size + SPX_COURSE_ROUND);
     float j0 = floor(wl + rho * (i0 - ul) + SPX_COURSE_ROUND);
     float jp = floor(wl + rho * (i0 - m - ul) + SPX_COURSE_ROUND);
     vec2 cur = along_x ? vec2(i0, j0) : vec2(j0, i0);
@@ -249,20 +278,33 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     // (along, across) of each patch's whole-texel offset
     vec2 oa = along_x ? oc : oc.yx;
     vec2 pa = along_x ? op : op.yx;
+    // the aligned change this segment reads: an odd segment's own, or an even one's patch before's; one call
+    bool odd = ((base + SPX_UINT(int(i0))) / SPX_UINT(int(m))) % 2u == 1u;
+    float jq = floor(wl + rho * (i0 - 2.0 * m - ul) + SPX_COURSE_ROUND);
+    vec2 pp = along_x ? vec2(i0 - 2.0 * m, jq) : vec2(jq, i0 - 2.0 * m);
+    vec2 or2 = floor(spectex_vertex_offset(SPX_UINT(int(pp.x)) + base_i, SPX_UINT(int(pp.y)) + base_j, key,
+                                           tex_size, inv_size, snap) * tex_size + 0.5);
+    vec2 ra = along_x ? or2 : or2.yx;
+    float before = floor((u0 - m / stp) * size + SPX_COURSE_ROUND);
+    vec2 js = spectex_course_align(SPX_TEX(lut), odd ? start : before, odd ? end : start, odd ? pa : ra,
+                                   odd ? oa : pa, vrow, along_x, tex_size, cell_row, lut_rows);
+    if (odd && js.x >= 0.0) {
+        return (u * size >= js.x) ? vec3(cur, js.y) : vec3(prev, 0.0);
+    }
+    float prev_shift = (!odd && js.x >= 0.0) ? js.y : 0.0;
+    pa.x += prev_shift;
     float cut = u0 * size;
     float best = 1.0e30;
-    float pos = floor(cut + SPX_COURSE_ROUND);
+    float pos = start;
     for (int k = 0; k < SPX_COURSE_TRIES; k++) {
-        vec2 q = vec2(pos + oa.x, vrow + oa.y);
-        float b = spectex_cell_entry(SPX_TEX(lut), along_x ? q : q.yx, tex_size, cell_row, lut_rows, 1);
+        float b = spectex_course_at(SPX_TEX(lut), pos, vrow, oa, along_x, tex_size, cell_row, lut_rows, 1);
         if (b >= 0.5 * SPX_NO_JOINT || pos + b >= end) {
             break;
         }
         pos += b;
-        vec2 r = vec2(pos - 1.0 + pa.x, vrow + pa.y);
-        r = along_x ? r : r.yx;
-        float a = spectex_cell_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 0);
-        float hidden = spectex_cell_entry(SPX_TEX(lut), r, tex_size, cell_row, lut_rows, 1) - 1.0;
+        float a = spectex_course_at(SPX_TEX(lut), pos - 1.0, vrow, pa, along_x, tex_size, cell_row, lut_rows, 0);
+        float hidden = spectex_course_at(SPX_TEX(lut), pos - 1.0, vrow, pa, along_x, tex_size, cell_row, lut_rows,
+                                         1) - 1.0;
         if (hidden > 0.0 && 1.0 - a < SPX_COURSE_SLIVER * height) {
             hidden += size;  // a sliver of a board: only where nothing better
         }
@@ -271,7 +313,7 @@ vec2 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
             cut = pos;
         }
     }
-    return (u * size >= cut) ? cur : prev;
+    return (u * size >= cut) ? vec3(cur, 0.0) : vec3(prev, prev_shift);
 }
 
 // The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
@@ -283,10 +325,13 @@ vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
                          vec2 snap, vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
     vec2 inv_size = 1.0 / tex_size;
     vec2 win;
+    vec2 shift = vec2(0.0);
     float best = 1.0;
     if ((snap.x < tex_size.x) != (snap.y < tex_size.y)) {
-        win = spectex_course_vertex(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
-                                    lut_rows);
+        vec3 course = spectex_course_vertex(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid,
+                                            cell_row, lut_rows);
+        win = course.xy;
+        shift = (snap.y < tex_size.y) ? vec2(course.z * inv_size.x, 0.0) : vec2(0.0, course.z * inv_size.y);
     } else if (snap.x < tex_size.x || snap.y < tex_size.y) {
         win = spectex_nearest_vertex(spectex_cell_centre(SPX_TEX(lut), st, g, tex_size, grid, cell_row, lut_rows));
     } else {
@@ -309,7 +354,7 @@ vec3 spectex_cell_offset(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, SPX
         }
     }
     return vec3(spectex_vertex_offset(SPX_UINT(int(win.x)) + base_i, SPX_UINT(int(win.y)) + base_j, key,
-                                      tex_size, inv_size, snap), (best >= 1.0) ? 1.0 : 0.0);
+                                      tex_size, inv_size, snap) + shift, (best >= 1.0) ? 1.0 : 0.0);
 }
 
 // The blended Gaussian value at st of the three patches of the triangle holding grid
