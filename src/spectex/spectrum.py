@@ -303,7 +303,9 @@ def correlation_length(image, *, level: float = 0.25, detail: float = 8.0) -> fl
 
     The luma of ``image`` less its Gaussian blur of ``min(H, W) / detail``
     (the photo's lighting and its largest shapes left out: what stays is the
-    texture's grain, its stones, blades or cells), its mean removed, times
+    texture's grain, its stones, blades or cells; the blur taken in the
+    frequency domain on the image mirrored to twice its size, its edges
+    reflected), its mean removed, times
     :func:`hann_window` (a photo is not periodic); its autocorrelation, the
     inverse transform of its power spectrum zero-padded to twice the size
     (no wrap-around), divided by the window's own autocorrelation (the
@@ -330,25 +332,31 @@ def correlation_length(image, *, level: float = 0.25, detail: float = 8.0) -> fl
         the correlation stays above ``level`` that far: a texture of no
         grain but one large shape).
     """
-    from scipy import ndimage
-
     image = check_image("image", image, min_size=16, channels=(None, 1, 3))
     level = check_float("level", level, minimum=0.0, exclusive_minimum=True)
     if level >= 1.0:
         raise ValueError(f"level must be < 1, got {level}")
     detail = check_float("detail", detail, minimum=2.0)
     x = image if image.ndim == 2 else (image[:, :, 0] if image.shape[2] == 1 else luma(image))
+    from scipy import fft as sfft
+
     x = np.asarray(x, dtype=np.float64)
     h, w = x.shape
-    x = x - ndimage.gaussian_filter(x, min(h, w) / detail, mode="reflect")
+    workers = fft_workers(4 * h * w)
+    # less its Gaussian blur, in the frequency domain on the image mirrored to twice its size (its edges
+    # reflected, as ndimage's "reflect" mode; a direct filter of sigma 128 on a 1024-pixel photo took 1 s)
+    sigma = min(h, w) / detail
+    f = sfft.rfft2(np.pad(x, ((0, h), (0, w)), mode="symmetric"), workers=workers)
+    fy = np.fft.fftfreq(2 * h)[:, None]
+    fx = np.fft.rfftfreq(2 * w)[None, :]
+    f *= -np.expm1(-2.0 * (np.pi * sigma) ** 2 * (fy * fy + fx * fx))
+    x = sfft.irfft2(f, s=(2 * h, 2 * w), workers=workers)[:h, :w]
     x -= x.mean()
     win = hann_window((h, w))
 
     def autocorrelation(a):
-        from scipy import fft as sfft
-
-        f = sfft.rfft2(a, s=(2 * h, 2 * w), workers=fft_workers(4 * h * w))
-        return sfft.irfft2(f.real ** 2 + f.imag ** 2, s=(2 * h, 2 * w), workers=fft_workers(4 * h * w))
+        f = sfft.rfft2(a, s=(2 * h, 2 * w), workers=workers)
+        return sfft.irfft2(f.real ** 2 + f.imag ** 2, s=(2 * h, 2 * w), workers=workers)
 
     reach = max(2, min(h, w) // 4)
     ac = np.fft.fftshift(autocorrelation(x * win))[h - reach:h + reach + 1, w - reach:w + reach + 1]
