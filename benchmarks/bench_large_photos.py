@@ -48,7 +48,9 @@ def _large(photo, zoom, seed=0):
     from scipy import ndimage
 
     rgb = photo if photo.ndim == 3 else np.repeat(photo[:, :, None], 3, axis=2)
-    big = ndimage.zoom(rgb, (zoom, zoom, 1), order=3)
+    # (pixel areas aligned and the edges reflected: the default's zeros beyond the edge left a dark last column,
+    # which the fit took for a frame)
+    big = ndimage.zoom(rgb, (zoom, zoom, 1), order=3, mode="reflect", grid_mode=True)
     big = big + 0.015 * np.random.default_rng(seed).standard_normal(big.shape)
     return np.clip(big, 0.0, 1.0).astype(np.float32)
 

@@ -50,7 +50,8 @@ def _large_gravel(zoom):
     import skimage.data
 
     gravel = skimage.data.gravel().astype(np.float64) / 255.0
-    big = ndimage.zoom(gravel, zoom, order=3) + 0.015 * np.random.default_rng(0).standard_normal((512 * zoom,) * 2)
+    big = (ndimage.zoom(gravel, zoom, order=3, mode="reflect", grid_mode=True)
+           + 0.015 * np.random.default_rng(0).standard_normal((512 * zoom,) * 2))
     return gravel, np.clip(big, 0.0, 1.0).astype(np.float32)
 
 
