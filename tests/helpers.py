@@ -190,20 +190,44 @@ def assert_gl_matches_cpu(tex, gl):
             assert psnr(g, c) >= 40.0, (name, psnr(g, c))
 
 
-def fast_path_against_general(tex):
-    """A 48 x 64 view of ``tex`` (a layer with a cell map, fast-path sampler state) drawn by the CPU's fast kernel
-    and by its general one: ``(fast, general)``."""
+def views_against_reference(texture, gl):
+    """For each of VIEWS: ``(name, camera, CPU render, GL render, reference, render without mip-maps)``,
+    the reference 16 x 16 supersampled without mip-maps; GL = CPU >= 40 dB asserted on the way."""
+    from spectex.render.cpu import render_cpu
+    from spectex.render.gl import GLRenderer
+
+    with GLRenderer(texture, ctx=gl) as r:
+        for name, cam in VIEWS.items():
+            c = render_cpu(texture, cam, SIZE)
+            g = r.render(cam, SIZE)
+            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
+            ref = render_cpu(texture, cam, SIZE, filter="linear", supersample=16)
+            yield name, cam, c, g, ref, render_cpu(texture, cam, SIZE, filter="linear")
+
+
+def fast_and_general(tex, position, shape):
+    """A view of ``tex`` from a camera at ``position`` (yaw 40, pitch -35, fov 60), ``shape`` pixels, drawn by the
+    CPU's fast kernel and by its general one: ``(fast, general)``."""
     from spectex.shading import pack, view_params
     from spectex.shading.tables import anchor_coords
     from spectex.shading.view import render_kernel, render_kernel_fast, row_order
 
     tables = pack(tex)
-    assert tables.fast and tables.cell_row[0] >= 0
-    cam = Camera((3.0e1, -2.0e1, 1.5), yaw=40.0, pitch=-35.0, fov=60.0)
-    view = view_params(cam, (48, 64), supersample=1)
+    cam = Camera(position, yaw=40.0, pitch=-35.0, fov=60.0)
+    view = view_params(cam, shape, supersample=1)
     anchor = anchor_coords(tex.layers, *cam.position[:2])
-    fast = np.empty((48, 64, 3), np.float32)
-    general = np.empty((48, 64, 3), np.float32)
-    render_kernel_fast(tables, anchor, view, row_order(48), fast)
-    render_kernel(tables, anchor, view, row_order(48), general)
+    fast = np.empty(shape + (3,), np.float32)
+    general = np.empty(shape + (3,), np.float32)
+    render_kernel_fast(tables, anchor, view, row_order(shape[0]), fast)
+    render_kernel(tables, anchor, view, row_order(shape[0]), general)
     return fast, general
+
+
+def fast_path_against_general(tex):
+    """A 48 x 64 view of ``tex`` (a layer with a cell map, fast-path sampler state) drawn by the CPU's fast kernel
+    and by its general one: ``(fast, general)``."""
+    from spectex.shading import pack
+
+    tables = pack(tex)
+    assert tables.fast and tables.cell_row[0] >= 0
+    return fast_and_general(tex, (3.0e1, -2.0e1, 1.5), (48, 64))

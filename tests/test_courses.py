@@ -357,23 +357,16 @@ def test_fitted_planks_gl_matches_cpu_and_is_alias_free(gl):
     view, 42.3 without the map: each pixel takes one patch at its centre, where the reference averages the
     patches its footprint covers), >= 45 low-passed (48.3); the control, without mip-maps, far worse."""
     exemplars = _exemplars()
-    from helpers import psnr_low
+    from helpers import psnr_low, views_against_reference
     from spectex.fitting import fit
-    from spectex.render.cpu import render_cpu
-    from spectex.render.gl import GLRenderer
     from spectex.shading.resources import cell_maps
 
     tex = fit(exemplars.load("planks"), pixel_size=0.03)
     assert cell_maps(tex)[0] is not None and min(tex.layers[0].snap) == 0 < max(tex.layers[0].snap)
     full, low, plain = {}, {}, {}
-    with GLRenderer(tex, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(tex, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
-            ref = render_cpu(tex, cam, SIZE, filter="linear", supersample=16)
-            full[name], low[name] = min(psnr(c, ref), psnr(g, ref)), min(psnr_low(c, ref), psnr_low(g, ref))
-            plain[name] = psnr_low(render_cpu(tex, cam, SIZE, filter="linear"), ref)
+    for name, _, c, g, ref, no_mip in views_against_reference(tex, gl):
+        full[name], low[name] = min(psnr(c, ref), psnr(g, ref)), min(psnr_low(c, ref), psnr_low(g, ref))
+        plain[name] = psnr_low(no_mip, ref)
     assert min(full.values()) >= 38.0 and min(low.values()) >= 45.0, (full, low)
     assert all(plain[k] <= low[k] - 8.0 for k in VIEWS if k != "close"), (low, plain)
 

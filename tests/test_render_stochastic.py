@@ -4,7 +4,7 @@ against a supersampled reference (with a control that must be worse), and what t
 import numpy as np
 import pytest
 
-from helpers import SIZE, VIEWS, floor_photo, psnr, psnr_low
+from helpers import SIZE, VIEWS, floor_photo, psnr, psnr_low, views_against_reference
 from spectex.metrics import repeat_peak
 from spectex.render import Camera, bake
 from spectex.render.cpu import render_cpu
@@ -189,20 +189,6 @@ def test_render_cpu_fast_path_matches_general_stochastic(blend):
         assert general.std() > 0.01  # a textured picture, not a blank one
 
 
-def _views_against_reference(texture, gl):
-    """For each of VIEWS: ``(name, camera, CPU render, GL render, reference, render without mip-maps)``,
-    the reference 16 x 16 supersampled without mip-maps; GL = CPU >= 40 dB asserted on the way."""
-    from spectex.render.gl import GLRenderer
-
-    with GLRenderer(texture, ctx=gl) as r:
-        for name, cam in VIEWS.items():
-            c = render_cpu(texture, cam, SIZE)
-            g = r.render(cam, SIZE)
-            assert psnr(g, c) >= 40.0, (name, psnr(g, c))
-            ref = render_cpu(texture, cam, SIZE, filter="linear", supersample=16)
-            yield name, cam, c, g, ref, render_cpu(texture, cam, SIZE, filter="linear")
-
-
 @pytest.fixture(scope="module")
 def fitted():
     """spectex.fit's default on a gravel crop (a sharpened stochastic finest layer, periodic coarse
@@ -245,7 +231,7 @@ def test_fitted_texture_gl_matches_cpu_and_is_alias_free(gl, fitted):
     high view."""
     assert fitted.layers[0].tiling == "stochastic" and len(fitted.tiles) == 2
     mip, gl_mip, plain = {}, {}, {}
-    for name, cam, c, g, ref, no_mip in _views_against_reference(fitted, gl):
+    for name, cam, c, g, ref, no_mip in views_against_reference(fitted, gl):
         mip[name], gl_mip[name] = psnr(c, ref), psnr(g, ref)
         plain[name] = psnr(no_mip, ref)
         if name == "high":
@@ -285,7 +271,7 @@ def test_small_photos_fit_gl_matches_cpu_and_is_alias_free(gl, fitted_small):
     49.3), every view >= 43; the control, without mip-maps, 18-30 dB less on every minified view."""
     assert fitted_small.layers[0].tiling == "stochastic" and fitted_small.tiles[0].shape[0] == 64
     low, gl_low, plain = {}, {}, {}
-    for name, _, c, g, ref, no_mip in _views_against_reference(fitted_small, gl):
+    for name, _, c, g, ref, no_mip in views_against_reference(fitted_small, gl):
         low[name], gl_low[name] = psnr_low(c, ref), psnr_low(g, ref)
         plain[name] = psnr_low(no_mip, ref)
     assert min(low.values()) >= 40.0 and min(gl_low.values()) >= 40.0, (low, gl_low)
@@ -324,7 +310,7 @@ def test_fitted_tiles_gl_matches_cpu_and_is_alias_free(gl, fitted_tiles):
     assert layer.tiling == "stochastic" and max(layer.snap) > 0
     assert cell_maps(fitted_tiles)[layer.tile] is not None  # the cells' path is what is measured
     low, gl_low, full, plain = {}, {}, {}, {}
-    for name, _, c, g, ref, no_mip in _views_against_reference(fitted_tiles, gl):
+    for name, _, c, g, ref, no_mip in views_against_reference(fitted_tiles, gl):
         low[name], gl_low[name] = psnr_low(c, ref), psnr_low(g, ref)
         full[name] = min(psnr(c, ref), psnr(g, ref))
         plain[name] = psnr_low(no_mip, ref)

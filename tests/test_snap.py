@@ -19,7 +19,6 @@ from spectex import metrics
 from spectex.render import bake
 from spectex.render.cpu import render_cpu
 from spectex.shading.stochastic import layer_key, lowbias32, sample_stochastic, stochastic_tables, triangle_grid_matrix
-from spectex.shading.tables import anchor_coords
 from spectex.texture import Layer, SpectralTexture
 
 BRICK_W, BRICK_H = 16, 8
@@ -148,25 +147,16 @@ def test_snapped_layers_gl_matches_cpu(gl, name):
 
 
 def test_snapped_cpu_fast_path_matches_the_general_sampler():
-    from spectex.render import Camera
-    from spectex.shading import pack, view_params
-    from spectex.shading.view import render_kernel, render_kernel_fast, row_order
+    from helpers import fast_and_general
+    from spectex.shading import pack
 
     tex = _snapped_texture((8, 3))
-    tables = pack(tex)
-    assert tables.fast
-    cam = Camera((3.0e4, -2.0e4, 2.0), yaw=40.0, pitch=-35.0, fov=60.0)
-    view = view_params(cam, (24, 40), supersample=1)
-    anchor = anchor_coords(tex.layers, *cam.position[:2])
-    fast = np.empty((24, 40, 3), np.float32)
-    general = np.empty((24, 40, 3), np.float32)
-    render_kernel_fast(tables, anchor, view, row_order(24), fast)
-    render_kernel(tables, anchor, view, row_order(24), general)
+    assert pack(tex).fast
+    fast, general = fast_and_general(tex, (3.0e4, -2.0e4, 2.0), (24, 40))
     diff = np.abs(fast - general)
     assert np.mean(diff > 1e-5) <= 0.01 and diff.max() <= 0.03
     # control: the fast path without the snap is another picture
-    unsnapped = np.empty((24, 40, 3), np.float32)
-    render_kernel_fast(pack(_snapped_texture((0, 0))), anchor, view, row_order(24), unsnapped)
+    unsnapped = fast_and_general(_snapped_texture((0, 0)), (3.0e4, -2.0e4, 2.0), (24, 40))[0]
     assert np.abs(unsnapped - fast).mean() > 0.01
     # the bake (general kernel) agrees with the standalone sampler, snapped
     layer = tex.layers[0]

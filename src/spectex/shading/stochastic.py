@@ -695,15 +695,16 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
     end = u1 * size
     start = float(math.floor(u0 * size + COURSE_ROUND))
     odd = (((base + i0) & _M32) // m) % 2 == 1
-    jq = np.int64(math.floor(wl + rho * (i0 - 2 * m - ul) + COURSE_ROUND))
-    ri, rj = (i0 - 2 * m, jq) if along_x else (jq, i0 - 2 * m)
-    rx, ry = vertex_offset(bi + ri, bj + rj, key, w0, h0, nx, ny)
-    rx = math.floor(rx * w0 + 0.5)
-    ry = math.floor(ry * h0 + 0.5)
-    ra, rb = (rx, ry) if along_x else (ry, rx)
     if odd:
         j, shift = _course_align(lut, cell_row, start, end, pa, pb, oa, ob, vrow, along_x, w0, h0)
     else:
+        # (the patch of the segment before the patch before; GLSL reads it either way, one call for both)
+        jq = np.int64(math.floor(wl + rho * (i0 - 2 * m - ul) + COURSE_ROUND))
+        ri, rj = (i0 - 2 * m, jq) if along_x else (jq, i0 - 2 * m)
+        rx, ry = vertex_offset(bi + ri, bj + rj, key, w0, h0, nx, ny)
+        rx = math.floor(rx * w0 + 0.5)
+        ry = math.floor(ry * h0 + 0.5)
+        ra, rb = (rx, ry) if along_x else (ry, rx)
         before = float(math.floor((u0 - m / step) * size + COURSE_ROUND))
         j, shift = _course_align(lut, cell_row, before, start, ra, rb, pa, pb, vrow, along_x, w0, h0)
     if odd and j >= 0.0:
