@@ -22,8 +22,9 @@ def register(subparsers) -> None:
             "its precision, a flat frame around the photo (a border, a rotated photo's wedges) is "
             "cropped away, images over 512 pixels on a side are analysed on their central "
             "512 x 512 crop, resampled first where a crop would hold under 6 periods of their structure "
-            "or, without one, under 128 of their grain (said in the output). Nothing is written if anything "
-            "fails."
+            "or, without one, under 128 of their grain (said in the output); a resampled photo without "
+            "structure gets its tile back at full resolution (up to 2048 texels: --tile-size). Nothing is "
+            "written if anything fails."
         ),
     )
     p.add_argument("exemplar", type=_common.existing_file, metavar="EXEMPLAR",
@@ -47,6 +48,11 @@ def register(subparsers) -> None:
     p.add_argument("--max-size", type=_common.positive_int, default=None,
                    help=f"largest side analysed, pixels, {MIN_MAX_SIZE} to {MAX_MAX_SIZE} (default: 512, a 1 MB "
                         "tile; larger keeps more of a large photo at full resolution, in a larger tile, slower)")
+    p.add_argument("--tile-size", type=_common.positive_int, default=None,
+                   help=f"the finest tile's side, texels, {MIN_TILE_SIZE} to {MAX_TILE_SIZE} (default: the photo as "
+                        "analysed, its shorter side up to --max-size; for a photo resampled for its grain, that tile "
+                        "at the photo's own resolution, up to 2048: give the analysed size, e.g. 512, for a smaller "
+                        "tile without the photo's finest detail)")
     p.add_argument("--keep-one-off", action="store_true",
                    help="keep content the photo shows once (a leaf, a tripod's foot) in the tile; by default it "
                         "is filled from the rest of the photo, since the texture would repeat it everywhere")
@@ -63,6 +69,10 @@ def register(subparsers) -> None:
 
 #: The range of --max-size, pixels: the fit's smallest photo, and a 16 MB tile (bounded work).
 MIN_MAX_SIZE, MAX_MAX_SIZE = 32, 2048
+
+#: The range of --tile-size, texels: the fit's smallest photo, and the largest full-resolution tile
+#: (``fitting._full.MAX_FULL_TILE``; a quilt that large from a small photo takes seconds, not minutes).
+MIN_TILE_SIZE, MAX_TILE_SIZE = 32, 2048
 
 #: The range of --pixel-size, metres (a micrometre to 100 km per pixel).
 MIN_PIXEL_SIZE, MAX_PIXEL_SIZE = 1e-6, 1e5
@@ -121,6 +131,9 @@ def run(args) -> int | None:
     max_size = MAX_ANALYSIS_SIZE if args.max_size is None else args.max_size
     if not MIN_MAX_SIZE <= max_size <= MAX_MAX_SIZE:
         raise ValueError(f"--max-size must be between {MIN_MAX_SIZE} and {MAX_MAX_SIZE} pixels, got {max_size}")
+    if args.tile_size is not None and not MIN_TILE_SIZE <= args.tile_size <= MAX_TILE_SIZE:
+        raise ValueError(f"--tile-size must be between {MIN_TILE_SIZE} and {MAX_TILE_SIZE} texels, "
+                         f"got {args.tile_size}")
     if args.pixel_size is not None and not MIN_PIXEL_SIZE <= args.pixel_size <= MAX_PIXEL_SIZE:
         raise ValueError(f"--pixel-size must be between {MIN_PIXEL_SIZE:g} and {MAX_PIXEL_SIZE:g} metres, "
                          f"got {args.pixel_size:g}")
@@ -143,7 +156,8 @@ def run(args) -> int | None:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed,
                             keep_one_off=args.keep_one_off, keep_lighting=args.keep_lighting,
-                            keep_perspective=args.keep_perspective, max_size=max_size, progress=bar)
+                            keep_perspective=args.keep_perspective, max_size=max_size, tile_size=args.tile_size,
+                            progress=bar)
     return _finish(args, outputs, exemplar, result, reference, magnifications, start, max_size)
 
 

@@ -185,7 +185,15 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         exemplar is synthesised from it by tileable image quilting
         (:func:`spectex.synthesis.quilt`, Efros and Freeman [5]_), so that
         a periodic layer does not repeat at the exemplar's period; otherwise
-        it is the exemplar's central crop made seamless.
+        it is the exemplar's central crop made seamless. A photo the fit
+        resampled for its grain (:func:`prepare_exemplar`) whose finest tile
+        is that crop gets it at the photo's own resolution by default:
+        ``k`` times the analysed side, ``k`` the whole number nearest the
+        photo pixels per analysed pixel, at most 2048 texels (the coarse
+        tile alike), the photo's finer detail put back where it came from,
+        so a close view keeps its grain; said in the notes,
+        ``params["full_resolution"]``. Give the analysed side (512) for
+        the smaller tile.
     max_size : int
         Larger exemplars are analysed on a central crop of this size, at full
         resolution unless its structure's periods or its grain would not fit

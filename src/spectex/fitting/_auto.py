@@ -57,7 +57,7 @@ from ._core import (
     STRUCTURED_PEAK,
     FitResult,
     _coarse_slope,
-    _prepared,
+    _prepared_with_source,
     _Problem,
     _shape_spectrum,
     cubic_at,
@@ -1059,6 +1059,31 @@ def _photo_as_ground(exemplar, notes, *, keep_lighting, keep_perspective, keep_o
     return (exemplar, *found)
 
 
+def _at_full_resolution(texture, colour, coarse, source, exemplar, levelled, one_off, notes):
+    """``texture`` with its tiles at the photo's full resolution (``_full.full_resolution``), said in the
+    notes: ``(texture, texels across)``; as it is, and None, where the photo was not resampled (``source``
+    None) or was levelled (its geometry no longer the photo's) or has no more than the tile."""
+    from ..texture import SpectralTexture
+    from ._full import full_resolution, full_side
+    from ._one_off import fill_window
+
+    n = colour.shape[0]
+    side = n if source is None or levelled is not None else full_side(n, source)
+    if side <= n:
+        return texture, None
+    h, w = exemplar.shape[:2]
+    moves = [] if one_off is None else [(fill_window(r["box"], (h, w)), r["source"]) for r in one_off]
+    full, big = full_resolution(colour, coarse, source, (h, w), ((h - n) // 2, (w - n) // 2), moves=moves)
+    rgba = np.ones((side, side, 4), dtype=np.float32)
+    rgba[:, :, :3] = full
+    pixels = n * min(source["step"]) / side
+    notes.append(f"the finest tile holds the photo's own detail: {side}x{side} texels, a texel "
+                 + ("one photo pixel" if abs(pixels - 1.0) < 0.01 else f"{pixels:.3g} photo pixels")
+                 + f" (the fit read the photo at {n}x{n}; pass tile_size={n} / --tile-size {n} for a tile of that "
+                 "size)")
+    return SpectralTexture([rgba, big], texture.layers), side
+
+
 def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, tiling="auto", patch=None,
                   progress=None):
     """The fit's options checked (no image needed: the command line checks them before reading the photo).
@@ -1094,7 +1119,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     from ..metrics import band_power, clipped_fraction
     from ..texture import Layer, layer_placement
 
-    exemplar, notes, factor = _prepared(image, max_size)
+    tile_given = tile_size is not None
+    exemplar, notes, factor, source = _prepared_with_source(image, max_size)
     photo = exemplar  # as the user gave it (its lighting, perspective and one-off content not yet changed)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes, factor)
@@ -1113,6 +1139,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
 
     # --- layer 0's tile and tiling
     structure = structure_peak(exemplar)
+    analysed = exemplar
     exemplar, angle, drift, turn = _straighten_structure(exemplar, structure, notes, keep_perspective)
     if exemplar.shape[:2] != (h, w):
         h, w = exemplar.shape[:2]
@@ -1239,6 +1266,11 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     layer_list, depth = _clip_guard(problem, colour, alpha, exemplar, layer_list, n, ratio)
     tick()
     texture = problem.texture(colour, alpha)
+    # where the tile is the crop of the photo as the fit read it, the photo's finer detail goes back where
+    # it belongs ("_full.py")
+    crop = not tile_given and tile_method == "seamless crop" and tilings0 == "stochastic" and exemplar is analysed
+    texture, full_px = _at_full_resolution(texture, colour, problem.coarse_tile, source if crop else None, exemplar,
+                                           levelled, one_off, notes)
     from ..shading.resources import cell_maps
 
     # an unsnapped finest layer whose tile shows a grout network is drawn with free cells (cobbles whole)
@@ -1246,7 +1278,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     # one snapped along one axis only whose tile's courses have joints changes patch at its joints (boards whole)
     courses = bool(tilings0 == "stochastic" and max(snap0) > 0 and min(snap0) == 0
                    and cell_maps(texture)[0] is not None)
-    params = {"method": "auto", "tile_px": n, "tile_method": tile_method, "free_cells": free_cells,
+    params = {"method": "auto", "tile_px": texture.tile_shape[0], "analysis_px": n, "full_resolution": full_px,
+              "tile_method": tile_method, "free_cells": free_cells,
               "courses": courses,
               "layers": layers, "ratio": ratio,
               "coarse_slope_db_per_octave": slope, "coarse_gain": gain,

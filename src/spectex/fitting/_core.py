@@ -110,6 +110,13 @@ def exemplar_scale(image, *, max_size: int = MAX_ANALYSIS_SIZE) -> float:
 
 def _prepared(image, max_size):
     """:func:`prepare_exemplar`'s exemplar and notes, and the photo pixels per exemplar pixel."""
+    return _prepared_with_source(image, max_size)[:3]
+
+
+def _prepared_with_source(image, max_size):
+    """:func:`_prepared`'s three and, for a resampled photo, where the exemplar lies in it: ``{"photo": the
+    photo at full resolution (RGB float32, its frame cropped), "step": (photo pixels per exemplar pixel
+    along y, along x), "origin": (y, x) of the exemplar's corner in the resampled photo}`` (None at 1)."""
     image = check_image("image", image, channels=(None, 1, 2, 3, 4), unit=True)
     max_size = check_int("max_size", max_size, minimum=MIN_SIZE)
     h, w = image.shape[:2]
@@ -128,8 +135,10 @@ def _prepared(image, max_size):
     _check_not_flat(rgb)  # (before the frame: a flat picture is all frame)
     rgb, h, w = _without_frame(rgb, notes)
     factor, why = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
+    source = None
     if factor > 1.0:
         rh, rw = max(max_size, round(h / factor)), max(max_size, round(w / factor))
+        source = {"photo": rgb, "step": (h / rh, w / rw), "origin": (0, 0)}
         rgb = _resampled(rgb, rh, rw)
         notes.append(f"resampled the {w}x{h} photo by 1/{factor:.4g} to {rw}x{rh} (a pixel {factor:.4g} photo "
                      f"pixels): {why.format(max_size=max_size)}, to keep its full resolution)")
@@ -139,9 +148,11 @@ def _prepared(image, max_size):
         y0, x0 = (h - th) // 2, (w - tw) // 2
         rgb = rgb[y0:y0 + th, x0:x0 + tw]
         notes.append(f"analysed on the central {tw}x{th} crop of the {w}x{h} image")
+        if source is not None:
+            source["origin"] = (y0, x0)
     rgb = np.ascontiguousarray(np.clip(rgb, 0.0, 1.0), dtype=np.float32)
     _check_not_flat(rgb)
-    return rgb, notes, factor
+    return rgb, notes, factor, source
 
 
 def _check_not_flat(rgb):

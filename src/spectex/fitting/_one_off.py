@@ -30,7 +30,7 @@ MIN_RING = 6
 MAX_WINDOW_SHARE = 0.25
 
 
-def _window(box, shape):
+def fill_window(box, shape):
     """The region's window: the box grown by the ring on every side, inside the photo."""
     y0, x0, y1, x1 = box
     ring = max(MIN_RING, int(round(RING * max(y1 - y0, x1 - x0))))
@@ -97,7 +97,7 @@ def remove_one_off(photo: np.ndarray, box):
     :data:`MAX_WINDOW_SHARE` of the photo or no window of the photo holds none of it.
     """
     h, w = photo.shape[:2]
-    window = _window(box, (h, w))
+    window = fill_window(box, (h, w))
     wy0, wx0, wy1, wx1 = window
     if (wy1 - wy0) * (wx1 - wx0) > MAX_WINDOW_SHARE * h * w:
         return photo, None

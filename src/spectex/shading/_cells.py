@@ -260,6 +260,9 @@ def free_cell_map(tile) -> np.ndarray | None:
     h, w = tile.shape[:2]
     if min(h, w) < 4 * FREE_WIDTHS[-1]:
         return None
+    f = _cell_step(h, w)
+    if f > 1:
+        return _magnified_map(free_cell_map(tile[:, :, :3].reshape(h // f, f, w // f, f, 3).mean(axis=(1, 3))), f)
     rgb = tile[:, :, :3].astype(np.float64)
     flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
     axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
@@ -270,6 +273,35 @@ def free_cell_map(tile) -> np.ndarray | None:
             if cells is not None and _free_cells(sign * level, FREE_WIDTHS[i - 1], network_only=True)[1]:
                 return _centres(*cells, h, w)
     return None
+
+
+#: Largest side :func:`free_cell_map` reads a tile at (texels): a larger tile whose sides are the least
+#: whole multiple ``f`` of one under it (a fit's tile at the photo's full resolution, ``fitting/_full.py``) is
+#: read area-averaged by ``f`` and its map magnified, so that its grout is as wide, in the texels the
+#: widths below count, as in the tile the fit analysed, and the map costs what that tile's does.
+FREE_READ_SIDE = 512
+
+
+def _cell_step(h, w):
+    """The whole factor ``f`` by which :func:`free_cell_map` reads an ``h x w`` tile: the least that brings
+    both sides to :data:`FREE_READ_SIDE` or under, where it divides both; else 1 (read as it is)."""
+    f = -(-max(h, w) // FREE_READ_SIDE)
+    return f if f > 1 and h % f == 0 and w % f == 0 else 1
+
+
+def _magnified_map(small, f):
+    """A cell map read on a tile area-averaged by ``f``, for the tile itself: each texel the cell of the
+    small texel it lies in, the vector to that cell's centre in its own texels (rounded to half texels)."""
+    if small is None:
+        return None
+    big = np.repeat(np.repeat(small.astype(np.float64), f, axis=0), f, axis=1)
+    none = big[:, :, 0] == NO_CELL
+    r = np.arange(big.shape[0]) % f, np.arange(big.shape[1]) % f
+    big[:, :, 0] = f * big[:, :, 0] + (f - 1) / 2.0 - r[1][None, :]
+    big[:, :, 1] = f * big[:, :, 1] + (f - 1) / 2.0 - r[0][:, None]
+    big = np.round(2.0 * big) / 2.0
+    big[none] = NO_CELL
+    return np.ascontiguousarray(big, dtype=np.float32)
 
 
 #: Widths of the top-hat :func:`free_cell_map` tries (texels), narrowest first.
