@@ -265,18 +265,20 @@ def weave(side: int = 512, strand: int = 16, rng=9) -> np.ndarray:
     return np.clip(img, 0.0, 1.0).astype(np.float32)
 
 
-def ripples(side: int = 512, wavelength: float = 38.0, rng=4) -> np.ndarray:
+def ripples(side: int = 512, wavelength: float = 38.0, rng=4, scale: float = 1.0) -> np.ndarray:
     """Sand ripples, RGB: crests about ``wavelength`` pixels apart running across the photo at about 20
     degrees, meandering, forking and varying in height, lit from one side (steep lee faces darker), with
-    sand grain: quasi-periodic across one direction, not a lattice."""
+    sand grain: quasi-periodic across one direction, not a lattice. ``scale``: the meanders' and heights'
+    sizes times this (the ripples drawn larger; the grain stays a pixel's)."""
     gen = np.random.default_rng(rng)
     yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
     a = np.deg2rad(20.0)
     u = xx * np.cos(a) + yy * np.sin(a)
-    phase = 2.0 * np.pi * u / wavelength + 2.5 * _noise((side, side), gen, 60.0) + 1.5 * _noise((side, side), gen, 20.0)
+    phase = (2.0 * np.pi * u / wavelength + 2.5 * _noise((side, side), gen, 60.0 * scale)
+             + 1.5 * _noise((side, side), gen, 20.0 * scale))
     saw = (phase / (2.0 * np.pi)) % 1.0
     height = np.where(saw < 0.75, saw / 0.75, (1.0 - saw) / 0.25)  # a gentle stoss slope, a steep lee face
-    amp = 0.75 + 0.25 * _noise((side, side), gen, 40.0)
+    amp = 0.75 + 0.25 * _noise((side, side), gen, 40.0 * scale)
     shade = 0.62 + 0.22 * amp * np.where(saw < 0.75, 1.0, -1.2) * 0.5 + 0.08 * height
     grain = 0.05 * _noise((side, side), gen, 0.7)
     img = (shade + grain)[:, :, None] * np.array([0.92, 0.8, 0.6])
