@@ -239,8 +239,9 @@ def test_the_close_view_of_a_resampled_photo_is_as_sharp_as_the_photo(gravel_x2_
 
 @pytest.mark.slow
 def test_cli_fit_draws_a_resampled_photo_at_full_resolution_unless_told_a_tile_size(tmp_path, capsys):
-    """``spectex fit`` of gravel magnified twice writes a 1024-texel tile and says why; ``--tile-size 512`` the
-    analysed tile (the control: no note of the photo's own detail)."""
+    """``spectex fit`` of gravel magnified twice writes a 1024-texel tile and says why (and that its report's
+    render reads the finer tile's mip-maps); ``--tile-size 512`` the analysed tile (the control: no note of
+    the photo's own detail, no such clause)."""
     from spectex import io
     from spectex.cli import main
 
@@ -249,10 +250,12 @@ def test_cli_fit_draws_a_resampled_photo_at_full_resolution_unless_told_a_tile_s
     assert main(["fit", str(path), "-o", str(tmp_path / "full")]) == 0
     out = capsys.readouterr().out
     assert "a 1024x1024 tile" in out and "the finest tile holds the photo's own detail" in out
+    # the report's render reads the finer tile's mip-maps: said, with the measure on both halved
+    assert "the finest tile 2 times finer than the photo as analysed" in out and "with both halved" in out
     assert io.read_image(tmp_path / "full" / "texture.tile0.png").shape[:2] == (1024, 1024)
     assert main(["fit", str(path), "-o", str(tmp_path / "small"), "--tile-size", "512"]) == 0
     out = capsys.readouterr().out
-    assert "a 512x512 tile" in out and "the finest tile holds" not in out
+    assert "a 512x512 tile" in out and "the finest tile holds" not in out and "times finer" not in out
 
 
 @pytest.mark.slow

@@ -74,6 +74,31 @@ def test_the_resources_are_what_the_tiles_give():
     assert store.lut_rows == tables.expanded().shape[0]
 
 
+def test_a_tile_no_stochastic_layer_draws_gets_no_tables_and_renders_the_same(monkeypatch):
+    """Two tiles, the first drawn stochastically, the second by a periodic overlay layer only (a fit's coarse
+    tile): the second's tables are zeros in the shapes of the first's (nothing ranked), and a render is the
+    same to the bit as with tables built for every tile (the control, the rule before), on the CPU."""
+    from spectex.render import Camera
+    from spectex.render.cpu import render_cpu
+    from spectex.shading import stochastic
+
+    tex = SpectralTexture([_tile(11, 32), _tile(12, 32)],
+                          [Layer(size=1.0, tiling="stochastic"), Layer(size=5.0, tile=1, blend="overlay", opacity=0.4)])
+    clear_cache()
+    used, unused = stochastic_tables(tex)
+    assert [g.shape for g in unused.gaussian] == [g.shape for g in used.gaussian]
+    assert unused.lut.shape == used.lut.shape and not np.any(unused.lut)
+    assert not any(np.any(g) for g in unused.gaussian) and any(np.any(g) for g in used.gaussian)
+    cam = Camera((0.3, -0.2, 1.2), yaw=30.0, pitch=-40.0, fov=60.0)
+    now = render_cpu(tex, cam, (40, 56))
+    clear_cache()
+    monkeypatch.setattr(stochastic, "unused_tables", lambda tile: stochastic.stochastic_tables(tile))
+    built = stochastic_tables(tex)[1]
+    assert np.any(built.lut)
+    np.testing.assert_array_equal(render_cpu(tex, cam, (40, 56)), now)
+    clear_cache()
+
+
 def test_clear_cache_rebuilds_the_same_numbers():
     tex = _texture(5)
     first = texel_store(tex)

@@ -242,15 +242,16 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
                    f"{numbers.band_power_distance_db:.2f} dB RMS, "
                    f"histogram W1 <= {w1:.3f}, cross-scale dependence {numbers.cross_scale_texture:+.2f} "
                    f"(exemplar {numbers.cross_scale_exemplar:+.2f})")
-    turned = None
-    if result.params.get("turn_deg") and numbers.structure is not None:
-        # a turned finest layer's texels never fall on the pixels: its bilinear resampling, which the
-        # structural distance counts as lost detail, weighs less with both halved
+    resampled = None
+    why = _resampled_why(result.params)
+    if why is not None and numbers.structure is not None:
+        # a turned finest layer's texels never fall on the pixels, a finer one's are read from its mip-maps
+        # between them: a bilinear resampling, which the structural distance counts as lost detail, weighs
+        # less with both halved
         from spectex.metrics import structural_distance
 
-        halved = structural_distance(_halved(same), _halved(exemplar)).ratio
-        turned = (result.params["turn_deg"], halved)
-    _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level"), turned))
+        resampled = (why, structural_distance(_halved(same), _halved(exemplar)).ratio)
+    _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level"), resampled))
     misses = []
     if w1 > POOR_W1:
         misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
@@ -272,20 +273,32 @@ def _halved(image):
     return img.reshape(h // 2, 2, w // 2, 2, *img.shape[2:]).mean(axis=(1, 3))
 
 
-def _structure_line(numbers, evened=None, levelled=None, turned=None) -> str:
+def _resampled_why(params):
+    """Why the report's render resamples the finest tile (a clause), or None: drawn turned, or finer than the
+    photo as the fit read it (a tile at the photo's full resolution)."""
+    if params.get("turn_deg"):
+        return f"the finest layer drawn turned by {params['turn_deg']:.1f} degrees: its texels fall between the pixels"
+    if params.get("full_resolution"):
+        k = params["full_resolution"] // params["analysis_px"]
+        return (f"the finest tile {k} times finer than the photo as analysed: read from its mip-maps between the "
+                "pixels")
+    return None
+
+
+def _structure_line(numbers, evened=None, levelled=None, resampled=None) -> str:
     """The structural measures of the report (issue 22), one line (``evened``, ``levelled``: the fit's
     ``params["lighting"]`` and ``params["level"]``, where it evened the photo's lighting out or levelled
-    its perspective; ``turned``: ``(degrees, ratio)`` where the finest layer is drawn turned, the structural
-    distance with render and photo halved)."""
+    its perspective; ``resampled``: ``(why, ratio)`` where the render resamples the finest tile
+    (:func:`_resampled_why`), the structural distance with render and photo halved)."""
     st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
     if st is None:
         line = "  structure: n/a (the photo holds no two 32x32 windows)"
     else:
         line = (f"  structure {st.ratio:.2f}x the photo's own floor at its place, {far.ratio:.2f}x over 8x its "
                 "area (about 1: as close as the photo is to itself)")
-        if turned is not None:
-            line += (f" (the finest layer drawn turned by {turned[0]:.1f} degrees: its texels fall between the "
-                     f"pixels, a resampling the measure counts as lost detail; {turned[1]:.2f}x with both halved)")
+        if resampled is not None:
+            line += (f" ({resampled[0]}, a resampling the measure counts as lost detail; {resampled[1]:.2f}x with "
+                     "both halved)")
     line += f"; clipped {100 * clip.image:.1f}% of values (photo {100 * clip.reference:.1f}%)"
     if coarse is not None:
         mags = ", ".join(f"{m:g}" for m, v in zip(coarse.magnifications, coarse.per_magnification) if v == v)

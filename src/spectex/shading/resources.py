@@ -188,12 +188,17 @@ def stochastic_tables(texture) -> list:
     texels (what a file stores rebuilds them exactly). A tile with a cell map
     (:func:`cell_maps`) has its levels Gaussianised one by one
     (``stochastic_tables(..., per_level=True)``: exact tables at every level).
+    A tile no stochastic layer draws (a fit's coarse tile) gets
+    ``stochastic.unused_tables``: its shapes, no values, nothing to rank (the
+    Gaussianisation of a 2048-texel tile takes seconds).
     """
     from .stochastic import stochastic_tables as build
+    from .stochastic import unused_tables
 
-    return [_kept(("tables", tile_digest(tile), cells is not None),
+    return [_kept(("unused tables", tile.shape), lambda tile=tile: unused_tables(tile)) if snap is None else
+            _kept(("tables", tile_digest(tile), cells is not None),
                   lambda tile=tile, per_level=cells is not None: build(tile, per_level=per_level))
-            for tile, cells in zip(texture.tiles, cell_maps(texture))]
+            for tile, cells, snap in zip(texture.tiles, cell_maps(texture), cell_snaps(texture))]
 
 
 def cell_snaps(texture) -> tuple:

@@ -391,6 +391,18 @@ def stochastic_tables(tile, *, per_level: bool = False) -> StochasticTables:
     return StochasticTables(gaussian=gauss_levels, lut=np.ascontiguousarray(_half(lut)), basis=basis, origin=origin)
 
 
+def unused_tables(tile) -> StochasticTables:
+    """:class:`StochasticTables` for a tile no stochastic layer draws: zeros in the shapes of
+    :func:`stochastic_tables`' (its Gaussian levels, its table's rows), the identity colour basis; so
+    that the stores every renderer and export lays out per tile keep their layout, at no cost."""
+    from ..tiles.mipmap import gl_level_shapes
+
+    h, w = np.shape(tile)[:2]
+    gaussian = [np.zeros(shape + (4,), dtype=np.float32) for shape in gl_level_shapes(h, w)]
+    return StochasticTables(gaussian=gaussian, lut=np.zeros((len(gaussian), LUT_SIZE, 4), dtype=np.float32),
+                            basis=np.eye(3), origin=np.zeros(3))
+
+
 # --------------------------------------------------------------------------
 # The per-pixel part (numba), in the shape of sampling.sample_grad
 # --------------------------------------------------------------------------
