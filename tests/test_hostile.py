@@ -448,13 +448,14 @@ CASES = [
     # so early that Python may not have started spectex yet: then the default action ends it (-15)
     Case("text-sigterm-at-start", ("text", "c.txt", "-o", "new.txt"), (143, -15), signum=SIGTERM, when=0.05,
          changes=("new.txt",)),
-    Case("demo-sigterm-new-folder", ("demo", "-o", "newdemo"), 143, signum=SIGTERM, when=1.5,
+    Case("demo-sigterm-new-folder", ("demo", "-o", "newdemo"), 143, signum=SIGTERM, when=0.5,
          changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
     Case("demo-sigint-new-folder-writing", ("demo", "-o", "newdemo"), 130, signum=SIGINT,
          when=".newdemo.*", changes=("newdemo",) + tuple(f"newdemo/{f}" for f in DEMO_FILES)),
     Case("demo-sigterm-existing-writing", ("demo", "-o", "demo_prev"), 143, signum=SIGTERM,
          when="demo_prev/.spectex-stage.*", changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
-    Case("demo-sigint-existing-early", ("demo", "-o", "demo_prev"), 130, signum=SIGINT, when=2.0,
+    # early: while it starts (the demo now takes 1.5 s in all; at 2 s a loaded machine's run was ending)
+    Case("demo-sigint-existing-early", ("demo", "-o", "demo_prev"), 130, signum=SIGINT, when=0.5,
          changes=tuple(f"demo_prev/{f}" for f in DEMO_FILES)),
     # SIGHUP's disposition is set for the run: a suite run under nohup (SIGHUP ignored, and inherited) must
     # test the same thing, and an ignored SIGHUP must stay ignored (the run completes, as nohup asks)

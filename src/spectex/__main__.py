@@ -23,4 +23,11 @@ except KeyboardInterrupt as exc:  # a signal while Python was still importing
     else:
         print(f"spectex: terminated (signal {signum})", file=sys.stderr)
         status = 128 + signum
+# The run is over and its status decided: a Ctrl-C or SIGTERM during the interpreter's exit is ignored.
+# Python puts the default action back for the signals it handles as it exits, so such a signal killed the
+# process (status -2, nothing said) or, arriving while native libraries' threads were torn down, crashed
+# it (status -11): seen under load in tests/test_hostile.py. Ignored signals stay ignored through the exit.
+for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
+    if sig is not None:
+        signal.signal(sig, signal.SIG_IGN)
 sys.exit(status)
