@@ -77,10 +77,9 @@ def _native(name, zoom):
 
 def _small(big, zoom):
     """The large photo area-averaged by ``zoom`` to 512 pixels: what it shows at the far view's scale."""
-    from PIL import Image
+    from spectex.fitting._core import _resampled
 
-    return np.stack([np.asarray(Image.fromarray(np.ascontiguousarray(big[:, :, c], dtype=np.float32))
-                                .resize((512, 512), Image.Resampling.BOX)) for c in range(3)], axis=2)
+    return _resampled(big, 512, 512)
 
 
 def _views(result, photo_px, zoom):

@@ -111,24 +111,17 @@ def _noise(h, w, seed=0):
     return np.clip(0.5 + 4.0 * ndimage.gaussian_filter(rng.random((h, w, 3)) - 0.5, (1.5, 1.5, 0)), 0, 1)
 
 
-@pytest.mark.parametrize("value", ["20", "4096"])
-def test_cli_fit_max_size_is_checked(tmp_path, capsys, value):
+@pytest.mark.parametrize("option, value, words", [("--max-size", "20", "32 and 2048 pixels"),
+                                                   ("--max-size", "4096", "32 and 2048 pixels"),
+                                                   ("--tile-size", "20", "32 and 2048 texels"),
+                                                   ("--tile-size", "4096", "32 and 2048 texels")])
+def test_cli_fit_sizes_are_checked(tmp_path, capsys, option, value, words):
     from spectex import io
 
     path = tmp_path / "photo.png"
     io.write_image(path, _noise(64, 64).astype(np.float32))
-    line = run_fails(["fit", str(path), "-o", str(tmp_path / "out"), "--max-size", value], capsys, tmp_path / "out")
-    assert f"--max-size must be between 32 and 2048 pixels, got {value}" in line
-
-
-@pytest.mark.parametrize("value", ["20", "4096"])
-def test_cli_fit_tile_size_is_checked(tmp_path, capsys, value):
-    from spectex import io
-
-    path = tmp_path / "photo.png"
-    io.write_image(path, _noise(64, 64).astype(np.float32))
-    line = run_fails(["fit", str(path), "-o", str(tmp_path / "out"), "--tile-size", value], capsys, tmp_path / "out")
-    assert f"--tile-size must be between 32 and 2048 texels, got {value}" in line
+    line = run_fails(["fit", str(path), "-o", str(tmp_path / "out"), option, value], capsys, tmp_path / "out")
+    assert f"{option} must be between {words}, got {value}" in line
 
 
 @pytest.mark.slow

@@ -221,8 +221,17 @@ def _resampled(rgb, h, w):
     light specks in the tiles; each channel in float32)."""
     from PIL import Image
 
-    return np.stack([np.asarray(Image.fromarray(np.ascontiguousarray(rgb[:, :, c], dtype=np.float32))
-                                .resize((w, h), Image.Resampling.BOX)) for c in range(rgb.shape[2])], axis=2)
+    return resized(rgb, (h, w), Image.Resampling.BOX)
+
+
+def resized(image, shape, how, box=None):
+    """``image`` (h, w, c) resampled to ``shape`` (rows, columns) by PIL's filter ``how``, each channel in
+    float32; ``box`` (left, top, right, bottom): the part read, in fractional pixels (all by default)."""
+    from PIL import Image
+
+    return np.stack([np.asarray(Image.fromarray(np.ascontiguousarray(image[:, :, c], dtype=np.float32))
+                                .resize((shape[1], shape[0]), how, box=box), dtype=np.float32)
+                     for c in range(image.shape[2])], axis=2)
 
 
 def cubic_at(image, ys, xs):

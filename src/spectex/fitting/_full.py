@@ -28,24 +28,16 @@ def full_side(n, source, max_side=MAX_FULL_TILE):
     return k * n
 
 
-def _resize(image, shape, how, box=None):
-    """``image`` (h, w, c) resampled to ``shape`` (rows, columns) by PIL, per channel in float32; ``box`` (left,
-    top, right, bottom) the part read, in fractional pixels (all of it by default)."""
-    from PIL import Image
-
-    return np.stack([np.asarray(Image.fromarray(np.ascontiguousarray(image[:, :, c], dtype=np.float32))
-                                .resize((shape[1], shape[0]), how, box=box), dtype=np.float32)
-                     for c in range(image.shape[2])], axis=2)
-
-
 def _zoom(image, k, mode):
     """``image`` (h, w, c) magnified ``k`` times by a cubic (Keys, a = -1/2), pixel areas aligned; beyond its
     edges it wraps (``mode="wrap"``: a tile) or is mirrored (``"reflect"``: a crop)."""
     from PIL import Image
 
+    from ._core import resized
+
     h, w, pad = image.shape[0], image.shape[1], 4
     padded = np.pad(image, ((pad, pad), (pad, pad), (0, 0)), mode="wrap" if mode == "wrap" else "symmetric")
-    return _resize(padded, (k * h, k * w), Image.Resampling.BICUBIC, box=(pad, pad, pad + w, pad + h))
+    return resized(padded, (k * h, k * w), Image.Resampling.BICUBIC, box=(pad, pad, pad + w, pad + h))
 
 
 def full_resolution(colour, coarse, source, exemplar_shape, corner, *, moves=(), max_side=MAX_FULL_TILE):
@@ -81,6 +73,8 @@ def full_resolution(colour, coarse, source, exemplar_shape, corner, *, moves=(),
     from PIL import Image
     from scipy import ndimage
 
+    from ._core import resized
+
     n = colour.shape[0]
     k = full_side(n, source, max_side) // n
     h, w = exemplar_shape
@@ -89,8 +83,8 @@ def full_resolution(colour, coarse, source, exemplar_shape, corner, *, moves=(),
     box = (ox * sx, oy * sy, (ox + w) * sx, (oy + h) * sy)
     # area-averaged where a texel holds more than a photo pixel, a cubic where it holds less
     how = Image.Resampling.BOX if k <= min(sy, sx) else Image.Resampling.BICUBIC
-    photo = _resize(source["photo"], (k * h, k * w), how, box=box)
-    small = _resize(photo, (h, w), Image.Resampling.BOX)
+    photo = resized(source["photo"], (k * h, k * w), how, box=box)
+    small = resized(photo, (h, w), Image.Resampling.BOX)
     detail = photo - _zoom(small, k, "reflect")
     for (wy0, wx0, wy1, wx1), (fy, fx) in moves:
         detail[k * wy0:k * wy1, k * wx0:k * wx1] = detail[k * fy:k * (fy + wy1 - wy0), k * fx:k * (fx + wx1 - wx0)]
