@@ -76,6 +76,23 @@ def test_cli_fit_says_the_scale_it_assumed(photos, capsys):
     assert exc.value.code == 2
 
 
+@pytest.mark.parametrize("cached", [False, True])
+def test_cli_fit_says_when_its_first_run_compiles(photos, capsys, monkeypatch, cached):
+    # a first run after an install compiles the renderer's kernels (half a minute) before any bar moves:
+    # said first, in one line; not said when numba's cache holds them (the control)
+    import spectex._numba_cache
+
+    asked = []
+    monkeypatch.setattr(spectex._numba_cache, "compiled", lambda kernel: asked.append(kernel) or cached)
+    assert main(["fit", str(photos / "gravel.png"), "-o", str(photos / "fitted"), "--pixel-size", "0.01"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    from spectex.shading.view import bake_kernel
+
+    assert asked == [bake_kernel]
+    said = [line for line in lines if line.startswith("compiling ")]
+    assert said == ([] if cached else [lines[0]])
+
+
 def test_cli_fit_conversions_said(photos, capsys):
     out = photos / "strip_fit"
     assert main(["fit", str(photos / "strip.png"), "-o", str(out)]) == 0

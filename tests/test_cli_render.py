@@ -101,6 +101,27 @@ def test_cli_render_without_gl_falls_back(tmp_path, capsys, texture_file, no_gl)
                str(tmp_path / "gl.png"), "--backend", "gl"], capsys, tmp_path / "gl.png")
 
 
+@pytest.mark.parametrize("command", ["demo", "render"])
+@pytest.mark.parametrize("cold", [(), ("render_kernel",), ("render_kernel", "render_kernel_fast")])
+def test_cli_cpu_renders_say_a_first_run_compiles(tmp_path, capsys, texture_file, no_gl, monkeypatch, command,
+                                                  cold):
+    # without OpenGL the CPU renderer's kernel compiles on the first run (half a minute): said first, in
+    # one line, when the kernel the run calls is not on disk (demo: render_kernel, its views filter
+    # anisotropically) or, where the texture decides, neither kernel is (render)
+    import spectex._numba_cache
+    import spectex.cli._demo as demo
+
+    monkeypatch.setattr(spectex._numba_cache, "compiled", lambda kernel: kernel.__name__ not in cold)
+    monkeypatch.setattr(demo, "DEMO_SIZE", (36, 64))
+    argv = (["demo", "-o", str(tmp_path / "demo")] if command == "demo" else
+            ["render", str(texture_file), "--camera", "0,0,5,0,-10", "--size", "32x18", "-o", str(tmp_path / "a.png")])
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    said = [line for line in lines if line.startswith("compiling the CPU renderer")]
+    expected = len(cold) == 2 or (command == "demo" and len(cold) == 1)
+    assert said == ([lines[0]] if expected else [])
+
+
 def test_cli_render_bad_input_one_line_nothing_written(tmp_path, capsys, texture_file):
     out = tmp_path / "out.png"
     base = ["--size", "32x18", "-o", str(out)]

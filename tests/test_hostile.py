@@ -969,6 +969,27 @@ def test_an_unwritable_numba_cache_falls_back_with_one_line(tmp_path):
             assert not os.path.exists(folder)  # the private cache is removed at exit
 
 
+def test_compiled_tells_a_kernel_numba_must_compile_from_one_on_disk(tmp_path):
+    # the question the CLI asks before a first run's compile: False before the first call, True after it
+    # in the same run and from the disk cache in the next; False again once the source changed
+    module = tmp_path / "kernel_mod.py"
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); import kernel_mod; "
+            "from spectex._numba_cache import compiled; before = compiled(kernel_mod.f); kernel_mod.f(1.0); "
+            "print(before, compiled(kernel_mod.f))")
+    env = dict(os.environ, PYTHONPATH=str(SRC), NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    said = []
+    for body in ("x + 1.0", None, "x * 2.0"):  # None: the same source, untouched
+        if body is not None:
+            module.write_text(f"import numba\n\n\n@numba.njit(cache=True)\ndef f(x):\n    return {body}\n")
+            stamp = 1_700_000_000 + 10 * len(said)  # numba's stamp is the file's mtime and size: a new one
+            os.utime(module, (stamp, stamp))
+        run = subprocess.run([sys.executable, "-c", code, str(tmp_path)], env=env, capture_output=True, text=True,
+                             timeout=600)
+        assert run.returncode == 0, run.stderr
+        said.append(run.stdout.split())
+    assert said == [["False", "True"], ["True", "True"], ["False", "True"]]
+
+
 # ------------------------------------------------- typed numbers, in one place
 
 @pytest.mark.parametrize("text, value", [("3", 3), ("+3", 3), ("-0", 0), ("007", 7), ("-12", -12),

@@ -66,3 +66,19 @@ def fall_back(package: Path) -> str | None:
     print(f"spectex: warning: neither '{package}' nor '{user}' is writable, so compiled kernels are not kept "
           "between runs (set NUMBA_CACHE_DIR to a writable folder to keep them)", file=sys.stderr)
     return folder
+
+
+def compiled(kernel) -> bool | None:
+    """Whether numba's disk cache holds ``kernel`` (a ``cache=True`` dispatcher) compiled for this CPU
+    from its current source: False where its first call will compile it (tens of seconds for the
+    shading kernels, once per install); None where that cannot be told."""
+    try:
+        if kernel.signatures:  # compiled or loaded in this process already
+            return True
+        from numba.core.registry import cpu_target
+
+        magic = cpu_target.target_context.codegen().magic_tuple()
+        index = kernel._cache._cache_file._load_index()  # {} when missing or stale
+        return any(key[1] == magic for key in index)
+    except Exception:  # numba's private layout moved: say nothing rather than something wrong
+        return None

@@ -162,6 +162,17 @@ def report(message: str) -> None:
     print(message, flush=True)
 
 
+def say_if_compiling(what: str, *kernels) -> None:
+    """One line before a run whose first step compiles a numba kernel (``cache=True``): the first run after
+    an install waits for it, without the line, on a bar that does not move. ``kernels``: the one the run
+    calls, or those it may call (said only when none of them is on disk: the first run's case)."""
+    from spectex._numba_cache import compiled
+
+    if kernels and all(compiled(kernel) is False for kernel in kernels):
+        report(f"compiling {what} (numba, once per install: about half a minute on 2 cores; later runs "
+               "start at once)")
+
+
 class Progress:
     """A progress bar on standard error for long library calls.
 

@@ -94,6 +94,10 @@ def run(args) -> int:
             if backend == "gl":
                 raise
             print(f"spectex demo: {exc}; rendering on the CPU instead", file=sys.stderr)
+    if renderer is None:
+        from spectex.shading.view import render_kernel  # the demo's views filter anisotropically
+
+        _common.say_if_compiling("the CPU renderer", render_kernel)
     try:
         for name, (cam, aniso) in views().items():
             t = time.perf_counter()

@@ -152,6 +152,9 @@ def run(args) -> int | None:
     magnifications = _layer_magnifications(args.ratio, args.layers)
     reference = _Background(lambda: report_reference(exemplar, coarse_magnifications=magnifications,
                                                      max_size=max_size))
+    from spectex.shading.view import bake_kernel
+
+    _common.say_if_compiling("the CPU renderer the fit bakes its trials with", bake_kernel)
     with _common.Progress("fitting") as bar:
         result = fit_result(photo, pixel_size=args.pixel_size, photo_size=args.photo_size, layers=args.layers,
                             ratio=args.ratio, opacity=args.opacity, rng=args.seed,

@@ -118,6 +118,10 @@ def run(args) -> int:
             if args.backend == "gl":
                 raise
             print(f"spectex render: {exc}; rendering on the CPU instead", file=sys.stderr)
+    if renderer is None:
+        from spectex.shading.view import render_kernel, render_kernel_fast
+
+        _common.say_if_compiling("the CPU renderer", render_kernel, render_kernel_fast)
     frames = []
     t0 = time.perf_counter()
     try:

@@ -22,9 +22,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from ._jit import jit_call as _jit_call
+from ._jit import jit_inline as _jit_inline
 from .constants import (
     BLEND_ALPHA,
     BLEND_COVER,
@@ -52,15 +53,6 @@ from .stochastic import (
 
 __all__ = ["layer_coords", "sample_layer", "blend_alpha", "blend_detail", "blend_variance", "fade", "blend",
            "shade_ground", "shade_row", "bilinear_repeat"]
-
-_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
-#: A function called, not inlined: compiled once and shared by every kernel that calls it (the
-#: renderer's and the bake's kernels both shade a ground point with :func:`shade_ground`; inlined, each
-#: compiled its own copy of every sampler below it: 67 CPU s each, cold). Without numba's reference
-#: counting (``_nrt=False``: it allocates nothing), so passing the tables' arrays costs no atomic
-#: increments per call (with them, a call per ground point made the bake 3x slower on two threads);
-#: the same numbers as inlined (LLVM sees the same operations).
-_jit_call = numba.njit(cache=True, nogil=True, fastmath=True, _nrt=False)
 
 
 @_jit_inline

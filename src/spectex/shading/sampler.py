@@ -48,6 +48,8 @@ import numba
 import numpy as np
 
 from ..tiles.mipmap import gl_level_shapes, quantize
+from ._jit import jit as _jit
+from ._jit import jit_inline as _jit_inline
 from ._mip_texture import MAX_TEXELS, MipTexture, default_mip_chain, filter_code, wrap_code  # noqa: F401
 from .constants import (
     DEFAULT_MAX_LOD,
@@ -152,9 +154,6 @@ def sample(texture: MipTexture, s, t, *, dsdx=None, dtdx=None, dsdy=None, dtdy=N
 # flattened texel store of a MipTexture (data, offsets, widths, heights) and
 # integer codes for the sampler state. Compiled on first use.
 # --------------------------------------------------------------------------
-
-_jit = numba.njit(cache=True, nogil=True, fastmath=True)
-_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 
 
 @_jit

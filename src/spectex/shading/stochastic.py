@@ -65,6 +65,7 @@ import numpy as np
 
 from .._parallel import in_parts
 from .._validate import check_float, check_image, check_seed
+from ._jit import jit_inline as _jit_inline
 from ._mip_texture import MipTexture, filter_code
 from .constants import (
     CELL_LOD_MARGIN,
@@ -406,9 +407,6 @@ def unused_tables(tile) -> StochasticTables:
 # --------------------------------------------------------------------------
 # The per-pixel part (numba), in the shape of sampling.sample_grad
 # --------------------------------------------------------------------------
-
-_jit = numba.njit(cache=True, nogil=True, fastmath=True)
-_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 
 _M32 = 0xFFFFFFFF
 

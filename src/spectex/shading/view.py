@@ -22,13 +22,13 @@ import math
 import numba
 import numpy as np
 
+from ._jit import jit_inline as _jit_inline
 from ._layers import shade_ground, shade_row
 from .constants import LOD_FLOOR, SKY_FALLOFF
 
 #: The renderers' entry points (``spectex.render.bake``, ``bake``, ``render.cpu``); the per-pixel steps are private.
 __all__ = ["bake_kernel", "render_kernel", "render_kernel_fast", "row_order"]
 
-_jit_inline = numba.njit(cache=True, nogil=True, fastmath=True, inline="always")
 _LOD_FLOOR2 = LOD_FLOOR * LOD_FLOOR
 
 
