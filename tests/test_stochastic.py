@@ -189,6 +189,24 @@ def test_tables_are_deterministic_monotone_and_end_at_the_mean(tile, tables):
     assert np.allclose(out, mean, atol=5e-4)
 
 
+def test_tables_pool_half_float_values_as_np_unique_does(tile, tables, monkeypatch):
+    # the tables' pooling of equal Gaussian values counts half floats' bit patterns instead of sorting:
+    # the same keys, inverse and counts as np.unique (ties, 0 and -0 included), np.unique itself where
+    # a value is no half float; and the same tables to the bit as with np.unique
+    import spectex.shading.stochastic as st
+
+    gen = np.random.default_rng(3)
+    half = np.clip(0.5 + 0.16 * gen.standard_normal(20000), 0.0, 1.0).astype(np.float16).astype(np.float64)
+    half[:4] = [0.0, -0.0, 1.0, 0.5]
+    for g in (half, half + 1e-9, half[:100]):
+        ours, reference = st._pooled(g), np.unique(g, return_inverse=True, return_counts=True)
+        assert all(np.array_equal(a.ravel(), b.ravel()) for a, b in zip(ours, reference))
+    assert len(np.unique(half)) < 20000 / 4  # the control: many ties to pool
+    monkeypatch.setattr(st, "_pooled", lambda g: np.unique(g, return_inverse=True, return_counts=True))
+    before = stochastic_tables(tile.copy())
+    assert np.array_equal(before.lut, tables.lut)
+
+
 def test_coarse_rows_regress_the_filtered_colour_on_the_filtered_gaussian(tile, tables):
     # level 3: the table predicts each filtered colour texel from its filtered Gaussian texel
     # better than the level-0 table applied to it (the unfiltered look-up: the paper's colour shift)
