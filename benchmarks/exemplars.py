@@ -26,10 +26,11 @@ QUICK = ("gravel", "brick", "paving")
 #: quilt's overlap: scikit-image's ``coins`` (303 x 384, coins of about 50 pixels on a cloth lit from one
 #: side) and :func:`pebbles` (256 x 256); :func:`planks` (floor boards: a structure along one axis only),
 #: :func:`weave` (a basket weave, a regular pattern) and :func:`ripples` (sand ripples, quasi-periodic
-#: across one direction).
+#: across one direction); :func:`hexagons` (hexagonal floor tiles: a lattice no straight cut follows) and
+#: :func:`wood` (wood grain: stripes whose phase meanders).
 EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
          "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof", "coins", "pebbles", "planks", "weave",
-         "ripples")
+         "ripples", "hexagons", "wood")
 
 
 def _skimage(name):
@@ -285,6 +286,51 @@ def ripples(side: int = 512, wavelength: float = 38.0, rng=4, scale: float = 1.0
     return np.clip(img, 0.0, 1.0).astype(np.float32)
 
 
+def hexagons(side: int = 512, across: float = 40.0, rng=21) -> np.ndarray:
+    """Hexagonal floor tiles, RGB: ``across`` pixels between the centres of neighbouring tiles (a hexagonal
+    lattice, rows along x), each tile its own shade of terracotta with fine grain, light grout about 2
+    pixels wide. Its rectangular period is ``across`` by ``across * sqrt(3)``; no straight cut follows
+    its grout."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    b1, b2 = np.array([across, 0.0]), np.array([across / 2.0, across * np.sqrt(3.0) / 2.0])
+    to_lattice = np.linalg.inv(np.stack([b1, b2], axis=1))
+    pts = np.stack([xx.ravel(), yy.ravel()])
+    frac = to_lattice @ pts
+    best = np.full(pts.shape[1], np.inf)
+    second = np.full(pts.shape[1], np.inf)
+    cell = np.zeros(pts.shape[1], dtype=np.int64)
+    for di in (-1, 0, 1, 2):
+        for dj in (-1, 0, 1, 2):
+            i, j = np.floor(frac[0]) + di, np.floor(frac[1]) + dj
+            d = np.hypot(*(pts - (np.outer(b1, i) + np.outer(b2, j))))
+            nearer = d < best
+            second = np.where(nearer, best, np.minimum(second, d))
+            cell = np.where(nearer, (i + 1000).astype(np.int64) * 4096 + (j + 1000).astype(np.int64), cell)
+            best = np.where(nearer, d, best)
+    edge = ((second - best) / 2.0).reshape(side, side)  # distance to the tile's border
+    _, ids = np.unique(cell, return_inverse=True)
+    shade = gen.uniform(0.0, 1.0, ids.max() + 1)[ids].reshape(side, side)
+    colour = (np.stack([0.55 + 0.25 * shade, 0.45 + 0.15 * shade, 0.35 + 0.1 * shade], axis=2)
+              + 0.03 * _noise((side, side), gen, 1.0)[:, :, None])
+    grout = np.clip(2.0 - edge, 0.0, 1.0)[:, :, None]
+    img = colour * (1.0 - grout) + grout * np.array([0.85, 0.84, 0.8])
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
+def wood(side: int = 512, wavelength: float = 14.0, rng=6) -> np.ndarray:
+    """Wood grain, RGB: light and dark stripes along x, ``wavelength`` pixels apart, whose phase meanders by
+    several radians over about 40 pixels (the grain bends around knots), with fine grain: lines that run
+    across the photo without a period a lattice could follow."""
+    gen = np.random.default_rng(rng)
+    yy = np.mgrid[0:side, 0:side][0].astype(np.float64)
+    phase = 2.0 * np.pi * yy / wavelength + 4.0 * _noise((side, side), gen, 40.0) + 0.6 * _noise((side, side), gen, 8.0)
+    stripe = (0.5 + 0.5 * np.sin(phase)) ** 3
+    img = (np.array([0.62, 0.42, 0.25]) * (0.8 + 0.35 * stripe[:, :, None])
+           + 0.03 * _noise((side, side), gen, 0.7)[:, :, None])
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
 def load(name: str) -> np.ndarray:
     """One exemplar by name (see :data:`NAMES`)."""
     if name in ("gravel", "brick", "grass", "moon"):
@@ -310,6 +356,7 @@ def load(name: str) -> np.ndarray:
     if name == "coins":
         return _skimage("coins")
     made = {"scales": scales, "roof": roof, "pebbles": pebbles, "planks": planks, "weave": weave, "ripples": ripples,
+            "hexagons": hexagons, "wood": wood,
             "wall_turned": lambda: turned(running_bond(), 14.0),
             "tiles_turned": lambda: turned(tiles(side=800, period=48), 25.0)}
     if name in made:
