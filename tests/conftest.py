@@ -88,7 +88,7 @@ def pytest_collection_modifyitems(config, items):
 
 # --- Spreading the cold compile of the shading kernels over the xdist workers -----------------
 # On a clean clone every numba kernel compiles on first use (cache=True keeps it on disk after);
-# the kernels of the shading core take 5-42 s each on one core and are used by many test
+# the kernels of the shading core take 3-25 s each on one core and are used by many test
 # files (and by the command-line tests' subprocesses), so two workers, or a worker and a
 # subprocess, that reach one of them before it is on disk both compile it. Under xdist (the
 # README's ``-n 2``), each worker first goes through the kernels, each under a file lock shared by
@@ -116,9 +116,9 @@ def _warm_jobs():
     cam = Camera((0.0, 0.0, 2.0), yaw=30.0, pitch=-20.0)
     st = np.linspace(0.0, 1.0, 8)
     d = np.full(8, 0.01)
-    # Cold, one core: render 42 CPU s (with shade_ground, which the bake's kernel calls: 5 s after it;
-    # render and bake are one job, so that no two workers compile shade_ground at once), fast 34,
-    # stochastic 24, sample 6. Worker 0 starts with render and bake, worker 1 with fast then sample,
+    # Cold, one core (bench_tests.py, 2026-11-27): render 24.5 CPU s (with shade_ground, which the bake's
+    # kernel calls: 8.9 s after it; render and bake are one job, so that no two workers compile
+    # shade_ground at once), fast 18.6, stochastic 7.3, sample 2.6. Worker 0 starts with render and bake, worker 1 with fast then sample,
     # and whichever is free first takes stochastic.
     return {
         "render_and_bake_kernels": lambda: (render_cpu(tex, cam, (8, 8)), bake(tex, (4, 4), pixel_size=0.1)),
