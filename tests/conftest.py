@@ -118,8 +118,8 @@ def _warm_jobs():
     d = np.full(8, 0.01)
     # Cold, one core (bench_tests.py, 2026-11-27): render 24.5 CPU s (with shade_ground, which the bake's
     # kernel calls: 8.9 s after it; render and bake are one job, so that no two workers compile
-    # shade_ground at once), fast 18.6, stochastic 7.3, sample 2.6. Worker 0 starts with render and bake, worker 1 with fast then sample,
-    # and whichever is free first takes stochastic.
+    # shade_ground at once), fast 18.6, stochastic 7.3, sample 2.6. Worker 0 starts with render and
+    # bake, worker 1 with fast then sample, and whichever is free first takes stochastic.
     return {
         "render_and_bake_kernels": lambda: (render_cpu(tex, cam, (8, 8)), bake(tex, (4, 4), pixel_size=0.1)),
         "render_kernel_fast": lambda: render_cpu(tex, cam, (8, 8), anisotropy=1.0),
