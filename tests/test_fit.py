@@ -408,3 +408,26 @@ def test_clip_guard_halves_the_coarse_layers_while_their_bakes_clip_more_than_th
     problem = Problem()
     layers, depth = _auto._clip_guard(problem, None, None, np.zeros((32, 32, 3), np.float32), problem.layers, 8, 4.0)
     assert depth == 1.0 and layers[1].opacity == 0.1
+
+
+def test_a_photo_its_seamless_crop_moves_gets_a_quilted_tile():
+    # wood grain's stripes meet out of phase along the crop's wrap edges: make_seamless's smooth
+    # correction took them up all along the edges and moved the photo's statistics (the tile 1.9 times
+    # the photo's floor), and every patch drew that tile (a bake 1.52). A tileable quilt is weighed
+    # against it and taken; gravel (the control) keeps its crop
+    import sys
+    from pathlib import Path
+
+    from spectex.metrics import structural_distance
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import exemplars
+
+    wood = exemplars.wood()
+    result = fit_result(wood, rng=1)
+    assert result.params["tile_method"].startswith("tileable quilt")
+    assert "the seamless crop's correction" in result.params["tile_method"]
+    image = bake(result.texture, (1024, 1024), pixel_size=result.pixel_size)
+    s = np.mean([structural_distance(image[i:i + 512, j:j + 512], wood).ratio for i in (0, 512) for j in (0, 512)])
+    assert s < 1.3
+    assert fit_result(exemplars.load("gravel"), rng=1).params["tile_method"] == "seamless crop"

@@ -59,7 +59,9 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     (:func:`spectex.metrics.structural_distance`); otherwise the photo's
     seamless crop (drawn stochastically it never repeats, so even a small
     photo is its own tile; a tileable quilt with a reuse penalty where the
-    layer is periodic), drawn stochastically with sharpened blend weights
+    layer is periodic, or where the crop's seam correction moved the
+    photo's statistics past its own floor and the quilt is closer: stripes
+    meeting out of phase along the wrap edges), drawn stochastically with sharpened blend weights
     (no cross-faded double images). The coarser layers draw a second tile, random-phase noise that
     continues the photo's spectrum below its lowest frequency, on the main
     axis of its low-passed colours (never the photo magnified), overlaid at

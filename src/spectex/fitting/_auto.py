@@ -1161,7 +1161,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         if h != w:
             notes.append(f"the finest tile is the central {tile_size}x{tile_size} crop of the {w}x{h} photo (its "
                          "shorter side): the rest of the photo is not in the texture; a square photo gives it all")
-    tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0)
+    # an unstructured photo drawn stochastically: its seamless crop, unless that moved its statistics
+    check = tiling != "periodic" and period is None
+    tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0, check=check)
     tilings0 = "periodic" if tiling == "periodic" else "stochastic"
     snap0 = (0, 0)
     scale0 = 1.0  # the finest tile's texels per photo pixel

@@ -39,13 +39,27 @@ FIT_TILINGS = ("auto", "stochastic", "periodic")
 FIT_METHODS = ("auto", "legacy")
 
 
-def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
+#: The seamless crop is kept while the structural distance between it and the photo (the measure's
+#: ratio to the photo's own floor) is at most this: a crop as close to the photo as the photo is to
+#: itself. Beyond it (the smooth correction took up steps all along the wrap edges: a wood grain's
+#: stripes meeting out of phase, 1.9 on benchmarks/exemplars.py's wood, where scikit-image's gravel,
+#: grass, the tissue and the ripples read 0.79-0.85 and the photo against itself 0.75), a tileable quilt
+#: is made too, and the closer of the two is the tile.
+SEAMLESS_LIMIT = 1.0
+#: The fewest pixels a side for that check (two windows of the measure).
+SEAMLESS_CHECK_MIN = 128
+
+
+def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0, check: bool = False):
     """The photo's tile for the finest layer: ``(tile, n, how)``.
 
     ``tile_size`` (None: the photo's shorter side, or four times it up to
     512) is checked; a tile no larger than the photo is its seamless crop,
     a larger one a tileable quilt (block a quarter of the photo, 16 to 64)
     with the reuse penalty ``reuse``. ``how`` says which, for the report.
+    With ``check``, a seamless crop further from the photo than
+    :data:`SEAMLESS_LIMIT` by the structural distance is weighed against a
+    tileable quilt of the same size, and the closer is the tile.
     """
     from ..tiles import make_seamless
 
@@ -54,12 +68,34 @@ def finest_tile(exemplar, tile_size, rng, *, reuse: float = 0.0):
         tile_size = max(min(h, w), min(512, 4 * min(h, w)))
     n = check_int("tile_size", tile_size, minimum=MIN_SIZE, maximum=4096)
     if n <= min(h, w):
-        return make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64), n, "seamless crop"
+        crop = make_seamless(exemplar, shape=(n, n))[:, :, :3].astype(np.float64)
+        if not check or n < SEAMLESS_CHECK_MIN:
+            return crop, n, "seamless crop"
+        from ..metrics import reference_statistics, structural_distance
+
+        y0, x0 = (h - n) // 2, (w - n) // 2  # the crop's place in the photo (make_seamless's central crop)
+        region = exemplar[y0:y0 + n, x0:x0 + n]
+        prepared = reference_statistics(region)
+        near = structural_distance(crop, region, prepared=prepared).ratio
+        if near <= SEAMLESS_LIMIT:
+            return crop, n, "seamless crop"
+        quilted, how = _quilted(exemplar, n, rng, reuse)
+        other = structural_distance(quilted, region, prepared=prepared).ratio
+        if other < near:
+            return quilted, n, (f"{how}: the seamless crop's correction along its wrap edges moved the photo's "
+                                f"statistics (structure {near:.2f}x the photo's floor, the quilt {other:.2f}x)")
+        return crop, n, "seamless crop"
+    tile, how = _quilted(exemplar, n, rng, reuse)
+    return tile, n, how
+
+
+def _quilted(exemplar, n, rng, reuse):
+    """A tileable quilt of the photo, ``n x n`` (block a quarter of the photo, 16 to 64), and its words."""
     from ..synthesis import quilt
 
-    block = int(np.clip(min(h, w) // 4, 16, 64))
+    block = int(np.clip(min(exemplar.shape[:2]) // 4, 16, 64))
     tile = quilt(exemplar, (n, n), block=block, tileable=True, rng=rng, reuse=reuse).astype(np.float64)
-    return tile, n, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
+    return tile, f"tileable quilt (block {block}" + (f", reuse penalty {reuse:g})" if reuse else ")")
 
 
 def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
