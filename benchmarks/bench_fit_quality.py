@@ -55,6 +55,9 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
   gravel_oblique,paving_oblique,grass_oblique`` runs the photos of ``exemplars.EXTRA`` seen at an angle;
 * ``s``: seconds to make the texture (fit or synthesis of the near render).
 
+``--only`` also takes paths of photos of your own (``--only my/wall.jpg,my/gravel.png``; each shown by
+its file's stem): the same table for them.
+
 The machine, its load and the date are printed with the table.
 """
 
@@ -240,7 +243,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="3 photos at 256 x 256, smaller renders")
     ap.add_argument("--grid", type=Path, default=None, help="write the picture grid here (PNG or JPEG)")
-    ap.add_argument("--only", default=None, help="comma-separated photo names")
+    ap.add_argument("--only", default=None, help="comma-separated photo names, or paths of your own photos")
     ap.add_argument("--methods", default=",".join(METHODS), help="comma-separated methods")
     ap.add_argument("--rng", type=int, default=0)
     args = ap.parse_args(argv)
@@ -250,7 +253,8 @@ def main(argv=None) -> int:
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
     sets = exemplars(quick=args.quick)
     if args.only:  # any photo exemplars.load knows, the extra ones too
-        sets = [(n, load_photo(n)) for n in args.only.split(",") if n]
+        # a path (a photo of your own) is shown by its file's stem
+        sets = [(os.path.splitext(os.path.basename(n))[0][:11], load_photo(n)) for n in args.only.split(",") if n]
     if args.quick:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []

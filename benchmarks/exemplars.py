@@ -331,8 +331,22 @@ def wood(side: int = 512, wavelength: float = 14.0, rng=6) -> np.ndarray:
     return np.clip(img, 0.0, 1.0).astype(np.float32)
 
 
+def _own_photo(path: str) -> np.ndarray:
+    """A photo file as :func:`load` gives it: float32 in [0, 1], grey or RGB (an alpha band dropped)."""
+    from spectex.io import read_image
+
+    image = read_image(path, name="photo")
+    if image.ndim == 3 and image.shape[2] in (2, 4):  # grey or RGB with alpha: the colour bands
+        image = image[..., :-1] if image.shape[2] == 4 else image[..., 0]
+    return image
+
+
 def load(name: str) -> np.ndarray:
-    """One exemplar by name (see :data:`NAMES`)."""
+    """One exemplar by name (see :data:`NAMES`), or a photo of your own by its path (any name holding
+    a ``/`` or ending in an image suffix: read by :func:`spectex.io.read_image`, an alpha band dropped),
+    so that ``bench_fit_quality.py --only my/photos/a.jpg,my/photos/b.png`` measures your photos."""
+    if "/" in name or name.lower().endswith((".png", ".jpg", ".jpeg", ".tif", ".tiff", ".npy")):
+        return _own_photo(name)
     if name in ("gravel", "brick", "grass", "moon"):
         return _skimage(name)
     if name == "tissue":

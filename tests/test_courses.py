@@ -315,6 +315,36 @@ def test_fit_of_planks_keeps_its_boards_whole(monkeypatch, tmp_path, capsys):
 
 
 @pytest.mark.slow
+def test_fit_of_a_running_bond_with_few_bricks_across_cuts_each_row_at_its_joints(monkeypatch):
+    """A running bond whose bricks are too long for their length to be read as a period (2.6 across the
+    photo) is snapped along its rows and drawn row by row with the course map: every brick whole. Read by its
+    bond's two rows (the highest peak down the wall, what the fit took before) the tile had two rows a period,
+    no course map, and its patches cut bricks: cell_splits measured 0.14 / 0.18 against 1.77 / 1.72."""
+    from spectex.bake._block import bake_window
+    from spectex.fitting import _auto, fit_result, structure_period
+    from spectex.metrics import cell_splits
+    from test_snap import subpixel_wall
+
+    photo = subpixel_wall(384, brick=150.0, row=40.3, mortar=3.0, rng=3)
+    period = structure_period(photo)
+
+    def fitted():
+        result = fit_result(photo)
+        splits = [cell_splits(bake_window(result.texture, (0, 768, 0, 768), pixel_size=result.pixel_size,
+                                          origin=o), photo, period=period).image
+                  for o in ((17.3, 5.1), (0.0, 0.0))]
+        return result, float(np.mean(splits))
+
+    result, rows = fitted()
+    assert result.params["period_px"][1] is None and abs(result.params["period_px"][0] - 40.3) <= 0.2
+    assert result.params["courses"] is True
+    monkeypatch.setattr(_auto, "structure_period", lambda image: (80.6, None))  # the bond's two rows
+    control, pairs = fitted()
+    assert control.params["courses"] is False
+    assert rows <= 0.5 and pairs >= rows + 0.6, (rows, pairs)
+
+
+@pytest.mark.slow
 def test_fitted_columns_take_one_cut_per_segment():
     """The planks turned a quarter (columns along y, snapped along x), their fit baked from the world's origin,
     where a segment starts exactly on a texel edge: every line of a column takes the same cut, so along a

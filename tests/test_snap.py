@@ -287,6 +287,30 @@ def test_structure_period_is_subpixel_and_refuses_a_period_the_bricks_do_not_hav
     assert px is None and py is not None and abs(py - 15.3) <= 0.1, (py, px)
 
 
+def test_structure_period_reads_a_running_bond_with_no_period_across_by_its_row():
+    """Bricks too long for three to fit across the photo (2.7 here): no period across, and down the wall the
+    highest peak is the bond's two rows (the rows are offset by half a brick). The fit cuts each row at its
+    own joints, so the row is the period; with a period across, the bond's two rows stay (the lattice)."""
+    from spectex.fitting import _structure
+    from spectex.fitting._structure import structure_period
+
+    photo = subpixel_wall(320, brick=120.0, row=27.3, mortar=3.0, rng=3)
+    py, px = structure_period(photo)
+    assert px is None and py is not None and abs(py - 27.3) <= 0.1, (py, px)
+    # what the rows' axis reads on its own: its highest peak two rows, its half the row
+    from spectex.color import luma
+
+    lum = luma(photo, dtype=np.float64)
+    lum = lum - lum.mean()
+    acf = np.fft.irfft2(np.abs(np.fft.rfft2(lum)) ** 2, s=lum.shape)
+    acf /= acf[0, 0]
+    full, course = _structure._axis_period(acf, acf, 8)
+    assert abs(full - 54.6) <= 0.3 and abs(course - 27.3) <= 0.1, (full, course)
+    # the control: a bond whose bricks repeat across keeps its two rows
+    py, px = structure_period(subpixel_wall(320, brick=33.4, row=15.3, rng=3))
+    assert abs(py - 30.6) <= 0.15 and abs(px - 33.4) <= 0.05, (py, px)
+
+
 def _tile_grid(side, *, period=64, grout=5, rng=11):
     """Square tiles of slightly different colours in light grout, every ``period`` pixels, RGB."""
     rng = np.random.default_rng(rng)

@@ -48,6 +48,14 @@ def structure_period(exemplar, *, min_lag: int = 8):
     first's height. Bricks of random length along an axis give a weak bump
     at their mean length that does not come back at twice it: no period.
 
+    A running bond's rows are offset by half a brick, so its highest peak
+    down the wall is two rows. Where the other axis has no period (bricks
+    of random length, or too few across the photo to be believed), an axis
+    whose half period stands out on its own (a peak within a pixel of the
+    half, believed as a period is) gives that half: the row, which the fit
+    cuts at its own joints. With a period across, the two rows stay (the
+    lattice's period).
+
     The whole-pixel lag is then refined (:func:`_refine_period`): a
     parabola through each peak at the period's multiples, the period the
     least-squares slope of the peaks' places against their multiples (a
@@ -73,24 +81,47 @@ def structure_period(exemplar, *, min_lag: int = 8):
     overlap = np.fft.irfft2(np.abs(np.fft.rfft2(np.ones_like(lum), s=pad)) ** 2, s=pad)
     linear = np.fft.irfft2(np.abs(np.fft.rfft2(lum, s=pad)) ** 2, s=pad) / np.maximum(overlap, 1.0)
     linear /= linear[0, 0]
-    out = []
+    full, course = [], []
     for a, b in ((acf, linear), (acf.T, linear.T)):
-        line = _axis_line(a, a.shape[0] // 2)
-        half = len(line)
-        v = line[min_lag:half]
-        peaks = [i for i in range(1, len(v) - 1) if v[i] >= v[i - 1] and v[i] >= v[i + 1]]
-        best = max(peaks, key=lambda i: v[i]) if peaks else None
-        if best is None or v[best] < PERIOD_MIN_CORRELATION:
-            out.append(None)
-            continue
-        p = next(i for i in peaks if v[i] >= 0.9 * v[best]) + min_lag
-        if not _period_stands_out(line, p):
-            out.append(None)
-            continue
-        period = _refine_period(line, p)
-        seen = a.shape[0] >= PERIOD_MIN_REPEATS * period and _seen_inside(_axis_line(b, half), p)
-        out.append(round(period, 2) if seen else None)
+        found = _axis_period(a, b, min_lag)
+        full.append(found[0])
+        course.append(found[1])
+    # a running bond whose bricks do not repeat across (random lengths, or too few across the photo):
+    # its rows offset by half a brick correlate less at one row than at two, so the highest peak is
+    # the bond's two rows; with no period across, each row is cut at its own joints and the row is the
+    # period (a lattice keeps the bond's two rows: its tile is cut at whole periods of both axes)
+    out = [c if c is not None and full[1 - i] is None else f for i, (f, c) in enumerate(zip(full, course))]
     return out[0], out[1]
+
+
+def _axis_period(a, b, min_lag):
+    """Along ``a``'s first axis (circular autocorrelation ``a``, linear ``b``): ``(period, course)``, the
+    period as :func:`structure_period` reads it and the half of it where that half stands out as a period
+    of its own (a running bond's row), each None where not found or not believed."""
+    line = _axis_line(a, a.shape[0] // 2)
+    half = len(line)
+    v = line[min_lag:half]
+    peaks = [i for i in range(1, len(v) - 1) if v[i] >= v[i - 1] and v[i] >= v[i + 1]]
+    best = max(peaks, key=lambda i: v[i]) if peaks else None
+    if best is None or v[best] < PERIOD_MIN_CORRELATION:
+        return None, None
+    p = next(i for i in peaks if v[i] >= 0.9 * v[best]) + min_lag
+    if not _period_stands_out(line, p):
+        return None, None
+    inside = _axis_line(b, half)
+
+    def believed(q):
+        period = _refine_period(line, q)
+        return round(period, 2) if a.shape[0] >= PERIOD_MIN_REPEATS * period and _seen_inside(inside, q) else None
+
+    # the half: a peak within a pixel of p / 2 that stands out on its own
+    lo, hi = max(min_lag, (p - 2) // 2), (p + 3) // 2
+    q = lo + int(np.argmax(line[lo:hi + 1])) if hi > lo else None
+    course = None
+    if (q is not None and lo < q < hi and line[q] >= PERIOD_MIN_CORRELATION
+            and _period_stands_out(line, q)):
+        course = believed(q)
+    return believed(p), course
 
 
 def _axis_line(a, lags):
