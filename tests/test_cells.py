@@ -511,3 +511,30 @@ def test_fit_of_cobbles_draws_them_with_free_cells_and_says_so(tmp_path, capsys)
     io.write_image(path, cobbles)
     assert main(["fit", str(path), "-o", str(tmp_path / "out")]) == 0
     assert "drawn with free cells" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_stochastic_way_of_a_structured_photo_as_large_as_a_tile_is_its_own_crop(monkeypatch):
+    """A structured photo of STRUCTURED_CROP_MIN pixels or more (a 512-pixel wall straightened by a degree is
+    504) gives the stochastic way its own seamless crop, as an unstructured photo does: its cells whole, so
+    that free cells are read on it. A quilt of 512 cut its stones by straight block seams, and a wall of
+    irregular stones (a coursed ashlar of Debian's supertuxkart-data, rows of 31 pixels) was drawn snapped
+    row by row, its stones taller than a row cut in two (docs/fitting.md, "A structured photo's own crop").
+    The control: a smaller photo keeps the quilt; so does this one with the rule off."""
+    from spectex.fitting import _auto, fit_result
+
+    floor = _floor(512, rng=3)[0]
+    assert _auto.STRUCTURED_CROP_MIN == 384
+
+    def tile_of(photo):
+        result = fit_result(photo, tiling="stochastic")
+        assert result.params["period_px"] is not None  # a structured photo
+        return result.params["tile_method"], result.texture.tile_shape[0], result.params["free_cells"]
+
+    how, side, free = tile_of(floor[:448, :448])
+    assert how == "seamless crop" and side == 448 and free is True, (how, side, free)
+    how, side, _ = tile_of(floor[:320, :320])
+    assert how.startswith("tileable quilt") and side == 512, (how, side)
+    monkeypatch.setattr(_auto, "STRUCTURED_CROP_MIN", 10 ** 6)
+    how, side, _ = tile_of(floor[:448, :448])
+    assert how.startswith("tileable quilt") and side == 512, (how, side)

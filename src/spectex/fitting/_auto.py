@@ -120,6 +120,11 @@ BREAK_WINDOW = 64
 #: this factor: such a way is chosen only if every way splits them. Drawn whole (snapped, with cells or
 #: courses) fitted floors read 0.9-1.2, with the patches' boundaries through them 1.3-2.1.
 SPLIT_LIMIT = 1.3
+#: A structured photo (straightened) at least this many pixels a side gives its stochastic way its own seamless
+#: crop, as an unstructured photo does; a smaller one a tileable quilt of 512 (a 128-pixel wall's own crop, its
+#: patches of 56 pixels, lost 2 dB of its coarsest band). A 512-pixel wall of stones straightened by 0.7 degrees
+#: (504 pixels) was quilted, its stones cut by the blocks' straight seams, and no free cells could be read.
+STRUCTURED_CROP_MIN = 384
 #: Side of the trial's far bake (pixels, at twice the photo's pixel size).
 TRIAL_FAR = 512
 #: Side of the trial's bake at the photo's scale, and the fewest of the structure's periods it holds (at
@@ -1108,6 +1113,29 @@ def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, 
     return layers, ratio, opacity, iterations, rng, tiling, patch
 
 
+def _stochastic_tile_size(tile_size, tiling, period, h, w, notes):
+    """The finest tile's side for :func:`spectex.fitting._core.finest_tile` (None: its default) when the
+    finest layer is, or may be, drawn stochastically (a note where a photo's rest is left out)."""
+    if tile_size is None and tiling != "periodic" and period is None and min(h, w) >= MIN_SIZE:
+        # Drawn stochastically the finest layer never repeats, so an unstructured photo itself (its
+        # seamless crop) is its tile, whatever its size: a quilt four times its side adds no content, only
+        # cuts through whatever is larger than its blocks' overlap (stones, coins: fragments with straight
+        # edges). On 13 unstructured photos of 64-303 pixels the crop was closer to the photo over a render
+        # of twice its side on 10 ("docs/fitting.md", "A small photo is its own tile"). A periodic finest
+        # layer keeps the quilt (its tile repeats), and so does the stochastic trial of a structured photo
+        # under STRUCTURED_CROP_MIN (a 128-pixel wall's own crop, its patches of 56 pixels, lost 2 dB of its
+        # coarsest band).
+        tile_size = min(h, w)
+        if h != w:
+            notes.append(f"the finest tile is the central {tile_size}x{tile_size} crop of the {w}x{h} photo (its "
+                         "shorter side): the rest of the photo is not in the texture; a square photo gives it all")
+    elif tile_size is None and tiling != "periodic" and period is not None and min(h, w) >= STRUCTURED_CROP_MIN:
+        # the stochastic way of a structured photo as large as a tile: its own seamless crop (its stones and
+        # bricks whole, so that free cells can draw them whole) rather than a quilt a few pixels larger
+        tile_size = min(h, w)
+    return tile_size
+
+
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, keep_one_off=False,
              keep_lighting=False, keep_perspective=False, progress=None) -> FitResult:
@@ -1149,18 +1177,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         period = None
     joint_words = []
     cut = _period_tile(exemplar, period, joint_words) if period is not None and tiling != "stochastic" else None
-    if tile_size is None and tiling != "periodic" and period is None and min(h, w) >= MIN_SIZE:
-        # Drawn stochastically the finest layer never repeats, so an unstructured photo itself (its
-        # seamless crop) is its tile, whatever its size: a quilt four times its side adds no content, only
-        # cuts through whatever is larger than its blocks' overlap (stones, coins: fragments with straight
-        # edges). On 13 unstructured photos of 64-303 pixels the crop was closer to the photo over a render
-        # of twice its side on 10 ("docs/fitting.md", "A small photo is its own tile"). A periodic finest
-        # layer keeps the quilt (its tile repeats), and so does a structured photo's stochastic trial (a
-        # 128-pixel wall's own crop, its patches of 56 pixels, lost 2 dB of its coarsest band).
-        tile_size = min(h, w)
-        if h != w:
-            notes.append(f"the finest tile is the central {tile_size}x{tile_size} crop of the {w}x{h} photo (its "
-                         "shorter side): the rest of the photo is not in the texture; a square photo gives it all")
+    tile_size = _stochastic_tile_size(tile_size, tiling, period, h, w, notes)
     # an unstructured photo drawn stochastically: its seamless crop, unless that moved its statistics
     check = tiling != "periodic" and period is None
     tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0, check=check)
