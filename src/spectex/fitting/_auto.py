@@ -608,8 +608,9 @@ def _joints_at_wrap(tile, snap):
     Where a course was read straight across the photo (not cut at its own joints, :func:`_strip_tile`),
     its wrap edge joins the end of one board to the middle of another: two tones meet without a joint, in
     every patch, and the sampler, which changes patch along a course at joints only
-    (``shading.stochastic.course_vertex``), would keep them. Such a course (a step across the edge over
-    ``WRAP_STEP`` times its median step between neighbouring lines) gets one of its own joints (the
+    (``shading.stochastic.course_vertex``), would keep them. Such a course (a step of its mean colour across
+    the edge, the RGB distance, over ``WRAP_STEP`` times its median step between neighbouring lines) gets
+    one of its own joints (the
     grout between two of its boards, ``shading._cells.course_joints``) over the edge, centred on it: the
     two boards now end at a joint, as boards do. A course whose joint already lies at the edge, or
     without joints, is left alone. Unchanged where no courses are found.
@@ -630,9 +631,11 @@ def _joints_at_wrap(tile, snap):
             continue
         if any(a <= 2 or a + b >= w - 2 for a, b in joints):  # a joint runs over (or next to) the edge
             continue
-        rows = view[lines][:, :, :3].mean(axis=(0, 2))
-        steps = np.abs(np.diff(rows))
-        if abs(rows[0] - rows[-1]) <= max(WRAP_STEP * float(np.median(steps)), WRAP_STEP_FLOOR):
+        # the course's mean colour per column: two boards of one brightness and another hue (an orange brick
+        # beside a brown one) differ in colour, not in the channels' mean
+        cols = view[lines][:, :, :3].mean(axis=0)
+        steps = np.linalg.norm(np.diff(cols, axis=0), axis=1)
+        if float(np.linalg.norm(cols[0] - cols[-1])) <= max(WRAP_STEP * float(np.median(steps)), WRAP_STEP_FLOOR):
             continue
         a, width = max(joints, key=lambda j: j[1])
         src = (a + np.arange(width)) % w
