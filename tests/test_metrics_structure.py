@@ -106,6 +106,44 @@ def test_structural_distance_controls(name):
     assert own.distance == pytest.approx(own.ratio * own.floor)
 
 
+def test_structural_distance_floor_leaves_out_windows_that_are_copies():
+    """A photo made of copies of one tile (four of a 256-pixel gravel crop: a tiled texture given as a photo)
+    has windows that are copies of one another, whose distances are no spread of the photo's: before, another
+    part of the gravel read infinitely far (the copies' floor 0). Its copies are left out
+    of the floor and, all windows being copies at the default size, the windows halved: another part reads
+    about 1, as for the photo untiled. The control: a photo without copies gives the same result to the bit
+    (no pair is left out); a floor of random-coloured tiles on an exact grid (windows correlated 0.9) too."""
+    from spectex import _texture_stats
+
+    gravel = _photo("gravel")
+    tile = gravel[:256, :256]
+    tiled = np.tile(tile, (2, 2))
+    other = gravel[256:, 256:]  # another part of the same gravel, in none of the copies
+    copies = metrics.structural_distance(other, tiled)
+    plain = metrics.structural_distance(other, gravel[:256, :])
+    assert copies.window == (128, 128) and 0.6 < copies.ratio < 1.6, (copies.ratio, copies.window)
+    assert copies.ratio < 1.5 * plain.ratio, (copies.ratio, plain.ratio)
+    # a copy shifted along one axis only (half the windows copies): left out, the others kept
+    below = gravel[256:, :256]
+    half = np.concatenate([np.concatenate([tile, tile], axis=1), np.concatenate([below, below[:, ::-1]], axis=1)])
+    some = metrics.structural_distance(other, half)
+    assert some.window == (256, 256) and 0.6 < some.ratio < 1.6, (some.ratio, some.window)
+    # with every pair kept (the rule off), the copies' floor: far from 1
+    try:
+        saved = _texture_stats.COPY_CORRELATION
+        _texture_stats.COPY_CORRELATION = 2.0
+        assert metrics.structural_distance(other, tiled).ratio > 3.0
+    finally:
+        _texture_stats.COPY_CORRELATION = saved
+    # the controls: no copies, no change (the floor's every pair kept)
+    from helpers import floor_photo
+
+    for photo in (gravel, floor_photo(512, rng=3)[0]):
+        a = metrics.structural_distance(np.roll(photo, (77, 131), axis=(0, 1)), photo)
+        pairs = _texture_stats._distinct_pairs(np.asarray(photo, dtype=np.float32), a.window, 9)
+        assert len(pairs) == 6 and a.window == (256, 256), (len(pairs), a.window)
+
+
 def test_structural_distance_is_deterministic_and_reuses_the_reference():
     photo = _photo("gravel")
     image, reference = photo[:256, 256:], photo[:, :256]

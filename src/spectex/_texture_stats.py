@@ -456,9 +456,31 @@ class StructuralDistance(AsDict):
     windows: tuple
 
 
+#: Two of the reference's windows whose lumas correlate by at least this are copies of one another (a photo
+#: made by tiling a smaller one, or by repeating its content at a shift: game textures; JPEG leaves 0.97-1.0),
+#: not two parts of a texture: their distance is not the photo's own spread and is left out of the floor. A
+#: floor of random-coloured tiles on an exact grid reads 0.89-0.90, its windows' own cells different.
+COPY_CORRELATION = 0.95
+
+
 def _reference_windows(reference, window, levels, std, max_windows):
     corners = _grid(reference.shape, window, max_windows)
     return [_window_statistics(reference[y:y + window[0], x:x + window[1]], std, levels) for y, x in corners]
+
+
+def _distinct_pairs(reference, window, max_windows):
+    """The pairs ``(i, j)`` of the reference's windows (:func:`_grid`) that are not copies of one another
+    (:data:`COPY_CORRELATION`)."""
+    from .color import luma
+
+    lum = luma(reference, dtype=np.float64) if reference.ndim == 3 else reference.astype(np.float64)
+    cuts = []
+    for y, x in _grid(reference.shape, window, max_windows):
+        w = lum[y:y + window[0], x:x + window[1]]
+        w = w - w.mean()
+        cuts.append(w / max(float(np.sqrt(np.mean(w * w))), 1e-12))
+    return [(i, j) for i in range(len(cuts)) for j in range(i + 1, len(cuts))
+            if float(np.mean(cuts[i] * cuts[j])) < COPY_CORRELATION]
 
 
 def reference_statistics(reference, *, window=None, max_windows: int = 9):
@@ -468,8 +490,8 @@ def reference_statistics(reference, *, window=None, max_windows: int = 9):
     prepared=...)`` (the same reference, window and ``max_windows``).
     """
     reference = check_image("reference", reference)
-    window, levels, std, stats = _prepare(reference, window, max_windows)
-    return (reference.shape, reference.ndim, window, levels, std, stats)
+    window, levels, std, stats, pairs = _prepare(reference, window, max_windows)
+    return (reference.shape, reference.ndim, window, levels, std, stats, pairs)
 
 
 def _prepare(reference, window, max_windows):
@@ -481,8 +503,23 @@ def _prepare(reference, window, max_windows):
         raise ValueError(f"reference must hold two disjoint windows of at least {MIN_WINDOW}x{MIN_WINDOW} "
                          f"pixels, got {reference.shape[1]}x{reference.shape[0]}"
                          + (f" for window={window}" if window is not None else ""))
+    pairs = _distinct_pairs(reference, shape, max_windows)
+    if window is None:
+        # a reference whose windows are all copies of one another (a photo of four copies of one tile) has no
+        # spread at that size: smaller windows, while two of them differ
+        while not pairs:
+            side = (shape[0] // 2, shape[1] // 2)
+            smaller, smaller_levels = _window_shape((2 * side[0], 2 * side[1]), None)
+            if min(smaller) < MIN_WINDOW:
+                break
+            found = _distinct_pairs(reference, smaller, max_windows)
+            shape, levels = smaller, smaller_levels
+            pairs = found
     std = _standard(reference)
-    return shape, levels, std, _reference_windows(reference, shape, levels, std, max_windows)
+    stats = _reference_windows(reference, shape, levels, std, max_windows)
+    if not pairs:  # copies at every size: their distances are all there is
+        pairs = [(i, j) for i in range(len(stats)) for j in range(i + 1, len(stats))]
+    return shape, levels, std, stats, pairs
 
 
 def structural_distance(image, reference, *, window: int | None = None, max_windows: int = 9,
@@ -499,7 +536,12 @@ def structural_distance(image, reference, *, window: int | None = None, max_wind
     difference; ``distance`` is its mean over all pairs (image window,
     reference window), ``floor`` its mean over the pairs of distinct
     reference windows, so that an image that is another part of the same
-    photo scores ``ratio`` about 1. Deterministic.
+    photo scores ``ratio`` about 1. Two windows that are copies of one
+    another (lumas correlated by :data:`COPY_CORRELATION` or more: a photo
+    made of copies of a smaller tile) are no measure of the photo's spread
+    and their pair is left out of the floor; where every pair is such
+    (four copies of one tile), the default windows are halved until two
+    differ. Deterministic.
 
     Parameters
     ----------
@@ -528,9 +570,9 @@ def structural_distance(image, reference, *, window: int | None = None, max_wind
     reference = check_image("reference", reference)
     image, reference = _common_channels(image, reference)
     if prepared is not None and prepared[0] == reference.shape and prepared[1] == reference.ndim:
-        _, _, shape, levels, std, ref_stats = prepared
+        _, _, shape, levels, std, ref_stats, distinct = prepared
     else:
-        shape, levels, std, ref_stats = _prepare(reference, window, max_windows)
+        shape, levels, std, ref_stats, distinct = _prepare(reference, window, max_windows)
     max_windows = check_int("max_windows", max_windows, minimum=2)
     if image.shape[0] < shape[0] or image.shape[1] < shape[1]:
         raise ValueError(f"image must be at least the analysis window {shape[1]}x{shape[0]}, got "
@@ -538,8 +580,7 @@ def structural_distance(image, reference, *, window: int | None = None, max_wind
     img_stats = [_window_statistics(image[y:y + shape[0], x:x + shape[1]], std, levels)
                  for y, x in _grid(image.shape, shape, max_windows)]
     pairs = [_distance(a, b) for a in img_stats for b in ref_stats]
-    floors = [_distance(ref_stats[i], ref_stats[j]) for i in range(len(ref_stats))
-              for j in range(i + 1, len(ref_stats))]
+    floors = [_distance(ref_stats[i], ref_stats[j]) for i, j in distinct]
     names = [g for g in GROUPS if g in pairs[0]]
     groups = {g: float(np.mean([p[g] for p in pairs])) for g in names}
     group_floors = {g: float(np.mean([f[g] for f in floors])) for g in names}
