@@ -609,7 +609,7 @@ def _joints_at_wrap(tile, snap):
     its wrap edge joins the end of one board to the middle of another: two tones meet without a joint, in
     every patch, and the sampler, which changes patch along a course at joints only
     (``shading.stochastic.course_vertex``), would keep them. Such a course (a step of its mean colour across
-    the edge, the RGB distance, over ``WRAP_STEP`` times its median step between neighbouring lines) gets
+    the edge, the RMS over the channels, over ``WRAP_STEP`` times its median step between neighbouring lines) gets
     one of its own joints (the
     grout between two of its boards, ``shading._cells.course_joints``) over the edge, centred on it: the
     two boards now end at a joint, as boards do. A course whose joint already lies at the edge, or
@@ -631,11 +631,13 @@ def _joints_at_wrap(tile, snap):
             continue
         if any(a <= 2 or a + b >= w - 2 for a, b in joints):  # a joint runs over (or next to) the edge
             continue
-        # the course's mean colour per column: two boards of one brightness and another hue (an orange brick
-        # beside a brown one) differ in colour, not in the channels' mean
+        # the course's mean colour per column, its steps the RMS over the channels: two boards of one brightness
+        # and another hue (an orange brick beside a brown one) differ in colour, not in the channels' mean (a
+        # grey photo's steps are the same either way)
         cols = view[lines][:, :, :3].mean(axis=0)
-        steps = np.linalg.norm(np.diff(cols, axis=0), axis=1)
-        if float(np.linalg.norm(cols[0] - cols[-1])) <= max(WRAP_STEP * float(np.median(steps)), WRAP_STEP_FLOOR):
+        steps = np.sqrt(np.mean(np.diff(cols, axis=0) ** 2, axis=1))
+        edge = float(np.sqrt(np.mean((cols[0] - cols[-1]) ** 2)))
+        if edge <= max(WRAP_STEP * float(np.median(steps)), WRAP_STEP_FLOOR):
             continue
         a, width = max(joints, key=lambda j: j[1])
         src = (a + np.arange(width)) % w
