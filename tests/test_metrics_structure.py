@@ -123,6 +123,7 @@ def test_structural_distance_floor_leaves_out_windows_that_are_copies():
     plain = metrics.structural_distance(other, gravel[:256, :])
     assert copies.window == (128, 128) and 0.6 < copies.ratio < 1.6, (copies.ratio, copies.window)
     assert copies.ratio < 1.5 * plain.ratio, (copies.ratio, plain.ratio)
+    assert copies.copies > 0 and plain.copies == 0, (copies.copies, plain.copies)
     # a copy shifted along one axis only (half the windows copies): left out, the others kept
     below = gravel[256:, :256]
     half = np.concatenate([np.concatenate([tile, tile], axis=1), np.concatenate([below, below[:, ::-1]], axis=1)])
@@ -142,6 +143,23 @@ def test_structural_distance_floor_leaves_out_windows_that_are_copies():
         a = metrics.structural_distance(np.roll(photo, (77, 131), axis=(0, 1)), photo)
         pairs = _texture_stats._distinct_pairs(np.asarray(photo, dtype=np.float32), a.window, 9)
         assert len(pairs) == 6 and a.window == (256, 256), (len(pairs), a.window)
+
+
+def test_cli_compare_says_the_reference_repeats_itself(tmp_path, capsys):
+    """spectex compare against a reference made of copies of one tile says so (and how many pairs of its
+    windows it left out of the floor); against the photo itself (the control) it does not."""
+    from spectex import io
+    from spectex.cli import main
+
+    gravel = _photo("gravel")
+    io.write_image(tmp_path / "tiled.png", np.tile(gravel[:256, :256], (2, 2)))
+    io.write_image(tmp_path / "gravel.png", gravel)
+    io.write_image(tmp_path / "other.png", gravel[256:, 256:])
+    assert main(["compare", str(tmp_path / "other.png"), "--reference", str(tmp_path / "tiled.png")]) == 0
+    out = capsys.readouterr().out
+    assert "the reference repeats itself:" in out and "128x128 windows are copies" in out, out
+    assert main(["compare", str(tmp_path / "other.png"), "--reference", str(tmp_path / "gravel.png")]) == 0
+    assert "repeats itself" not in capsys.readouterr().out
 
 
 def test_structural_distance_is_deterministic_and_reuses_the_reference():

@@ -444,6 +444,9 @@ class StructuralDistance(AsDict):
         ``(h, w)`` of the analysis windows.
     windows : tuple of int
         ``(image windows, reference windows)`` used.
+    copies : int
+        Pairs of reference windows left out of ``floor`` as copies of one
+        another (the reference repeats itself; 0 for a photo).
     """
 
     distance: float
@@ -454,6 +457,7 @@ class StructuralDistance(AsDict):
     group_ratios: dict
     window: tuple
     windows: tuple
+    copies: int = 0
 
 
 #: Two of the reference's windows whose lumas correlate by at least this are copies of one another (a photo
@@ -593,7 +597,8 @@ def structural_distance(image, reference, *, window: int | None = None, max_wind
         distance=distance, floor=floor, ratio=distance / floor if floor > 0 else float("inf"),
         groups=groups, group_floors=group_floors,
         group_ratios={g: groups[g] / group_floors[g] if group_floors[g] > 0 else float("inf") for g in names},
-        window=tuple(shape), windows=(len(img_stats), len(ref_stats)))
+        window=tuple(shape), windows=(len(img_stats), len(ref_stats)),
+        copies=len(ref_stats) * (len(ref_stats) - 1) // 2 - len(distinct))
 
 
 # --------------------------------------------------------------------------

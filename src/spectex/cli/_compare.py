@@ -136,6 +136,20 @@ def _finite(value):
     return value
 
 
+def _print_structure(st, num) -> None:
+    """The structural distance's lines of :func:`_print_table` (``num`` its number format)."""
+    if st is None:
+        print("structural distance        n/a (the reference needs two 32x32 windows and some texture)")
+        return
+    print(f"structural distance        {num(st.ratio, '{:.2f}')} x the reference's own floor "
+          f"({num(st.distance, '{:.3f}')} / {num(st.floor, '{:.3f}')}; about 1 is as close as the "
+          "reference is to itself)")
+    if st.copies:
+        print(f"  the reference repeats itself: {st.copies} pairs of its {st.window[1]}x{st.window[0]} windows "
+              "are copies, left out of its floor")
+    print("  per group (x floor)      " + "  ".join(f"{g} {num(v, '{:.2f}')}" for g, v in st.group_ratios.items()))
+
+
 def _print_table(r, image, reference) -> None:
     import math
 
@@ -163,15 +177,7 @@ def _print_table(r, image, reference) -> None:
     print(f"repetition image / ref.    {num(r.repeat_peak_image, '{:.3f}')} / "
           f"{num(r.repeat_peak_reference, '{:.3f}')}   (repeat_peak of the fine detail, any period; "
           "<= 0.1 does not repeat)")
-    if r.structure is None:
-        print("structural distance        n/a (the reference needs two 32x32 windows and some texture)")
-    else:
-        st = r.structure
-        print(f"structural distance        {num(st.ratio, '{:.2f}')} x the reference's own floor "
-              f"({num(st.distance, '{:.3f}')} / {num(st.floor, '{:.3f}')}; about 1 is as close as the "
-              "reference is to itself)")
-        print("  per group (x floor)      " + "  ".join(f"{g} {num(v, '{:.2f}')}"
-                                                      for g, v in st.group_ratios.items()))
+    _print_structure(r.structure, num)
     c = r.clipping
     print(f"clipped values image / ref. {100 * c.image:.1f}% / {100 * c.reference:.1f}%   "
           + ("(within the reference's + 1 point)" if c.within else "(MORE than the reference's + 1 point)"))

@@ -302,6 +302,9 @@ def _structure_line(numbers, evened=None, levelled=None, resampled=None) -> str:
         if resampled is not None:
             line += (f" ({resampled[0]}, a resampling the measure counts as lost detail; {resampled[1]:.2f}x with "
                      "both halved)")
+        if getattr(st, "copies", 0):
+            line += (f" (the photo repeats itself: {st.copies} pairs of its {st.window[1]}x{st.window[0]} windows are "
+                     "copies, left out of its floor)")
     line += f"; clipped {100 * clip.image:.1f}% of values (photo {100 * clip.reference:.1f}%)"
     if coarse is not None:
         mags = ", ".join(f"{m:g}" for m, v in zip(coarse.magnifications, coarse.per_magnification) if v == v)
