@@ -477,7 +477,7 @@ def _distinct_pairs(reference, window, max_windows):
     (:data:`COPY_CORRELATION`)."""
     from .color import luma
 
-    lum = luma(reference, dtype=np.float64) if reference.ndim == 3 else reference.astype(np.float64)
+    lum = luma(reference, dtype=np.float64)  # (grey as it is)
     cuts = []
     for y, x in _grid(reference.shape, window, max_windows):
         w = lum[y:y + window[0], x:x + window[1]]
@@ -512,13 +512,11 @@ def _prepare(reference, window, max_windows):
         # a reference whose windows are all copies of one another (a photo of four copies of one tile) has no
         # spread at that size: smaller windows, while two of them differ
         while not pairs:
-            side = (shape[0] // 2, shape[1] // 2)
-            smaller, smaller_levels = _window_shape((2 * side[0], 2 * side[1]), None)
+            smaller, smaller_levels = _window_shape(shape, None)  # half of it, rounded as every window is
             if min(smaller) < MIN_WINDOW:
                 break
-            found = _distinct_pairs(reference, smaller, max_windows)
             shape, levels = smaller, smaller_levels
-            pairs = found
+            pairs = _distinct_pairs(reference, shape, max_windows)
     std = _standard(reference)
     stats = _reference_windows(reference, shape, levels, std, max_windows)
     if not pairs:  # copies at every size: their distances are all there is
