@@ -254,7 +254,10 @@ def main(argv=None) -> int:
     sets = exemplars(quick=args.quick)
     if args.only:  # any photo exemplars.load knows, the extra ones too
         # a path (a photo of your own) is shown by its file's stem
-        sets = [(os.path.splitext(os.path.basename(n))[0][:11], load_photo(n)) for n in args.only.split(",") if n]
+        try:
+            sets = [(os.path.splitext(os.path.basename(n))[0][:11], load_photo(n)) for n in args.only.split(",") if n]
+        except ValueError as exc:  # an unknown name, or a path that is not an image: one line, exit 2
+            ap.error(f"--only: {exc}")
     if args.quick:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
