@@ -131,10 +131,13 @@ def _period(photo):
     and the photo as the fit reads it: straightened or rectified first where the fit does (its period is the
     one the fit's bake has), else the photo."""
     from spectex.fitting import STRUCTURED_PEAK, prepare_exemplar, structure_peak
-    from spectex.fitting._auto import _straighten_structure
+    from spectex.fitting._auto import _photo_as_ground, _straighten_structure
     from spectex.fitting._structure import structure_period
 
-    exemplar = prepare_exemplar(photo)[0]
+    # the fit's own steps before it reads the structure (a brick wall taken at an angle is levelled first, and
+    # only then reads as structured)
+    exemplar = _photo_as_ground(prepare_exemplar(photo)[0], [], keep_lighting=False, keep_perspective=False,
+                                keep_one_off=False)[0]
     structure = structure_peak(exemplar)
     if structure < STRUCTURED_PEAK:
         return None, photo

@@ -533,6 +533,13 @@ def test_stochastic_way_of_a_structured_photo_as_large_as_a_tile_is_its_own_crop
 
     how, side, free = tile_of(floor[:448, :448])
     assert how == "seamless crop" and side == 448 and free is True, (how, side, free)
+    # a photo longer than wide gives its central square, and the notes say what is left out, as for an
+    # unstructured photo (a square one says nothing)
+    assert not any("finest tile is the central" in note for note in fit_result(floor[:448, :448],
+                                                                                tiling="stochastic").notes)
+    wide = fit_result(floor[:400, :448], tiling="stochastic")
+    assert wide.params["tile_method"] == "seamless crop" and wide.texture.tile_shape[0] == 400
+    assert any("finest tile is the central 400x400 crop of the 448x400 photo" in note for note in wide.notes)
     how, side, _ = tile_of(floor[:320, :320])
     assert how.startswith("tileable quilt") and side == 512, (how, side)
     monkeypatch.setattr(_auto, "STRUCTURED_CROP_MIN", 10 ** 6)

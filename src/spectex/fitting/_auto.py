@@ -1118,9 +1118,9 @@ def check_options(*, layers=5, ratio=4.0, opacity=None, iterations=None, rng=0, 
     return layers, ratio, opacity, iterations, rng, tiling, patch
 
 
-def _stochastic_tile_size(tile_size, tiling, period, h, w, notes):
+def _stochastic_tile_size(tile_size, tiling, period, h, w):
     """The finest tile's side for :func:`spectex.fitting._core.finest_tile` (None: its default) when the
-    finest layer is, or may be, drawn stochastically (a note where a photo's rest is left out)."""
+    finest layer is, or may be, drawn stochastically."""
     if tile_size is None and tiling != "periodic" and period is None and min(h, w) >= MIN_SIZE:
         # Drawn stochastically the finest layer never repeats, so an unstructured photo itself (its
         # seamless crop) is its tile, whatever its size: a quilt four times its side adds no content, only
@@ -1131,9 +1131,6 @@ def _stochastic_tile_size(tile_size, tiling, period, h, w, notes):
         # under STRUCTURED_CROP_MIN (a 128-pixel wall's own crop, its patches of 56 pixels, lost 2 dB of its
         # coarsest band).
         tile_size = min(h, w)
-        if h != w:
-            notes.append(f"the finest tile is the central {tile_size}x{tile_size} crop of the {w}x{h} photo (its "
-                         "shorter side): the rest of the photo is not in the texture; a square photo gives it all")
     elif tile_size is None and tiling != "periodic" and period is not None and min(h, w) >= STRUCTURED_CROP_MIN:
         # the stochastic way of a structured photo as large as a tile: its own seamless crop (its stones and
         # bricks whole, so that free cells can draw them whole) rather than a quilt a few pixels larger
@@ -1182,7 +1179,7 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         period = None
     joint_words = []
     cut = _period_tile(exemplar, period, joint_words) if period is not None and tiling != "stochastic" else None
-    tile_size = _stochastic_tile_size(tile_size, tiling, period, h, w, notes)
+    tile_size = _stochastic_tile_size(tile_size, tiling, period, h, w)
     # an unstructured photo drawn stochastically: its seamless crop, unless that moved its statistics
     check = tiling != "periodic" and period is None
     tile0, n, tile_method = finest_tile(exemplar, tile_size, rng, reuse=1.0, check=check)
@@ -1224,6 +1221,10 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             elif choice == "snapped":
                 tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", snap, texel_scale
                 tile_method = cut_method + f", drawn stochastically with offsets snapped to whole periods (snap {snap})"
+    if not tile_given and tile_method == "seamless crop" and snap0 == (0, 0) and n == min(h, w) and h != w:
+        # the finest tile the photo's own crop, structured or not (the stochastic way chosen): what it leaves out
+        notes.append(f"the finest tile is the central {n}x{n} crop of the {w}x{h} photo (its shorter side): the "
+                     "rest of the photo is not in the texture; a square photo gives it all")
     tick()
     # --- the coarse layers' own tile
     region = (min(h, 256), min(w, 256))
