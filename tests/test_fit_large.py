@@ -99,6 +99,70 @@ def test_a_large_photo_of_large_grain_is_drawn_whole_in_a_far_view():
     assert far[_core.MIN_TILE_GRAINS] < 1.4 < 1.6 < far[0]
 
 
+def _rippled_sand(ripples, side=1024, wavelength=200.0, seed=3):
+    """Fine sand (a grain of a pixel) with faint ripples ``wavelength`` pixels apart, turned 35 degrees and
+    meandering: 5 across the photo, 2.5 across a 512 crop (a beach photographed from above)."""
+    rng = np.random.default_rng(seed)
+    grain = ndimage.gaussian_filter(rng.standard_normal((side, side)), 0.8)
+    y, x = np.mgrid[0:side, 0:side].astype(np.float64)
+    meander = ndimage.gaussian_filter(rng.standard_normal((side, side)), 48.0)
+    turn = np.radians(35.0)
+    wave = np.sin(2.0 * np.pi * (x * np.cos(turn) + y * np.sin(turn) + 14.0 * meander / meander.std()) / wavelength)
+    lum = 0.6 + 0.07 * grain / grain.std() + ripples * wave
+    return np.clip(lum[:, :, None] * np.array([1.0, 0.9, 0.72]), 0.0, 1.0).astype(np.float32)
+
+
+def _ripple_correlation(view, wavelength, turn=35.0):
+    """How the ripples of a view hold together: the autocorrelation of its luma blurred by 6 pixels (the grain
+    left out), a wavelength apart across the crests (1 for a perfect wave, about 0 for fragments)."""
+    lum = ndimage.gaussian_filter(view[:, :, :3].mean(axis=2).astype(np.float64), 6.0)
+    lum -= lum.mean()
+    f = np.fft.fft2(lum)
+    ac = np.fft.fftshift(np.real(np.fft.ifft2(np.abs(f) ** 2)))
+    cy, cx = ac.shape[0] // 2, ac.shape[1] // 2
+    t = np.radians(turn)
+    value = ndimage.map_coordinates(ac, [[cy + wavelength * np.sin(t)], [cx + wavelength * np.cos(t)]], order=1)[0]
+    return float(value / ac[cy, cx])
+
+
+def test_a_large_photo_of_fine_grain_and_large_ripples_is_resampled_to_hold_them():
+    """Fine sand with faint ripples 200 pixels apart (1024 pixels): its grain alone would keep the full
+    resolution (a 512 crop holds 2.5 ripples, which the coarse layers cannot draw: they continue the crop's
+    spectrum without gaining power), but the band of the ripples beyond the crop is 10 dB over the coarsest
+    the crop holds (``COARSE_EXCESS_DB`` 6), so the photo is resampled until the crop holds 4 of its
+    wavelengths, here the whole photo, said in a note. The controls: the same sand without ripples keeps its
+    full resolution; with the rule off, the ripples' photo does too."""
+    rippled = _rippled_sand(0.03)
+    assert exemplar_scale(_rippled_sand(0.0)) == 1.0
+    assert exemplar_scale(rippled) == pytest.approx(2.0)
+    notes = prepare_exemplar(rippled)[1]
+    assert any("resampled the 1024x1024 photo by 1/2" in n and "features of 128-256 photo pixels" in n for n in notes)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_core, "COARSE_EXCESS_DB", np.inf)
+        assert exemplar_scale(rippled) == 1.0
+
+
+@pytest.mark.slow
+def test_a_large_photo_of_large_ripples_keeps_them_in_a_far_view():
+    """The rippled sand's fit viewed over the whole photo (512 pixels across): its ripples hold together a
+    wavelength apart (correlation 0.40, the photo's own 0.66), where the fit of the full-resolution crop
+    drew fragments of them (0.17: the control, the rule off)."""
+    from spectex.bake._block import bake_window
+
+    rippled = _rippled_sand(0.03)
+    found = {}
+    for excess in (_core.COARSE_EXCESS_DB, np.inf):
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(_core, "COARSE_EXCESS_DB", excess)
+            result = fit_result(rippled, photo_size=1.5)
+        view = np.asarray(bake_window(result.texture, (0, 512, 0, 512), pixel_size=1.5 / 512,
+                                      origin=(0.013, 0.029)))
+        found[excess] = _ripple_correlation(view, 100.0)
+    photo = _core._resampled(rippled, 512, 512)
+    assert _ripple_correlation(photo, 100.0) > 0.6  # the measure sees the photo's ripples
+    assert found[_core.COARSE_EXCESS_DB] > 0.3 > 0.25 > found[np.inf], found
+
+
 def test_small_structure_in_a_large_photo_keeps_its_full_resolution():
     """A large floor of small tiles (64 pixels: 8 in a 512 crop) is cropped at full resolution."""
     photo = floor_photo(1024, period=64)[0]

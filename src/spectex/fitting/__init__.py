@@ -198,8 +198,9 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
         the smaller tile.
     max_size : int
         Larger exemplars are analysed on a central crop of this size, at full
-        resolution unless its structure's periods or its grain would not fit
-        (:func:`prepare_exemplar`).
+        resolution unless its structure's periods, its grain or its large
+        features (a band of its spectrum beyond the crop stronger than the
+        coarsest the crop holds) would not fit (:func:`prepare_exemplar`).
     rng : int, numpy.random.Generator or None
         Randomness of the quilting (scikit-image's SPEC 7): an int gives
         ``numpy.random.default_rng(rng)``, so equal inputs and ``rng`` give

@@ -115,8 +115,12 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     :data:`MIN_TILE_GRAINS` of its grain (:func:`spectex.spectrum.correlation_length`:
     gravel, pebbles or cobbles photographed at high resolution, a crop of a few
     stones that the texture would repeat as landmarks) likewise, up to the whole
-    photo's shorter side (a photo of fine grain keeps its full resolution: its
-    detail is what a crop keeps); :func:`exemplar_scale` gives the factor, which the fit's pixel size
+    photo's shorter side, and so is one whose spectrum beyond the crop rises
+    :data:`COARSE_EXCESS_DB` over the coarsest band the crop holds (large
+    features over a fine grain: a beach's ripples, which the coarse layers,
+    continuing the crop's spectrum, cannot draw) until the crop holds that
+    band (a photo of fine grain and nothing larger keeps its full resolution:
+    its detail is what a crop keeps); :func:`exemplar_scale` gives the factor, which the fit's pixel size
     includes; then a side over ``max_size`` is cropped about its centre to
     ``max_size`` (cropping, not downscaling, keeps the detail); float values
     outside [0, 1] are clipped.
@@ -211,6 +215,16 @@ MIN_TILE_PERIODS = 6
 #: that repeats in a view over several tiles; resampled by 1/4 (the whole photo: 4.8 wanted) it reads
 #: as the photo. Fine grain keeps its full resolution (noise of 3.6 pixels, 144 in a crop).
 MIN_TILE_GRAINS = 128
+#: Least excess (dB) of a band of a large photo that its analysed crop does not hold (fewer than
+#: :data:`COARSE_MIN_CYCLES` cycles across the crop) over the coarsest band the crop holds: a photo with
+#: more power beyond the crop than at its edge has large features the crop cannot show and the coarse
+#: layers, which continue its spectrum without gaining power, cannot draw (a beach's ripples 480 pixels
+#: apart on a 2048-pixel photo, a fine grain: +10 dB, where 15 large photos of ground, rock and the
+#: benchmarks' magnified photos read -3 to +3). Such a photo is resampled until the crop holds the band.
+COARSE_EXCESS_DB = 6.0
+#: Cycles across the analysed crop a band needs to be held (:func:`spectex.spectrum.band_power`'s
+#: ``min_cycles``).
+COARSE_MIN_CYCLES = 4
 
 
 def _analysis_factor(rgb, max_size):
@@ -222,7 +236,9 @@ def _analysis_factor(rgb, max_size):
 
     * a structured photo: its structure's period, of which the crop must hold :data:`MIN_TILE_PERIODS`;
     * any other: its grain (:func:`spectex.spectrum.correlation_length`), of which the crop must hold
-      :data:`MIN_TILE_GRAINS`.
+      :data:`MIN_TILE_GRAINS`; and its large features (:func:`_coarse_content`): a band of its spectrum
+      beyond that crop (fewer than :data:`COARSE_MIN_CYCLES` cycles across it) :data:`COARSE_EXCESS_DB`
+      over the coarsest band the crop holds (a beach's ripples over a fine grain) is held too.
     """
     from ..spectrum import correlation_length
     from ._structure import structure_period
@@ -245,11 +261,40 @@ def _analysis_factor(rgb, max_size):
                         "max_size= / --max-size")
     grain = correlation_length(preview) * step
     factor = float(np.clip(MIN_TILE_GRAINS * grain / max_size, 1.0, whole))
+    coarse = _coarse_content(preview, step, max_size, factor)
+    if coarse is not None and coarse[0] > factor:
+        wanted, low, high, excess = coarse
+        return float(min(wanted, whole)), (
+            f"it has features of {low:.0f}-{high:.0f} photo pixels ({excess:.0f} dB over the finest scales a "
+            f"crop of the photo at full resolution holds), and the {{max_size}}-pixel tile must hold "
+            f"{COARSE_MIN_CYCLES} of them, or its texture has none (pass max_size= / --max-size")
     if factor <= 1.0:
         return 1.0, None
     return factor, (f"its grain is {grain:.0f} photo pixels (its correlation length), and the {{max_size}}-pixel "
                     f"tile must hold {MIN_TILE_GRAINS} of them, or its stones and marks repeat as landmarks in a "
                     "view over several tiles (pass max_size= / --max-size")
+
+
+def _coarse_content(preview, step, max_size, factor):
+    """Large features a crop of the photo would not hold: ``(factor, low, high, excess)``, the photo pixels per
+    analysed pixel whose crop holds the coarsest band of ``preview`` (the photo resampled by ``1 / step``)
+    beyond a crop at ``factor`` that is :data:`COARSE_EXCESS_DB` over the coarsest band that crop holds, the
+    band's wavelengths in photo pixels and its excess (dB); None where no band is."""
+    from ..spectrum import band_power
+
+    bands, power = band_power(preview, min_cycles=COARSE_MIN_CYCLES)
+    crop = max_size * factor / step  # the crop's side, preview pixels
+    held = np.flatnonzero(crop * bands[:, 0] >= COARSE_MIN_CYCLES)
+    if held.size == 0 or held[-1] + 1 >= len(power):
+        return None
+    edge = float(power[held[-1]])
+    beyond = np.arange(held[-1] + 1, len(power))
+    over = beyond[power[beyond] - edge >= COARSE_EXCESS_DB]
+    if over.size == 0:
+        return None
+    k = int(over[-1])
+    wanted = COARSE_MIN_CYCLES / bands[k, 0] * step / max_size
+    return wanted, step / bands[k, 1], step / bands[k, 0], float(power[k] - edge)
 
 
 def _resampled(rgb, h, w):
