@@ -24,6 +24,8 @@ measure                      what it says                                    goo
                              view (normalised cross-correlation)
 :func:`line_breaks`          kinks of the local line direction between       about the
                              neighbouring windows (V-shaped breaks)          photo's own
+:func:`line_continuity`      lines along one axis kept at their places       >= 0.9 of the
+                             along it (boards' edges moved aside)            photo's
 :func:`local_contrast`       mean luminance std in windows (a view against   >= 0.6 of the
                              its tile: how much contrast survives)           tile's
 :func:`mean_chroma`          mean max(RGB) - min(RGB)                        --
@@ -107,6 +109,8 @@ __all__ = [
     "OneOffRepeats",
     "line_breaks",
     "LineBreaks",
+    "line_continuity",
+    "LineContinuity",
     "cell_splits",
     "CellSplits",
 ]
@@ -740,6 +744,99 @@ def line_breaks(image, reference, *, window: int = 64, floor: float = 0.5) -> Li
     mine = _line_kinks(image, window)
     own = _line_kinks(reference, window)
     return LineBreaks(image=mine, reference=own, ratio=mine / max(own, floor), window=window)
+
+
+@dataclass(frozen=True, eq=False)
+class LineContinuity(AsDict):
+    """How far lines running along one axis keep their places along it, against a reference's
+    (:func:`line_continuity`).
+
+    Attributes
+    ----------
+    image, reference : float
+        Each one's continuity: the coefficient of variation, across the
+        lines, of the luma's gradient across them averaged over ``length``
+        pixels along them (a block), the mean over its blocks. Lines that
+        run the block's whole length at one place give a peaked profile
+        (high); lines that end and go on a few pixels aside (pieces of
+        boards put side by side at other places) smear it (lower).
+    ratio : float
+        ``image / reference``: about 1 or above, the lines as continuous as
+        the reference's; clearly below, lines broken and moved.
+    axis : int
+        0: lines running down the columns (boards or a wall's columns along
+        y); 1: along the rows.
+    length : int
+        The blocks' length along the lines, pixels.
+    """
+
+    image: float
+    reference: float
+    ratio: float
+    axis: int
+    length: int
+
+
+def _continuity(image, axis, length):
+    """:func:`line_continuity`'s score of one image."""
+    from scipy import ndimage
+
+    lum = _luma(image).astype(np.float64)
+    if axis == 1:
+        lum = lum.T
+    across = np.abs(ndimage.sobel(lum, 1))  # the gradient across lines that run down the columns
+    blocks = max(1, across.shape[0] // length)
+    scores = []
+    for b in range(blocks):
+        profile = across[b * length:(b + 1) * length].mean(axis=0)
+        scores.append(float(profile.std() / max(float(profile.mean()), 1e-12)))
+    return float(np.mean(scores))
+
+
+def line_continuity(image, reference, *, axis: int, length: int | None = None) -> LineContinuity:
+    """Whether lines along one axis (boards' edges, a wall's columns) run on where they run in the reference.
+
+    A texture drawn in patches of a photo of boards side by side moves each
+    board's edge to where the patch's own board has it: the edges end at the
+    patch's border and go on a few pixels aside, or anywhere (patches at
+    random places). :func:`line_breaks` reads the lines' direction, which
+    stays the same, and the structural distance their statistics, which do
+    too; neither sees it. Here the luma's gradient across the lines (Sobel)
+    is averaged along them over blocks of ``length`` pixels: where the edges
+    hold their places through the block the profile across keeps their
+    peaks, where they move it smears. The score is the profile's coefficient
+    of variation, averaged over the blocks; the ratio is the image's over the
+    reference's.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        The texture judged, e.g. a bake at the reference's pixel size.
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The photo.
+    axis : {0, 1}
+        0: the lines run down the columns (along y); 1: along the rows.
+    length : int, optional
+        The blocks' length along the lines, pixels, at least 8; default half
+        the shorter of the two images' extents along the lines. Both must be
+        at least that long.
+
+    Returns
+    -------
+    LineContinuity
+        ``ratio`` about 1 or above: the lines as continuous as the
+        reference's.
+    """
+    image = check_image("image", image)
+    reference = check_image("reference", reference)
+    axis = check_int("axis", axis, minimum=0, maximum=1)
+    extent = min(image.shape[axis], reference.shape[axis])
+    length = max(8, extent // 2) if length is None else check_int("length", length, minimum=8)
+    if length > extent:
+        raise ValueError(f"length must be at most the images' extent along the lines ({extent}), got {length}")
+    mine = _continuity(image, axis, length)
+    own = _continuity(reference, axis, length)
+    return LineContinuity(image=mine, reference=own, ratio=mine / max(own, 1e-12), axis=axis, length=length)
 
 
 # --------------------------------------------------------------------------

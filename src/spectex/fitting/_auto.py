@@ -120,6 +120,11 @@ BREAK_WINDOW = 64
 #: this factor: such a way is chosen only if every way splits them. Drawn whole (snapped, with cells or
 #: courses) fitted floors read 0.9-1.2, with the patches' boundaries through them 1.3-2.1.
 SPLIT_LIMIT = 1.3
+#: A way of drawing a structure along one axis (boards, a wall's columns) moves its lines when its trial bake's
+#: :func:`spectex.metrics.line_continuity` is under this fraction of the photo's: such a way is chosen only if
+#: every way moves them. Boards of uneven widths snapped to whole periods read 0.80, drawn unsnapped 0.71,
+#: aligned 1.02; snapped floors of even boards and brick 1.03.
+CONTINUITY_LIMIT = 0.9
 #: A structured photo (straightened) at least this many pixels a side gives its stochastic way its own seamless
 #: crop, as an unstructured photo does; a smaller one a tileable quilt of 512 (a 128-pixel wall's own crop, its
 #: patches of 56 pixels, lost 2 dB of its coarsest band). A 512-pixel wall of stones straightened by 0.7 degrees
@@ -879,7 +884,7 @@ def _board_length(tile, snap, texel_scale):
     return float(np.median(np.concatenate(lengths))) / texel_scale
 
 
-def _trial(exemplar, pixel_size, candidates, patch, period, along=None):
+def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continuity=False):
     """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
 
     ``candidates``: ``(label, tiling, tile, snap, scale, lattice)``, ``scale`` the tile's texels per
@@ -891,9 +896,20 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None):
     scale along an axis without a period, its boards' length in pixels, counted as a period). ``repeat``:
     :func:`spectex.metrics.repeat_peak` with the structure's lattice removed
     (``period``, pixels; the content's repeat beyond the structure's own) of
-    a 512 x 512 bake at twice the pixel size (at least two tiles across).
+    a 512 x 512 bake at twice the pixel size (at least two tiles across). ``breaks``, ``splits``: the
+    structure's lines kinked (:func:`spectex.metrics.line_breaks`) and its cells split
+    (:func:`spectex.metrics.cell_splits`), each against the photo's. ``continuity`` (with ``continuity``,
+    boards side by side without joints): :func:`spectex.metrics.line_continuity` of the far bake against
+    the photo, both reduced 2 x 2 (a bake of the photo's size holds too few patches); 1 otherwise.
     """
-    from ..metrics import cell_splits, line_breaks, reference_statistics, repeat_peak, structural_distance
+    from ..metrics import (
+        cell_splits,
+        line_breaks,
+        line_continuity,
+        reference_statistics,
+        repeat_peak,
+        structural_distance,
+    )
     from ..texture import Layer, SpectralTexture
 
     h, w = exemplar.shape[:2]
@@ -903,6 +919,13 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None):
     reference = exemplar[y0:y0 + m, x0:x0 + m]
     prepared = reference_statistics(reference, max_windows=4)
     cells = cell_splits(reference, reference, period=period) is not None  # the photo shows separate cells
+    # with ``continuity``, a structure along one axis only whose lines run along the other (boards side by
+    # side without joints: lines down the columns where the period is along x) is judged by them too
+    lines = None if not continuity or (period[0] is None) == (period[1] is None) else (0 if period[1] is not None
+                                                                                       else 1)
+    # (the lines' continuity is read on the far bake, which holds several patches, against the photo at its
+    # pixel size: both reduced 2 x 2)
+    halved = _box_halved(exemplar)
     out = {}
     for label, tiling, tile, snap, scale, lattice in candidates:
         half = tuple(None if p is None else p / 2.0 for p in (lattice or period))
@@ -916,8 +939,32 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None):
                       "repeat": repeat_peak(far, period=half),
                       "breaks": line_breaks(baked, reference, window=BREAK_WINDOW).ratio if m >= 3 * BREAK_WINDOW
                       else 1.0,
-                      "splits": _splits(cell_splits(baked, reference, period=period), cells)}
+                      "splits": _splits(cell_splits(baked, reference, period=period), cells),
+                      "continuity": 1.0 if lines is None else line_continuity(far, halved, axis=lines).ratio}
     return out
+
+
+def _box_halved(image):
+    """``image`` area-averaged 2 x 2 (an odd last row or column dropped)."""
+    h, w = image.shape[0] // 2 * 2, image.shape[1] // 2 * 2
+    return image[:h, :w].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
+
+
+def _courses_unmapped(tile, snap):
+    """Whether a tile snapped along one axis has no course map (:func:`spectex.shading.resources.cell_maps`, the
+    one its snapped layer's bake reads: shared with it)."""
+    from ..shading.resources import cell_maps
+    from ..texture import Layer, SpectralTexture
+
+    rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
+    rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
+    return cell_maps(SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", snap=snap)]))[0] is None
+
+
+def _aligned_snap(snap):
+    """The snap of a structure along one axis drawn aligned: whole tiles across its lines (the tile's own
+    places), whole texels along them."""
+    return tuple(1 if count else 0 for count in snap)
 
 
 def _splits(found, cells):
@@ -931,14 +978,24 @@ def _splits(found, cells):
 def _choose(trial, own_repeat):
     """The finest layer's way from :func:`_trial`: the closest structure among the ways that do not
     repeat (content repeat at most ``max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)``), do not break
-    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's) and do not split its cells
-    (at most ``SPLIT_LIMIT`` times the photo's; without that, those that do not break), all of them if none, the
-    snapped one kept while within ``TRIAL_MARGIN`` of it (structure kept when in doubt)."""
+    the structure's lines (kinks at most ``BREAK_LIMIT`` times the photo's), do not move them (a structure
+    along one axis: continuity at least ``CONTINUITY_LIMIT`` of the photo's) and do not split its cells
+    (at most ``SPLIT_LIMIT`` times the photo's); without that, those that neither break nor move them,
+    then those that do not break them and split no cells, then those that do not break them, then those
+    that do not repeat, all of them if none; the snapped one kept while within ``TRIAL_MARGIN`` of it
+    (structure kept when in doubt)."""
     limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
-    allowed = [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT
-               and v.get("splits", 1.0) <= SPLIT_LIMIT]
-    allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit and v.get("breaks", 1.0) <= BREAK_LIMIT]
-    allowed = allowed or [k for k, v in trial.items() if v["repeat"] <= limit] or list(trial)
+
+    def keeps(v, *tests):
+        return v["repeat"] <= limit and all(
+            {"breaks": v.get("breaks", 1.0) <= BREAK_LIMIT, "splits": v.get("splits", 1.0) <= SPLIT_LIMIT,
+             "continuity": v.get("continuity", 1.0) >= CONTINUITY_LIMIT}[t] for t in tests)
+
+    allowed = []
+    for tests in (("breaks", "continuity", "splits"), ("breaks", "continuity"), ("breaks", "splits"), ("breaks",),
+                  ()):
+        allowed = allowed or [k for k, v in trial.items() if keeps(v, *tests)]
+    allowed = allowed or list(trial)
     best = min(allowed, key=lambda k: trial[k]["structure"])
     if "snapped" in allowed and trial["snapped"]["structure"] <= (1.0 + TRIAL_MARGIN) * trial[best]["structure"]:
         return "snapped"
@@ -1206,10 +1263,20 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             snap = (counts[1], counts[0])
             # the tile's lattice in the bake (photo pixels): its whole-texel periods over the texel scale
             lattice = tuple(None if q is None else q / texel_scale for q in whole)
-            trial = _trial(exemplar, pixel_size, [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
-                                                  ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
-                                                  ("stochastic", "stochastic", tile0, (0, 0), 1.0, None)],
-                           patch, period, along=_board_length(cut_tile, snap, texel_scale))
+            ways = [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
+                    ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
+                    ("stochastic", "stochastic", tile0, (0, 0), 1.0, None)]
+            boards = min(snap) == 0 and _courses_unmapped(cut_tile, snap)
+            if boards:
+                # a structure along one axis whose courses have no map (boards without joints, running the whole
+                # tile: nothing to change patch at): the tile's columns (or rows) kept where they are, each patch
+                # shifted along them only (snapped to whole tiles across), so that boards of uneven widths,
+                # which no shift by whole periods lines up, keep their edges in line. (Courses with joints keep
+                # the snapped way, whose map changes patch at them: drawn aligned, bricks were cut where two
+                # patches meet, the mortar in stubs.)
+                ways.append(("aligned", "stochastic", cut_tile, _aligned_snap(snap), texel_scale, lattice))
+            trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
+                           continuity=boards)
             from ..metrics import repeat_peak
 
             own = repeat_peak(exemplar, period=period)
@@ -1221,6 +1288,12 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             elif choice == "snapped":
                 tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", snap, texel_scale
                 tile_method = cut_method + f", drawn stochastically with offsets snapped to whole periods (snap {snap})"
+            elif choice == "aligned":
+                aligned = _aligned_snap(snap)
+                tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", aligned, texel_scale
+                along = "columns" if aligned[0] else "rows"
+                tile_method = cut_method + (f", drawn stochastically with its {along} kept in line, each patch shifted "
+                                            f"along them only (snap {aligned}: its lines' uneven spacing kept)")
     if not tile_given and tile_method == "seamless crop" and snap0 == (0, 0) and n == min(h, w) and h != w:
         # the finest tile the photo's own crop, structured or not (the stochastic way chosen): what it leaves out
         notes.append(f"the finest tile is the central {n}x{n} crop of the {w}x{h} photo (its shorter side): the "
