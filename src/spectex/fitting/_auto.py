@@ -1195,6 +1195,50 @@ def _stochastic_tile_size(tile_size, tiling, period, h, w):
     return tile_size
 
 
+def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile):
+    """The trial of a structured photo's finest layer (:func:`_trial`, :func:`_choose`): ``(trial, way)``, ``way``
+    ``(tile, side, words, tiling, snap, texel scale)`` of the chosen way, None where it is the stochastic one
+    (``stochastic_tile``, as the caller has it)."""
+    from ..metrics import repeat_peak
+
+    _, side, counts, whole, texel_scale = cut
+    # the trial bakes: the finest layer alone, each way, measured by the structural distance and by the
+    # repeat of its content beyond the structure's lattice
+    snap = (counts[1], counts[0])
+    # the tile's lattice in the bake (photo pixels): its whole-texel periods over the texel scale
+    lattice = tuple(None if q is None else q / texel_scale for q in whole)
+    ways = [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
+            ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
+            ("stochastic", "stochastic", stochastic_tile, (0, 0), 1.0, None)]
+    boards = min(snap) == 0 and _courses_unmapped(cut_tile, snap)
+    if boards:
+        # a structure along one axis whose courses have no map (boards without joints, running the whole
+        # tile: nothing to change patch at): the tile's columns (or rows) kept where they are, each patch
+        # shifted along them only (snapped to whole tiles across), so that boards of uneven widths, which no
+        # shift by whole periods lines up, keep their edges in line. (Courses with joints keep the snapped
+        # way, whose map changes patch at them: drawn aligned, bricks were cut where two patches meet, the
+        # mortar in stubs.)
+        ways.append(("aligned", "stochastic", cut_tile, _aligned_snap(snap), texel_scale, lattice))
+    trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
+                   continuity=boards)
+    own = repeat_peak(exemplar, period=period)
+    trial["photo_repeat"] = own
+    choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
+    trial["choice"] = choice
+    if choice == "periodic":
+        return trial, (cut_tile, side, cut_method, "periodic", (0, 0), texel_scale)
+    if choice == "snapped":
+        return trial, (cut_tile, side, cut_method + f", drawn stochastically with offsets snapped to whole periods "
+                       f"(snap {snap})", "stochastic", snap, texel_scale)
+    if choice == "aligned":
+        aligned = _aligned_snap(snap)
+        along = "columns" if aligned[0] else "rows"
+        return trial, (cut_tile, side, cut_method + f", drawn stochastically with its {along} kept in line, each "
+                       f"patch shifted along them only (snap {aligned}: its lines' uneven spacing kept)",
+                       "stochastic", aligned, texel_scale)
+    return trial, None
+
+
 def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, opacity=None, iterations=None,
              tile_size=None, max_size=MAX_ANALYSIS_SIZE, rng=0, tiling="auto", patch=None, keep_one_off=False,
              keep_lighting=False, keep_perspective=False, progress=None) -> FitResult:
@@ -1258,42 +1302,9 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
             tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:
-            # the trial bakes: the finest layer alone, each way, measured by the structural distance
-            # and by the repeat of its content beyond the structure's lattice
-            snap = (counts[1], counts[0])
-            # the tile's lattice in the bake (photo pixels): its whole-texel periods over the texel scale
-            lattice = tuple(None if q is None else q / texel_scale for q in whole)
-            ways = [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
-                    ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
-                    ("stochastic", "stochastic", tile0, (0, 0), 1.0, None)]
-            boards = min(snap) == 0 and _courses_unmapped(cut_tile, snap)
-            if boards:
-                # a structure along one axis whose courses have no map (boards without joints, running the whole
-                # tile: nothing to change patch at): the tile's columns (or rows) kept where they are, each patch
-                # shifted along them only (snapped to whole tiles across), so that boards of uneven widths,
-                # which no shift by whole periods lines up, keep their edges in line. (Courses with joints keep
-                # the snapped way, whose map changes patch at them: drawn aligned, bricks were cut where two
-                # patches meet, the mortar in stubs.)
-                ways.append(("aligned", "stochastic", cut_tile, _aligned_snap(snap), texel_scale, lattice))
-            trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
-                           continuity=boards)
-            from ..metrics import repeat_peak
-
-            own = repeat_peak(exemplar, period=period)
-            trial["photo_repeat"] = own
-            choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
-            trial["choice"] = choice
-            if choice == "periodic":
-                tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
-            elif choice == "snapped":
-                tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", snap, texel_scale
-                tile_method = cut_method + f", drawn stochastically with offsets snapped to whole periods (snap {snap})"
-            elif choice == "aligned":
-                aligned = _aligned_snap(snap)
-                tile0, n, tilings0, snap0, scale0 = cut_tile, side, "stochastic", aligned, texel_scale
-                along = "columns" if aligned[0] else "rows"
-                tile_method = cut_method + (f", drawn stochastically with its {along} kept in line, each patch shifted "
-                                            f"along them only (snap {aligned}: its lines' uneven spacing kept)")
+            trial, way = _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, tile0)
+            if way is not None:
+                tile0, n, tile_method, tilings0, snap0, scale0 = way
     if not tile_given and tile_method == "seamless crop" and snap0 == (0, 0) and n == min(h, w) and h != w:
         # the finest tile the photo's own crop, structured or not (the stochastic way chosen): what it leaves out
         notes.append(f"the finest tile is the central {n}x{n} crop of the {w}x{h} photo (its shorter side): the "
