@@ -125,6 +125,12 @@ SPLIT_LIMIT = 1.3
 #: every way moves them. Boards of uneven widths snapped to whole periods read 0.80, drawn unsnapped 0.71,
 #: aligned 1.02; snapped floors of even boards and brick 1.03.
 CONTINUITY_LIMIT = 0.9
+#: Boards side by side without joints (drawn aligned where their courses have no map): at most this share of the
+#: luma's gradient energy runs along the boards (their ends, a brick's joints, knots), the rest across (their
+#: edges). Boards of a game's wall 0.10 (knots and grain), drawn ones 0.00; rows of bricks without a course map
+#: 0.36 (drawn aligned, their bricks were merged and cut by the patches' edges), brick 0.18, flat bricks of 4:1
+#: with thin mortar 0.16 (about the bricks' height over their length plus height), stone walls 0.28-0.50.
+BOARD_ALONG_SHARE = 0.12
 #: A structured photo (straightened) at least this many pixels a side gives its stochastic way its own seamless
 #: crop, as an unstructured photo does; a smaller one a tileable quilt of 512 (a 128-pixel wall's own crop, its
 #: patches of 56 pixels, lost 2 dB of its coarsest band). A 512-pixel wall of stones straightened by 0.7 degrees
@@ -950,6 +956,21 @@ def _box_halved(image):
     return image[:h, :w].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
 
 
+def _along_share(exemplar, period):
+    """The share of the luma's gradient energy (Sobel) along the lines of a structure along one axis (the
+    boards' ends, bricks' joints), the rest across them (their edges); 1 for a structure along both axes."""
+    from scipy import ndimage
+
+    from ..color import luma
+
+    if (period[0] is None) == (period[1] is None):
+        return 1.0
+    lum = luma(exemplar, dtype=np.float64)
+    gx, gy = ndimage.sobel(lum, 1), ndimage.sobel(lum, 0)
+    along = gy if period[1] is not None else gx  # a period along x: the lines run along y
+    return float(np.sum(along * along) / max(float(np.sum(gx * gx + gy * gy)), 1e-12))
+
+
 def _courses_unmapped(tile, snap):
     """Whether a tile snapped along one axis has no course map (:func:`spectex.shading.resources.cell_maps`, the
     one its snapped layer's bake reads: shared with it)."""
@@ -959,6 +980,32 @@ def _courses_unmapped(tile, snap):
     rgba = np.ones(tile.shape[:2] + (4,), dtype=np.float32)
     rgba[:, :, :3] = np.clip(tile, 0.0, 1.0)
     return cell_maps(SpectralTexture(rgba, [Layer(size=1.0, tiling="stochastic", snap=snap)]))[0] is None
+
+
+def _aligned_tile(exemplar, period):
+    """The aligned way's tile (:func:`_structured_way`): ``(tile, side)``, a square crop of the photo at its own
+    pixels holding the most whole periods across its lines that fit (``side`` the nearest whole number of
+    pixels: the wrap across is the structure's, within half a pixel), placed across where its wrap edge shows
+    least (:func:`_best_cut`), along them about the centre, made seamless (:func:`spectex.tiles.make_seamless`:
+    along the lines the photo does not repeat). Nothing is resampled: a patch is never shifted across, so its
+    periods need not be whole texels, and the boards keep the photo's sharpness (the period tile, resampled to
+    whole-texel periods, read 1.15 times further from the photo than this by the structural distance). None
+    where fewer than two periods fit."""
+    from ..tiles import make_seamless
+
+    h, w = exemplar.shape[:2]
+    across = 1 if period[1] is not None else 0  # the axis the period runs along (x for boards side by side)
+    p = period[across]
+    count = int(min(h, w) // p)
+    side = int(round(count * p))
+    if count < 2 or side > min(h, w) or side < MIN_SIZE:
+        return None
+    lines = np.moveaxis(exemplar, 1, 0) if across == 1 else exemplar
+    start = min(_best_cut(lines, side, p), lines.shape[0] - side)
+    centre = (exemplar.shape[1 - across] - side) // 2
+    y0, x0 = (centre, start) if across == 1 else (start, centre)
+    crop = exemplar[y0:y0 + side, x0:x0 + side]
+    return make_seamless(crop, shape=(side, side))[:, :, :3].astype(np.float64), side
 
 
 def _aligned_snap(snap):
@@ -1210,17 +1257,19 @@ def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_meth
     ways = [("periodic", "periodic", cut_tile, (0, 0), texel_scale, lattice),
             ("snapped", "stochastic", cut_tile, snap, texel_scale, lattice),
             ("stochastic", "stochastic", stochastic_tile, (0, 0), 1.0, None)]
-    boards = min(snap) == 0 and _courses_unmapped(cut_tile, snap)
-    if boards:
+    boards = min(snap) == 0 and _along_share(exemplar, period) <= BOARD_ALONG_SHARE and _courses_unmapped(cut_tile,
+                                                                                                          snap)
+    aligned_tile = _aligned_tile(exemplar, period) if boards else None
+    if aligned_tile is not None:
         # a structure along one axis whose courses have no map (boards without joints, running the whole
         # tile: nothing to change patch at): the tile's columns (or rows) kept where they are, each patch
         # shifted along them only (snapped to whole tiles across), so that boards of uneven widths, which no
         # shift by whole periods lines up, keep their edges in line. (Courses with joints keep the snapped
         # way, whose map changes patch at them: drawn aligned, bricks were cut where two patches meet, the
         # mortar in stubs.)
-        ways.append(("aligned", "stochastic", cut_tile, _aligned_snap(snap), texel_scale, lattice))
+        ways.append(("aligned", "stochastic", aligned_tile[0], _aligned_snap(snap), 1.0, period))
     trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
-                   continuity=boards)
+                   continuity=aligned_tile is not None)
     own = repeat_peak(exemplar, period=period)
     trial["photo_repeat"] = own
     choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
@@ -1233,9 +1282,12 @@ def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_meth
     if choice == "aligned":
         aligned = _aligned_snap(snap)
         along = "columns" if aligned[0] else "rows"
-        return trial, (cut_tile, side, cut_method + f", drawn stochastically with its {along} kept in line, each "
-                       f"patch shifted along them only (snap {aligned}: its lines' uneven spacing kept)",
-                       "stochastic", aligned, texel_scale)
+        p = period[1] if aligned[0] else period[0]
+        return trial, (aligned_tile[0], aligned_tile[1],
+                       f"a seamless crop of {round(aligned_tile[1] / p)} of the structure's periods ({p} px) across "
+                       f"its {along} at the photo's own pixels, drawn stochastically with its {along} kept in line, "
+                       f"each patch shifted along them only (snap {aligned}: its lines' uneven spacing kept)",
+                       "stochastic", aligned, 1.0)
     return trial, None
 
 
