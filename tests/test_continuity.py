@@ -122,3 +122,51 @@ def test_boards_drawn_aligned_gl_matches_cpu_and_is_alias_free(gl):
               for name, _, c, g, ref, plain in views_against_reference(texture, gl)}
     assert min(min(v[:2]) for v in scores.values()) >= 38.0, scores
     assert all(v[2] <= v[0] - 3.0 for k, v in scores.items() if k != "close"), scores
+
+
+def _moved(photo, seed=0):
+    """Strips of 128 rows of ``photo``, each moved across by whole mean widths (50 px)."""
+    rng = np.random.default_rng(seed)
+    moved = photo.copy()
+    for i in range(photo.shape[0] // 128):
+        rows = slice(128 * i, 128 * (i + 1))
+        moved[rows] = np.roll(photo[rows], 50 * int(rng.integers(1, 9)), axis=1)
+    return moved
+
+
+def test_compare_measures_the_lines_of_a_structure_along_one_axis():
+    """``metrics.compare`` with a period along one axis gives ``lines`` (the boards moved across 0.81); with a
+    lattice, or without a period, none."""
+    from spectex.metrics import compare
+
+    photo = _boards()
+    found = compare(_moved(photo), reference=photo, period=(None, 47.03)).lines
+    assert found is not None and found.ratio < 0.9 and found.axis == 0
+    assert compare(photo, reference=photo, period=(None, 47.03)).lines.ratio == pytest.approx(1.0)
+    assert compare(photo, reference=photo, period=(47.03, 47.03)).lines is None
+    assert compare(photo, reference=photo).lines is None
+
+
+def test_spectex_compare_and_fit_report_say_whether_the_lines_hold(tmp_path, capsys):
+    """``spectex compare`` prints the lines' continuity against a reference of boards (the period it finds
+    itself): the moved strips under 0.9, the photo itself 1.00; a reference of noise, no line. ``spectex fit``
+    of the boards reports it on its bake."""
+    from helpers import spectex_compare_line
+    from spectex import io
+    from spectex.cli import main
+
+    photo = _boards()
+    io.write_image(tmp_path / "boards.png", photo)
+    line = spectex_compare_line(tmp_path, capsys, _moved(photo), tmp_path / "boards.png", "lines kept")
+    assert float(line.split("=")[1].split("x")[0]) < 0.9, line
+    line = spectex_compare_line(tmp_path, capsys, photo, tmp_path / "boards.png", "lines kept")
+    assert line.split("=")[1].strip().startswith("1.00x"), line
+    noise = np.random.default_rng(0).random((256, 256, 3)).astype(np.float32)
+    io.write_image(tmp_path / "noise.png", noise)
+    assert main(["compare", str(tmp_path / "noise.png"), "--reference", str(tmp_path / "noise.png")]) == 0
+    assert "lines kept" not in capsys.readouterr().out
+    assert main(["fit", str(tmp_path / "boards.png"), "-o", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    said = [x for x in out.splitlines() if "lines along y holding their places" in x]
+    assert len(said) == 1, out
+    assert float(said[0].split("lines along y holding their places ")[1].split("x")[0]) >= 0.9

@@ -1048,6 +1048,10 @@ class Comparison(AsDict):
         With the reference's structure ``period``: :func:`cell_splits`, its
         bricks or floor tiles changing colour partway across (None without a
         period or where either image shows no separate cells).
+    lines : LineContinuity or None
+        With a ``period`` along one axis only (boards side by side, columns
+        or courses of bricks): :func:`line_continuity` of the lines along the
+        other (None otherwise).
     one_off : OneOffRepeats or None
         :func:`one_off_repeats`: content the reference shows once, and how
         often the image shows it (at ``zoom``, else at the reference's pixel
@@ -1084,6 +1088,7 @@ class Comparison(AsDict):
     one_off: OneOffRepeats | None = None
     lighting: LightingBlotches | None = None
     scale: ScaleBlotches | None = None
+    lines: LineContinuity | None = None
 
 
 def _scale_or_none(image, reference, zoom):
@@ -1157,7 +1162,9 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
     period : (py, px), optional
         The reference's structure period in pixels
         (``spectex.fitting.structure_period``): also measure its cells
-        changing colour partway across (:func:`cell_splits`).
+        changing colour partway across (:func:`cell_splits`) and, where one
+        entry is None (a structure along one axis), whether its lines keep
+        their places (:func:`line_continuity`).
 
     Returns
     -------
@@ -1190,4 +1197,15 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
         cells=cell_splits(image, reference, period=period) if period is not None else None,
         one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom),
-        scale=_scale_or_none(image, reference, zoom))
+        scale=_scale_or_none(image, reference, zoom), lines=_lines_or_none(image, reference, period))
+
+
+def _lines_or_none(image, reference, period):
+    """:func:`line_continuity` for a ``period`` along one axis only (the lines run along the other), else None
+    (or where either image is under 16 pixels along the lines)."""
+    if period is None or (period[0] is None) == (period[1] is None):
+        return None
+    axis = 0 if period[1] is not None else 1  # a period across x: the lines run down the columns
+    if min(image.shape[axis], reference.shape[axis]) < 16:
+        return None
+    return line_continuity(image, reference, axis=axis)

@@ -190,6 +190,11 @@ def _print_table(r, image, reference) -> None:
         print(f"cells split image / ref.   {num(k.image, '{:.2f}')} / {num(k.reference, '{:.2f}')} = "
               f"{num(k.ratio, '{:.2f}')}x   (bricks, floor tiles changing colour partway across; about 1 is "
               "the reference's own)")
+    if r.lines is not None:
+        k = r.lines
+        print(f"lines kept image / ref.    {k.image:.2f} / {k.reference:.2f} = {k.ratio:.2f}x   (edges along "
+              f"{'y' if k.axis == 0 else 'x'} holding their places through {k.length} pixels; under 0.9 they end "
+              "and go on aside)")
     if r.one_off is not None:
         k = r.one_off
         if k.box is None:

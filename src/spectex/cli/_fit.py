@@ -313,6 +313,9 @@ def _structure_line(numbers, evened=None, levelled=None, resampled=None) -> str:
     if getattr(numbers, "cells", None) is not None:
         line += (f"; bricks or tiles changing colour partway across {numbers.cells.ratio:.2f}x the photo's own "
                  f"({numbers.cells.cells_image} cells)")
+    if getattr(numbers, "lines", None) is not None:
+        line += (f"; lines along {'y' if numbers.lines.axis == 0 else 'x'} holding their places "
+                 f"{numbers.lines.ratio:.2f}x the photo's own (under 0.9: they end and go on aside)")
     one_off = getattr(numbers, "one_off", None)
     if one_off is not None and one_off.box is None:
         line += "; one-off content none"

@@ -651,6 +651,9 @@ class FitReport(AsDict):
     #: :func:`spectex.metrics.scale_blotches` of the bake: patches of large and small grain against the photo's
     #: own variation of scale, its tilt taken out (None for an exemplar under 128 pixels)
     scale: object = None
+    #: :func:`spectex.metrics.line_continuity` of the bake against an exemplar structured along one axis (boards'
+    #: edges holding their places: about 1 or above is the photo's own; None otherwise)
+    lines: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -801,8 +804,9 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
         others = dict(band_power_distance_db=band_power_distance(exemplar, bake),
                       band_power_texture_db=band_power(bake, segment=(h, w)).power_db,
                       histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
-                      cells=_cells(bake, exemplar), one_off=_one_off(bake, exemplar),
-                      lighting=_lighting(bake, exemplar), scale=_scale(bake, exemplar))
+                      one_off=_one_off(bake, exemplar), lighting=_lighting(bake, exemplar),
+                      scale=_scale(bake, exemplar))
+        others["cells"], others["lines"] = _cells(bake, exemplar)
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -819,14 +823,17 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 
 
 def _cells(bake, exemplar):
-    """:func:`spectex.metrics.cell_splits` of the bake against a structured exemplar, else None."""
-    from ..metrics import cell_splits
+    """``(cells, lines)``: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar and, for
+    a structure along one axis, :func:`spectex.metrics.line_continuity`; None where they do not apply."""
+    from ..metrics import _lines_or_none, cell_splits
     from ._structure import structure_period
 
     if exemplar.ndim != 3 or min(exemplar.shape[:2]) < 64 or structure_peak(exemplar) < STRUCTURED_PEAK:
-        return None
+        return None, None
     period = structure_period(exemplar)
-    return None if period == (None, None) else cell_splits(bake, exemplar, period=period)
+    if period == (None, None):
+        return None, None
+    return cell_splits(bake, exemplar, period=period), _lines_or_none(bake, exemplar, period)
 
 
 def _lighting(bake, exemplar):
