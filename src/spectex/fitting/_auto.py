@@ -1030,8 +1030,15 @@ def _choose(trial, own_repeat):
     (at most ``SPLIT_LIMIT`` times the photo's); without that, those that neither break nor move them,
     then those that do not break them and split no cells, then those that do not break them, then those
     that do not repeat, all of them if none; the snapped one kept while within ``TRIAL_MARGIN`` of it
-    (structure kept when in doubt)."""
+    (structure kept when in doubt). The aligned way (boards) is a candidate only within ``TRIAL_MARGIN`` of
+    the closer of the snapped and stochastic ways."""
     limit = max(REPEAT_LIMIT, own_repeat + REPEAT_MARGIN)
+    others = [trial[k]["structure"] for k in ("snapped", "stochastic") if k in trial]
+    if "aligned" in trial and others and trial["aligned"]["structure"] > (1.0 + TRIAL_MARGIN) * min(others):
+        # the aligned way only where it draws the photo about as closely as a way that moves its patches
+        # across: a game's boards with thin butt joints (structure 1.79 aligned, 1.09-1.15 the others) lost
+        # their joints and showed the tile's columns as stripes repeating once per tile across
+        trial = {k: v for k, v in trial.items() if k != "aligned"}
 
     def keeps(v, *tests):
         return v["repeat"] <= limit and all(
