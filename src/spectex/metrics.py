@@ -110,6 +110,8 @@ __all__ = [
     "line_breaks",
     "LineBreaks",
     "line_continuity",
+    "lines_axis",
+    "lines_or_none",
     "LineContinuity",
     "cell_splits",
     "CellSplits",
@@ -1197,15 +1199,22 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
         cells=cell_splits(image, reference, period=period) if period is not None else None,
         one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom),
-        scale=_scale_or_none(image, reference, zoom), lines=_lines_or_none(image, reference, period))
+        scale=_scale_or_none(image, reference, zoom), lines=lines_or_none(image, reference, period))
 
 
-def _lines_or_none(image, reference, period):
-    """:func:`line_continuity` for a ``period`` along one axis only (the lines run along the other), else None
-    (or where either image is under 16 pixels along the lines)."""
+def lines_axis(period):
+    """The ``axis`` of :func:`line_continuity` for a structure of ``period = (py, px)`` (pixels, None where an
+    axis has none): 0 where it runs across x only (boards side by side, columns of bricks: the lines run
+    down the columns), 1 where across y only (courses), None for a lattice or no period."""
     if period is None or (period[0] is None) == (period[1] is None):
         return None
-    axis = 0 if period[1] is not None else 1  # a period across x: the lines run down the columns
-    if min(image.shape[axis], reference.shape[axis]) < 16:
+    return 0 if period[1] is not None else 1
+
+
+def lines_or_none(image, reference, period):
+    """:func:`line_continuity` of ``image`` against ``reference`` for a structure of ``period`` along one axis
+    only (:func:`lines_axis`), else None (or where either image is under 16 pixels along the lines)."""
+    axis = lines_axis(period)
+    if axis is None or min(image.shape[axis], reference.shape[axis]) < 16:
         return None
     return line_continuity(image, reference, axis=axis)

@@ -912,6 +912,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
         cell_splits,
         line_breaks,
         line_continuity,
+        lines_axis,
         reference_statistics,
         repeat_peak,
         structural_distance,
@@ -927,8 +928,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
     cells = cell_splits(reference, reference, period=period) is not None  # the photo shows separate cells
     # with ``continuity``, a structure along one axis only whose lines run along the other (boards side by
     # side without joints: lines down the columns where the period is along x) is judged by them too
-    lines = None if not continuity or (period[0] is None) == (period[1] is None) else (0 if period[1] is not None
-                                                                                       else 1)
+    lines = lines_axis(period) if continuity else None
     # (the lines' continuity is read on the far bake, which holds several patches, against the photo at its
     # pixel size: both reduced 2 x 2)
     halved = _box_halved(exemplar)

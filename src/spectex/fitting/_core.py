@@ -825,7 +825,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 def _cells(bake, exemplar):
     """``(cells, lines)``: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar and, for
     a structure along one axis, :func:`spectex.metrics.line_continuity`; None where they do not apply."""
-    from ..metrics import _lines_or_none, cell_splits
+    from ..metrics import cell_splits, lines_or_none
     from ._structure import structure_period
 
     if exemplar.ndim != 3 or min(exemplar.shape[:2]) < 64 or structure_peak(exemplar) < STRUCTURED_PEAK:
@@ -833,7 +833,7 @@ def _cells(bake, exemplar):
     period = structure_period(exemplar)
     if period == (None, None):
         return None, None
-    return cell_splits(bake, exemplar, period=period), _lines_or_none(bake, exemplar, period)
+    return cell_splits(bake, exemplar, period=period), lines_or_none(bake, exemplar, period)
 
 
 def _lighting(bake, exemplar):
