@@ -931,7 +931,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
     lines = lines_axis(period) if continuity else None
     # (the lines' continuity is read on the far bake, which holds several patches, against the photo at its
     # pixel size: both reduced 2 x 2)
-    halved = _box_halved(exemplar)
+    halved = None if lines is None else _box_halved(exemplar)
     out = {}
     for label, tiling, tile, snap, scale, lattice in candidates:
         half = tuple(None if p is None else p / 2.0 for p in (lattice or period))
@@ -962,12 +962,14 @@ def _along_share(exemplar, period):
     from scipy import ndimage
 
     from ..color import luma
+    from ..metrics import lines_axis
 
-    if (period[0] is None) == (period[1] is None):
+    axis = lines_axis(period)
+    if axis is None:
         return 1.0
     lum = luma(exemplar, dtype=np.float64)
     gx, gy = ndimage.sobel(lum, 1), ndimage.sobel(lum, 0)
-    along = gy if period[1] is not None else gx  # a period along x: the lines run along y
+    along = gy if axis == 0 else gx  # lines down the columns (axis 0): the gradient along them is along y
     return float(np.sum(along * along) / max(float(np.sum(gx * gx + gy * gy)), 1e-12))
 
 
