@@ -294,6 +294,31 @@ def test_sigterm_inside_a_callback_from_c_prints_no_traceback(monkeypatch):
     assert sys.unraisablehook is recorder  # the session put back the hook it found
 
 
+def test_an_error_caused_by_a_signal_ends_the_run_as_the_signal():
+    """SIGTERM 2 s into a fit arrived while SciPy's HiGHS extension was being imported; the handler's
+    exception broke the module's initialisation, which raised ImportError("initialization failed")
+    chained to it, and the command printed that traceback. After a signal, any exception leaving the
+    session leaves as the signal's interrupt; without a signal it passes unchanged (the control)."""
+    import ctypes
+    import signal
+
+    from spectex._output import Terminated, session
+
+    def signal_self():
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(1000):  # the handler runs here, inside the callback, and cannot raise out of it
+            pass
+
+    with pytest.raises(Terminated) as info:
+        with session():
+            ctypes.CFUNCTYPE(None)(signal_self)()
+            raise ImportError("initialization failed")
+    assert info.value.signum == signal.SIGTERM and isinstance(info.value.__cause__, ImportError)
+    with pytest.raises(ImportError, match="initialization failed"):
+        with session():
+            raise ImportError("initialization failed")
+
+
 def test_image_pixel_limit_is_checked_before_decoding(tmp_path, monkeypatch):
     from PIL import Image
 

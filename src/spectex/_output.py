@@ -105,13 +105,14 @@ def _quiet_unraisable(previous):
     return hook
 
 
+def _interrupt(signum: int) -> KeyboardInterrupt:
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
+
+
 def check_interrupted() -> None:
     """Raise the interrupt of a signal received in this session, if any (it may have been swallowed)."""
     if _received:
-        signum = _received[0]
-        if signum == signal.SIGINT:
-            raise KeyboardInterrupt
-        raise Terminated(signum)
+        raise _interrupt(_received[0])
 
 
 @contextlib.contextmanager
@@ -123,7 +124,10 @@ def session():
     rename) stops the writes even if a library swallowed the exception; one
     raised inside a callback from C, which Python would print as an ignored
     exception with its traceback, is left unprinted (:func:`_quiet_unraisable`).
-    The previous handlers, hook and input record are restored on exit.
+    Any other exception that leaves the session after a signal was received
+    is taken as the signal's consequence (a C extension whose import the
+    handler broke raises ``ImportError: initialization failed``) and leaves as
+    the signal's interrupt, chained to it. The previous handlers, hook and input record are restored on exit.
     """
     global _inputs, _received
     handlers = {}
@@ -139,6 +143,10 @@ def session():
         sys.unraisablehook = _quiet_unraisable(saved_hook)
     try:
         yield
+    except Exception as exc:
+        if _received:  # raised because of the signal (an import it broke): end the run as the signal
+            raise _interrupt(_received[0]) from exc
+        raise
     finally:
         with _lock:
             _inputs, _received = saved, saved_received
