@@ -1,0 +1,83 @@
+"""A photo that repeats itself exactly (a texture tiled two by two or three by three before it was saved) is
+read as one cell of it: its copies hold nothing more, and read as content the texture drew them (issue 22:
+structure kept, never repeated)."""
+
+import numpy as np
+import pytest
+
+from helpers import floor_photo
+from spectex import metrics
+from spectex.fitting import _auto, _structure, fit_result
+from spectex.fitting._structure import repeat_cell
+from spectex.render import bake
+
+
+def _gravel():
+    import skimage.data
+
+    grey = skimage.data.gravel().astype(np.float64) / 255.0
+    return np.stack([grey, 0.9 * grey, 0.8 * grey], axis=2)
+
+
+def test_repeat_cell_finds_the_copies_of_a_tiled_texture():
+    gravel = _gravel()
+    for copies in (2, 3):
+        side = 512 // copies
+        tiled = np.tile(gravel[:side, :side], (copies, copies, 1))
+        lags, scores = repeat_cell(tiled)
+        assert lags == (side, side) and min(scores) > 0.999
+        # saved with a little noise (a JPEG's), still copies
+        noisy = np.clip(tiled + np.random.default_rng(1).normal(0.0, 0.01, tiled.shape), 0.0, 1.0)
+        assert repeat_cell(noisy)[0] == (side, side)
+    # a strip of copies: along one axis only
+    assert repeat_cell(np.tile(gravel[:128], (3, 1, 1)))[0] == (128, None)
+    # controls: the photo itself, and a smooth ramp (high correlation at every short lag, no repeat)
+    assert repeat_cell(gravel[:510, :510])[0] == (None, None)
+    y, x = np.mgrid[:256, :256] / 256.0
+    ramp = np.stack([0.5 * x + 0.3 * y] * 3, axis=2) + np.random.default_rng(2).normal(0.0, 0.02, (256, 256, 3))
+    assert repeat_cell(ramp)[0] == (None, None)
+
+
+@pytest.mark.slow
+def test_a_texture_tiled_three_by_three_is_fitted_from_one_cell_and_never_repeats(monkeypatch):
+    """Before, the tiling read as a structure of period 170 and was drawn snapped to it: its repeat over a bake
+    0.83 on a photo of dirt. The control, the rule switched off, draws the repeat again."""
+    tiled = np.tile(_gravel()[:170, :170], (3, 3, 1))
+
+    def repeat_over_a_bake(result):
+        view = bake(result.texture, (768, 768), pixel_size=result.pixel_size, origin=(0.013, 0.029))
+        return metrics.repeat_peak(view[:, :, :3])
+
+    result = fit_result(tiled)
+    assert result.params["repeat"]["cell"] == [170, 170]
+    assert any("repeats itself exactly" in note for note in result.notes)
+    assert result.params["period_px"] is None  # the cell read as what it is: gravel
+    assert repeat_over_a_bake(result) <= 0.1
+
+    monkeypatch.setattr(_structure, "REPEAT_EXACT", 1.01)
+    control = fit_result(tiled)
+    assert control.params["repeat"] is None
+    assert repeat_over_a_bake(control) > 0.3
+
+
+def test_a_tiled_wall_and_a_pattern_of_motifs_keep_the_whole_photo(monkeypatch):
+    """A structure finer than the repeat (floor tiles of 48 pixels, four to a 192-pixel cell, tiled two by two)
+    keeps the whole photo, its tile cut at its own period; so does a pattern of one large motif per period
+    (a disc per 96-pixel cell), and a short exact period (tiles of 32 pixels repeating exactly) is the
+    structure's. Controls: without the first two rules the cells are read alone."""
+    floor = np.tile(floor_photo(192, period=48, spread=0.1, mottle=0.1)[0].astype(np.float64), (2, 2, 1))
+    y, x = np.mgrid[:96, :96]
+    disc = (np.hypot(y - 47.5, x - 47.5) < 30).astype(np.float64)
+    rng = np.random.default_rng(4)
+    motif = np.clip(np.stack([0.3 + 0.4 * disc] * 3, axis=2) + rng.normal(0.0, 0.05, (96, 96, 3)), 0.0, 1.0)
+    motifs = np.tile(motif, (4, 4, 1))
+    short = np.tile(floor_photo(128, period=32)[0].astype(np.float64), (2, 2, 1))
+    for photo in (floor, motifs, short):
+        assert repeat_cell(photo)[0] != (None, None)  # each repeats exactly ...
+        notes = []
+        assert _auto._one_repeat(photo, notes) is None and notes == []  # ... and keeps the whole photo
+    monkeypatch.setattr(_auto, "REPEAT_FINER", 0.0)
+    assert _auto._one_repeat(floor, [])[1]["cell"] == [192, 192]
+    monkeypatch.setattr(_auto, "REPEAT_MOTIF_SHARE", 1.0)
+    assert _auto._one_repeat(motifs, [])[1]["cell"] == [96, 96]
+    assert _auto._one_repeat(short, []) is None  # 32 pixels: the pattern's own period, whatever the other rules
