@@ -251,9 +251,10 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
         # a turned finest layer's texels never fall on the pixels, a finer one's are read from its mip-maps
         # between them: a bilinear resampling, which the structural distance counts as lost detail, weighs
         # less with both halved
+        from spectex._pixels import box_halved
         from spectex.metrics import structural_distance
 
-        resampled = (why, structural_distance(_halved(same), _halved(exemplar)).ratio)
+        resampled = (why, structural_distance(box_halved(same), box_halved(exemplar)).ratio)
     _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level"), resampled))
     misses = []
     if w1 > POOR_W1:
@@ -265,15 +266,6 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
                        "(see comparison.png)")
     _common.report(f"wrote {', '.join(_FILES)} to {out}/")
     return 0
-
-
-def _halved(image):
-    """``image`` at half its size (2 x 2 means)."""
-    import numpy as np
-
-    h, w = image.shape[:2]
-    img = np.asarray(image, dtype=np.float64)[: h // 2 * 2, : w // 2 * 2]
-    return img.reshape(h // 2, 2, w // 2, 2, *img.shape[2:]).mean(axis=(1, 3))
 
 
 def _resampled_why(params):

@@ -48,6 +48,7 @@ import time
 import numpy as np
 
 from .._lighting import even_lighting
+from .._pixels import box_halved
 from .._validate import check_choice, check_float, check_int, check_rng
 from ..render.cpu import bake
 from ._core import (
@@ -942,7 +943,7 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
     lines = lines_axis(period) if continuity else None
     # (the lines' continuity is read on the far bake, which holds several patches, against the photo at its
     # pixel size: both reduced 2 x 2)
-    halved = None if lines is None else _box_halved(exemplar)
+    halved = None if lines is None else box_halved(exemplar)
     out = {}
     for label, tiling, tile, snap, scale, lattice in candidates:
         half = tuple(None if p is None else p / 2.0 for p in (lattice or period))
@@ -959,12 +960,6 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
                       "splits": _splits(cell_splits(baked, reference, period=period), cells),
                       "continuity": 1.0 if lines is None else line_continuity(far, halved, axis=lines).ratio}
     return out
-
-
-def _box_halved(image):
-    """``image`` area-averaged 2 x 2 (an odd last row or column dropped)."""
-    h, w = image.shape[0] // 2 * 2, image.shape[1] // 2 * 2
-    return image[:h, :w].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
 
 
 def _along_share(exemplar, period):

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._pixels import box_halved
 from .._results import AsDict
 from .._validate import check_float, check_image, check_int
 from ..analysis import cross_scale
@@ -499,7 +500,7 @@ class _Problem:
         self.coarse = None
         h, w = exemplar.shape[:2]
         if min(h, w) > min(segment) and min(h, w) // 2 >= 32:
-            half = exemplar[: h // 2 * 2, : w // 2 * 2].reshape(h // 2, 2, w // 2, 2, 3).mean(axis=(1, 3))
+            half = box_halved(exemplar).astype(exemplar.dtype, copy=False)
             seg2 = (min(h // 2, 256), min(w // 2, 256))
             full = band_power(exemplar)[1]
             extra = len(full) - len(self.target_bands)
