@@ -7,7 +7,7 @@ import pytest
 
 from helpers import floor_photo
 from spectex import metrics
-from spectex.fitting import _auto, _structure, fit_result
+from spectex.fitting import _core, _structure, fit_result
 from spectex.fitting._structure import repeat_cell
 from spectex.render import bake
 
@@ -75,9 +75,31 @@ def test_a_tiled_wall_and_a_pattern_of_motifs_keep_the_whole_photo(monkeypatch):
     for photo in (floor, motifs, short):
         assert repeat_cell(photo)[0] != (None, None)  # each repeats exactly ...
         notes = []
-        assert _auto._one_repeat(photo, notes) is None and notes == []  # ... and keeps the whole photo
-    monkeypatch.setattr(_auto, "REPEAT_FINER", 0.0)
-    assert _auto._one_repeat(floor, [])[1]["cell"] == [192, 192]
-    monkeypatch.setattr(_auto, "REPEAT_MOTIF_SHARE", 1.0)
-    assert _auto._one_repeat(motifs, [])[1]["cell"] == [96, 96]
-    assert _auto._one_repeat(short, []) is None  # 32 pixels: the pattern's own period, whatever the other rules
+        assert _core._one_repeat(photo, notes) is None and notes == []  # ... and keeps the whole photo
+    monkeypatch.setattr(_core, "REPEAT_FINER", 0.0)
+    assert _core._one_repeat(floor, [])[1]["cell"] == [192, 192]
+    monkeypatch.setattr(_core, "REPEAT_MOTIF_SHARE", 1.0)
+    assert _core._one_repeat(motifs, [])[1]["cell"] == [96, 96]
+    assert _core._one_repeat(short, []) is None  # 32 pixels: the pattern's own period, whatever the other rules
+
+
+def test_a_large_photo_of_two_copies_is_read_as_one_at_full_resolution(monkeypatch):
+    """A 2048-pixel photo of a 1024-pixel texture tiled two by two: the fit analyses at most 512 pixels, and
+    a crop of the photo resampled holds less than two copies (their repeat past half its side). The repeat is
+    read on a preview of the whole photo and confirmed on the photo, and the photo is its top left cell from
+    the first step on."""
+    from scipy import ndimage
+
+    gravel = ndimage.zoom(_gravel(), (2, 2, 1), order=1)  # 1024 pixels
+    photo = np.tile(gravel, (2, 2, 1)).astype(np.float32)
+    exemplar, notes, factor, source, repeat = _core._prepared_with_source(photo, 512)
+    assert repeat["lags"] == [1024, 1024] and min(repeat["correlation"]) > 0.999
+    assert any("every 1024 px along y and every 1024 px along x" in note for note in notes)
+    if source is not None:  # the cell is the source the full-resolution tile reads
+        assert source["photo"].shape[:2] == (1024, 1024)
+    # the control: without the rule, the analysed crop is read, and it shows no repeat for a later step to find
+    monkeypatch.setattr(_structure, "REPEAT_EXACT", 1.01)
+    crop, _, _, _, none = _core._prepared_with_source(photo, 512)
+    assert none is None and crop.shape[:2] == (512, 512)
+    monkeypatch.undo()
+    assert repeat_cell(crop)[0] == (None, None)

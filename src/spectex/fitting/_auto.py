@@ -65,7 +65,7 @@ from ._core import (
     finest_tile,
     structure_peak,
 )
-from ._structure import MIN_LINE_COHERENCE, orientation_vote, repeat_cell, structure_orientation, structure_period
+from ._structure import MIN_LINE_COHERENCE, orientation_vote, structure_orientation, structure_period
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
 #: ``photo_size`` is given: a photo of ground taken standing, about 1.5 m across.
@@ -81,17 +81,6 @@ PERIOD_STRETCH = 0.12
 STRAIGHTEN_MIN = 0.5
 #: Largest turn straightened (degrees): more is taken as the structure's own design (herringbone, diagonals).
 STRAIGHTEN_MAX = 10.0
-#: Least side (photo pixels, along each axis it repeats) of the cell of a photo that repeats itself exactly
-#: (:func:`_one_repeat`): a shorter repeat is a pattern's own period, the structure's to cut and draw.
-MIN_REPEAT_CELL = 64
-#: Most of a repeat cell's variance at one or two cycles across the cell (:func:`_motif_share`) for the cell
-#: to be read as a texture tiled: a pattern of one large motif per period (a window, a panel, a tile with a
-#: border; 0.26-0.5 on a game's window, border and tile textures) keeps its period, drawn as structure.
-#: Tiled ground (dirt, gravel, sand, cobbles, bricks, a carpet) reads 0.0-0.14 on 256-pixel cells.
-REPEAT_MOTIF_SHARE = 0.2
-#: A photo that repeats exactly but whose structure's period is under this fraction of the repeat keeps the whole
-#: photo (:func:`_one_repeat`): a structure's tile is cut at its own period, where the copies do no harm.
-REPEAT_FINER = 0.75
 #: A structure turned more than ``STRAIGHTEN_MAX`` is cut straightened (and drawn turned back) where its
 #: lattice holds this many times better along its lines than along the photo's axes (:func:`_lattice_hold`):
 #: a lattice turned so that the axes see only a large, inexact super-lattice, whose snapped patches meet at
@@ -1174,53 +1163,6 @@ def _leave_out_one_off(exemplar, notes):
     return None if not regions else (exemplar, regions)
 
 
-def _motif_share(cell):
-    """The share of ``cell``'s luma variance (the cell taken as seamless) at spatial frequencies of at most two
-    cycles across it: near 0 for texture finer than the cell, large for one motif filling it."""
-    luma = np.asarray(cell, dtype=np.float64).mean(axis=2)
-    power = np.abs(np.fft.fft2(luma - luma.mean())) ** 2
-    power[0, 0] = 0.0
-    ky = np.fft.fftfreq(luma.shape[0]) * luma.shape[0]
-    kx = np.fft.fftfreq(luma.shape[1]) * luma.shape[1]
-    low = np.hypot(ky[:, None], kx[None, :]) <= 2.0
-    total = float(power.sum())
-    return 0.0 if total <= 0.0 else float(power[low].sum()) / total
-
-
-def _one_repeat(exemplar, notes):
-    """A photo that repeats itself exactly (:func:`repeat_cell`: a texture tiled two by two, three by three,
-    or a strip of copies, before it was saved) read as one cell of it, the top left one (at the photo's
-    corner, so that its places are the photo's): ``(cell, record)``; None where the photo does not repeat,
-    or repeats at a pattern's own period (a cell shorter than :data:`MIN_REPEAT_CELL`, or one motif per cell:
-    :data:`REPEAT_MOTIF_SHARE`). Its copies add no content; drawn from the whole photo, every patch of a
-    stochastic layer carried them (the same stones twice, a cell apart) and a structured way cut at the
-    repeat as a period drew it as one (repeat 0.83 over a bake of a dirt photo tiled three by three)."""
-    h, w = exemplar.shape[:2]
-    lags, scores = repeat_cell(exemplar)
-    if lags == (None, None) or any(lag is not None and lag < MIN_REPEAT_CELL for lag in lags):
-        return None
-    cy, cx = lags[0] or h, lags[1] or w
-    # the top left cell: the copies are one, and where its pixels are in the photo, so are the notes' places
-    cell = exemplar[:cy, :cx]
-    share = _motif_share(cell)
-    if share > REPEAT_MOTIF_SHARE:
-        return None
-    period = structure_period(exemplar) if structure_peak(exemplar) >= STRUCTURED_PEAK else None
-    if period is not None and any(q is not None and lag is not None and q < REPEAT_FINER * lag
-                                  for q, lag in zip(period, lags)):
-        # a structure finer than the repeat (a wall of bricks tiled): its tile is cut at whole periods of the
-        # whole photo, whose wrap edges it chooses among more places than one cell offers (a tiled wall's cell
-        # of three courses read alone gave a tile of two, short bricks where its courses were cut to fit)
-        return None
-    along = " and ".join(f"every {lag} px along {axis}" for lag, axis in zip(lags, "yx") if lag is not None)
-    notes.append(f"the photo repeats itself exactly ({along}; correlation "
-                 f"{min(v for v in scores if v is not None):.3f}): the fit reads one repeat of it, its top left "
-                 f"{cx}x{cy} pixels; the copies hold nothing more, and read as content the texture would "
-                 "repeat them")
-    return cell, {"lags": list(lags), "correlation": [None if v is None else round(v, 4) for v in scores],
-                          "cell": [cy, cx], "motif_share": round(share, 3)}
-
-
 def _photo_as_ground(exemplar, notes, *, keep_lighting, keep_perspective, keep_one_off):
     """What a photo holds that is not the ground's texture, taken out in order (each unless kept): its
     lighting evened out, an unstructured photo taken at an angle levelled, one-off content filled.
@@ -1365,11 +1307,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     from ..texture import Layer, layer_placement
 
     tile_given = tile_size is not None
-    exemplar, notes, factor, source = _prepared_with_source(image, max_size)
+    exemplar, notes, factor, source, repeat = _prepared_with_source(image, max_size)
     photo = exemplar  # as the user gave it (its lighting, perspective and one-off content not yet changed)
-    repeat = _one_repeat(exemplar, notes)
-    if repeat is not None:
-        exemplar, repeat = repeat
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes, factor)
     # a repeat cell wraps onto itself: its slow variation is the texture's own (a drift of lighting or a photo's

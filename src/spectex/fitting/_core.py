@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -175,6 +176,10 @@ def _prepared_with_source(image, max_size):
         rgb = image[:, :, :3]
     _check_not_flat(rgb)  # (before the frame: a flat picture is all frame)
     rgb, h, w = _without_frame(rgb, notes)
+    repeat = _one_repeat(rgb, notes)
+    if repeat is not None:
+        rgb, repeat = repeat
+        h, w = rgb.shape[:2]
     factor, why = _analysis_factor(rgb, max_size) if min(h, w) > max_size else (1.0, None)
     source = None
     if factor > 1.0:
@@ -193,7 +198,7 @@ def _prepared_with_source(image, max_size):
             source["origin"] = (y0, x0)
     rgb = np.ascontiguousarray(np.clip(rgb, 0.0, 1.0), dtype=np.float32)
     _check_not_flat(rgb)
-    return rgb, notes, factor, source
+    return rgb, notes, factor, source, repeat
 
 
 def _check_not_flat(rgb):
@@ -226,6 +231,101 @@ COARSE_EXCESS_DB = 6.0
 #: Cycles across the analysed crop a band needs to be held (:func:`spectex.spectrum.band_power`'s
 #: ``min_cycles``).
 COARSE_MIN_CYCLES = 4
+#: Least side (photo pixels, along each axis it repeats) of the cell of a photo that repeats itself exactly
+#: (:func:`_one_repeat`): a shorter repeat is a pattern's own period, the structure's to cut and draw.
+MIN_REPEAT_CELL = 64
+#: Most of a repeat cell's variance at one or two cycles across the cell (:func:`_motif_share`) for the cell
+#: to be read as a texture tiled: a pattern of one large motif per period (a window, a panel, a tile with a
+#: border; 0.26-0.5 on a game's window, border and tile textures) keeps its period, drawn as structure.
+#: Tiled ground (dirt, gravel, sand, cobbles, bricks, a carpet) reads 0.0-0.14 on 256-pixel cells.
+REPEAT_MOTIF_SHARE = 0.2
+#: A photo that repeats exactly but whose structure's period is under this fraction of the repeat keeps the whole
+#: photo (:func:`_one_repeat`): a structure's tile is cut at its own period, where the copies do no harm.
+REPEAT_FINER = 0.75
+#: Shorter side of the preview a photo's repeat is read on (:func:`_one_repeat`; the photo itself where smaller).
+REPEAT_PREVIEW = 512
+
+
+def _motif_share(cell):
+    """The share of ``cell``'s luma variance (the cell taken as seamless) at spatial frequencies of at most two
+    cycles across it: near 0 for texture finer than the cell, large for one motif filling it."""
+    level = np.asarray(cell, dtype=np.float64).mean(axis=2)
+    power = np.abs(np.fft.fft2(level - level.mean())) ** 2
+    power[0, 0] = 0.0
+    ky = np.fft.fftfreq(level.shape[0]) * level.shape[0]
+    kx = np.fft.fftfreq(level.shape[1]) * level.shape[1]
+    low = np.hypot(ky[:, None], kx[None, :]) <= 2.0
+    total = float(power.sum())
+    return 0.0 if total <= 0.0 else float(power[low].sum()) / total
+
+
+def _lag_correlation(level, axis, lag):
+    """The correlation of ``level`` (a 2-D array, mean removed) with itself shifted by ``lag`` whole pixels
+    along ``axis``, over the overlap; summed in blocks of rows, so that a large photo needs no copy of itself."""
+    x = level if axis == 0 else level.T
+    n = x.shape[0]
+    ab = aa = bb = 0.0
+    for r in range(0, n - lag, 256):
+        a = x[r:min(r + 256, n - lag)].astype(np.float64)
+        b = x[r + lag:min(r + 256, n - lag) + lag].astype(np.float64)
+        ab, aa, bb = ab + float(np.sum(a * b)), aa + float(np.sum(a * a)), bb + float(np.sum(b * b))
+    return ab / max(math.sqrt(aa * bb), 1e-30)
+
+
+def _one_repeat(rgb, notes):
+    """A photo that repeats itself exactly (``_structure.repeat_cell``: a texture tiled two by two, three by
+    three, or a strip of copies, before it was saved) read as one cell of it, the top left one (at the
+    photo's corner, so that its places are the photo's): ``(cell, record)``; None where the photo does not
+    repeat, or repeats at a pattern's own period (a cell shorter than :data:`MIN_REPEAT_CELL`, one motif
+    per cell: :data:`REPEAT_MOTIF_SHARE`, or a structure finer than the repeat: :data:`REPEAT_FINER`).
+
+    Its copies add no content. Drawn from the whole photo, every patch of a stochastic layer carried them
+    (the same stones twice, a cell apart), and a structured way cut at the repeat as a period drew it as one
+    (repeat 0.83 over a bake of a dirt photo tiled three by three). The repeat is read on a preview of
+    shorter side :data:`REPEAT_PREVIEW` (a 2048-pixel photo of two copies: its analysed crop would hold
+    less than two) and confirmed on the photo at the whole lag nearest it."""
+    from ._structure import REPEAT_CANDIDATE, REPEAT_EXACT, repeat_cell, structure_period
+
+    h, w = rgb.shape[:2]
+    step = min(h, w) / min(min(h, w), REPEAT_PREVIEW)
+    preview = rgb if step == 1.0 else np.clip(_resampled(rgb, round(h / step), round(w / step)), 0.0, 1.0)
+    lags, scores = repeat_cell(preview, threshold=None if step == 1.0 else min(REPEAT_CANDIDATE, REPEAT_EXACT))
+    if lags == (None, None) or any(lag is not None and lag * step < MIN_REPEAT_CELL for lag in lags):
+        return None
+    cell = preview[:lags[0] or preview.shape[0], :lags[1] or preview.shape[1]]
+    share = _motif_share(cell)
+    if share > REPEAT_MOTIF_SHARE:
+        return None
+    period = structure_period(preview) if structure_peak(preview) >= STRUCTURED_PEAK else None
+    if period is not None and any(q is not None and lag is not None and q < REPEAT_FINER * lag
+                                  for q, lag in zip(period, lags)):
+        # a structure finer than the repeat (a wall of bricks tiled): its tile is cut at whole periods of the
+        # whole photo, whose wrap edges it chooses among more places than one cell offers (a tiled wall's cell
+        # of three courses read alone gave a tile of two, short bricks where its courses were cut to fit)
+        return None
+    if step > 1.0:
+        # the lag in photo pixels: the whole one nearest the preview's that matches best, as exactly
+        level = rgb.mean(axis=2, dtype=np.float32)
+        level -= level.mean()
+        found = []
+        for axis, lag in enumerate(lags):
+            if lag is None:
+                found.append((None, None))
+                continue
+            near = [k for k in range(math.floor((lag - 0.5) * step) - 1, math.ceil((lag + 0.5) * step) + 2)
+                    if 1 <= k <= rgb.shape[axis] // 2]
+            found.append(max(((k, _lag_correlation(level, axis, k)) for k in near), key=lambda kc: kc[1]))
+        if any(c is not None and c < REPEAT_EXACT for _, c in found):
+            return None
+        lags, scores = tuple(k for k, _ in found), tuple(c for _, c in found)
+    cy, cx = lags[0] or h, lags[1] or w
+    along = " and ".join(f"every {lag} px along {axis}" for lag, axis in zip(lags, "yx") if lag is not None)
+    notes.append(f"the photo repeats itself exactly ({along}; correlation "
+                 f"{min(v for v in scores if v is not None):.3f}): the fit reads one repeat of it, its top left "
+                 f"{cx}x{cy} pixels; the copies hold nothing more, and read as content the texture would "
+                 "repeat them")
+    return rgb[:cy, :cx], {"lags": list(lags), "correlation": [None if v is None else round(v, 4) for v in scores],
+                           "cell": [cy, cx], "motif_share": round(share, 3)}
 
 
 def _analysis_factor(rgb, max_size):

@@ -31,6 +31,10 @@ REPEAT_EXACT = 0.95
 #: Least fall of the correlation between lag 0 and a repeat (:func:`repeat_cell`): a smooth photo's
 #: correlation stays high at every short lag without repeating anything.
 REPEAT_DIP = 0.3
+#: Correlation at which a lag on a reduced preview of a large photo is a candidate repeat, confirmed on the
+#: photo itself (``fitting._core._one_repeat``): three copies of a 700-pixel texture read 0.94 at the whole
+#: preview lag nearest their 170.7, and 1.000 on the photo.
+REPEAT_CANDIDATE = 0.8
 
 
 def structure_period(exemplar, *, min_lag: int = 8):
@@ -256,7 +260,7 @@ def _shift_correlation(image, axis):
     return products / np.sqrt(np.maximum(head * tail, 1e-30))
 
 
-def repeat_cell(image, *, min_lag: int = 4):
+def repeat_cell(image, *, min_lag: int = 4, threshold: float | None = None):
     """The photo's exact repeat along each axis: ``((lag_y, lag_x), (corr_y, corr_x))``, a lag None where the
     photo does not repeat along that axis.
 
@@ -267,8 +271,10 @@ def repeat_cell(image, *, min_lag: int = 4):
     shorter lag, is the repeat. Photographed structure does not repeat that exactly; a pattern drawn on
     a computer (a grid, a tile floor) does, at its own period, which the caller tells apart by the cell's
     size and content. A repeat at a fraction of a pixel (a tiled texture resampled) is read only as far as
-    the nearest whole lag matches.
+    the nearest whole lag matches; ``threshold`` (default :data:`REPEAT_EXACT`) lower reads candidates (on a
+    preview, a whole photo's repeat falls between its pixels) for the caller to confirm.
     """
+    least = REPEAT_EXACT if threshold is None else float(threshold)
     x = np.asarray(image, dtype=np.float64)
     if x.ndim == 2:
         x = x[:, :, None]
@@ -278,11 +284,11 @@ def repeat_cell(image, *, min_lag: int = 4):
         c = _shift_correlation(x, axis)
         found = None
         for lag in range(max(min_lag, 1), len(c) - 1):
-            if c[lag] >= REPEAT_EXACT and c[lag] >= c[lag - 1] and c[lag] >= c[lag + 1] \
+            if c[lag] >= least and c[lag] >= c[lag - 1] and c[lag] >= c[lag + 1] \
                     and c[1:lag].min() <= c[lag] - REPEAT_DIP:
                 found = lag
                 break
-        if found is None and len(c) > 2 and c[-1] >= REPEAT_EXACT and c[1:-1].min() <= c[-1] - REPEAT_DIP:
+        if found is None and len(c) > 2 and c[-1] >= least and c[1:-1].min() <= c[-1] - REPEAT_DIP:
             found = len(c) - 1  # two copies exactly: the repeat at half the side, the last lag read
         lags.append(found)
         scores.append(None if found is None else float(c[found]))
