@@ -85,7 +85,13 @@ def fit(image, *, pixel_size: float | None = None, photo_size: float | None = No
     and a photo of unstructured ground taken at an angle (its grain
     shrinking towards the far side, :func:`spectex.metrics.scale_blotches`)
     is levelled in scale by a homography (a structured one is rectified from
-    its lines), unless ``keep_perspective``.
+    its lines), unless ``keep_perspective``. First of all, a photo that
+    repeats itself exactly (a texture tiled two by two or three by three
+    before it was saved: ``fitting._structure.repeat_cell``) is read as one
+    cell of it, its copies left out (said in the notes and in
+    ``params["repeat"]``); a pattern's own period (a cell under 64 pixels,
+    one motif per cell, or a structure finer than the repeat) keeps the
+    whole photo.
 
     **``method="legacy"``**, the fit before issue 22, kept only so that
     ``benchmarks/bench_fit_quality.py`` can compare; it is what the rest of

@@ -107,7 +107,9 @@ def prepare_exemplar(image, *, max_size: int = MAX_ANALYSIS_SIZE):
     (16-bit keeps its precision); grey is repeated into R, G and B; an alpha
     channel (grey + alpha, RGBA) is dropped; a flat frame around the photo
     (a border, letterboxing, the wedges of a rotated photo: ``_frame.py``) is
-    cropped away, since every patch of the texture would repeat it; a
+    cropped away, since every patch of the texture would repeat it; a photo
+    that repeats itself exactly (a texture tiled before it was saved:
+    ``_one_repeat``) is cut to its top left cell; a
     structured photo over ``max_size`` on both sides whose ``max_size`` crop
     would hold fewer than :data:`MIN_TILE_PERIODS` of its structure's periods
     (floor tiles, paving stones photographed at high resolution; the period
