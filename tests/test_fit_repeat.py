@@ -62,9 +62,9 @@ def test_a_texture_tiled_three_by_three_is_fitted_from_one_cell_and_never_repeat
 
 def test_a_tiled_wall_and_a_pattern_of_motifs_keep_the_whole_photo(monkeypatch):
     """A structure finer than the repeat (floor tiles of 48 pixels, four to a 192-pixel cell, tiled two by two)
-    keeps the whole photo, its tile cut at its own period; so does a pattern of one large motif per period
-    (a disc per 96-pixel cell), and a short exact period (tiles of 32 pixels repeating exactly) is the
-    structure's. Controls: without the first two rules the cells are read alone."""
+    keeps the whole photo, its tile cut at its own period, the tiling recorded for the trial; a pattern of one
+    large motif per period (a disc per 96-pixel cell) and a short exact period (tiles of 32 pixels repeating
+    exactly) are the pattern's own. Controls: without the first two rules the cells are read alone."""
     floor = np.tile(floor_photo(192, period=48, spread=0.1, mottle=0.1)[0].astype(np.float64), (2, 2, 1))
     y, x = np.mgrid[:96, :96]
     disc = (np.hypot(y - 47.5, x - 47.5) < 30).astype(np.float64)
@@ -74,10 +74,16 @@ def test_a_tiled_wall_and_a_pattern_of_motifs_keep_the_whole_photo(monkeypatch):
     short = np.tile(floor_photo(128, period=32)[0].astype(np.float64), (2, 2, 1))
     for photo in (floor, motifs, short):
         assert repeat_cell(photo)[0] != (None, None)  # each repeats exactly ...
+    notes = []
+    whole, record = _core._one_repeat(floor, notes)  # ... the floor read whole, its tiling recorded ...
+    assert whole is floor and record["whole"] and record["cell"] == [192, 192]
+    assert "its structure is finer" in notes[0]
+    for photo in (motifs, short):
         notes = []
-        assert _core._one_repeat(photo, notes) is None and notes == []  # ... and keeps the whole photo
+        assert _core._one_repeat(photo, notes) is None and notes == []  # ... the patterns as they are
     monkeypatch.setattr(_core, "REPEAT_FINER", 0.0)
-    assert _core._one_repeat(floor, [])[1]["cell"] == [192, 192]
+    cell, record = _core._one_repeat(floor, [])
+    assert cell.shape[:2] == (192, 192) and not record["whole"]
     monkeypatch.setattr(_core, "REPEAT_MOTIF_SHARE", 1.0)
     assert _core._one_repeat(motifs, [])[1]["cell"] == [96, 96]
     assert _core._one_repeat(short, []) is None  # 32 pixels: the pattern's own period, whatever the other rules
@@ -103,3 +109,19 @@ def test_a_large_photo_of_two_copies_is_read_as_one_at_full_resolution(monkeypat
     assert none is None and crop.shape[:2] == (512, 512)
     monkeypatch.undo()
     assert repeat_cell(crop)[0] == (None, None)
+
+
+def test_a_tiled_structure_is_not_drawn_with_its_tiling(monkeypatch):
+    """Floor tiles of 48 pixels, four to a 192-pixel copy, tiled two by two: the fit reads the whole photo, and
+    its trial reads the photo's own repeat on one copy (0.11), so the periodic way, which repeats every copy,
+    does not pass; the control, the repeat read on the whole (1.0, the tiling's), draws it periodic."""
+    from spectex.fitting import _auto
+
+    floor = np.tile(floor_photo(192, period=48, spread=0.1, mottle=0.1)[0].astype(np.float64), (2, 2, 1))
+    result = fit_result(floor)
+    assert result.params["repeat"]["whole"]
+    trial = result.params["trial"]
+    assert trial["choice"] != "periodic" and trial["photo_repeat"] < 0.3
+    monkeypatch.setattr(_auto, "_copy_side", lambda *args: None)
+    control = fit_result(floor).params["trial"]
+    assert control["choice"] == "periodic" and control["photo_repeat"] > 0.9

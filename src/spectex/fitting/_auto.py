@@ -1246,7 +1246,16 @@ def _stochastic_tile_size(tile_size, tiling, period, h, w):
     return tile_size
 
 
-def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile):
+def _copy_side(repeat, factor, shape, analysed_shape):
+    """One copy's side ``(y, x)`` in exemplar pixels of a photo tiled before it was saved whose whole the fit
+    reads (``repeat["whole"]``), or None (no such repeat, or the exemplar straightened: its pixels turned)."""
+    if repeat is None or not repeat.get("whole") or tuple(shape) != tuple(analysed_shape):
+        return None
+    cy, cx = (round(c / factor) for c in repeat["cell"])
+    return (min(cy, shape[0]), min(cx, shape[1])) if min(cy, cx) >= 48 else None
+
+
+def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile, cell=None):
     """The trial of a structured photo's finest layer (:func:`_trial`, :func:`_choose`): ``(trial, way)``, ``way``
     ``(tile, side, words, tiling, snap, texel scale)`` of the chosen way, None where it is the stochastic one
     (``stochastic_tile``, as the caller has it)."""
@@ -1274,7 +1283,10 @@ def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_meth
         ways.append(("aligned", "stochastic", aligned_tile[0], _aligned_snap(snap), 1.0, period))
     trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
                    continuity=aligned_tile is not None)
-    own = repeat_peak(exemplar, period=period)
+    # the photo's own repeat beyond its lattice; a photo tiled before it was saved (``cell``: one copy's side in
+    # exemplar pixels) read on one copy, or its tiling would pass any way that repeats (a brick wall tiled two by
+    # two drawn periodic, repeat 0.80)
+    own = repeat_peak(exemplar if cell is None else exemplar[:cell[0], :cell[1]], period=period)
     trial["photo_repeat"] = own
     choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
     trial["choice"] = choice
@@ -1311,12 +1323,11 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     photo = exemplar  # as the user gave it (its lighting, perspective and one-off content not yet changed)
     full_side = max(np.shape(image)[:2])
     pixel_size, scale = _resolve_scale(pixel_size, photo_size, full_side, notes, factor)
-    # a repeat cell wraps onto itself: its slow variation is the texture's own (a drift of lighting or a photo's
-    # perspective could not wrap), so neither is taken out
-    exemplar, lighting, levelled, one_off = _photo_as_ground(exemplar, notes,
-                                                             keep_lighting=keep_lighting or repeat is not None,
-                                                             keep_perspective=keep_perspective or repeat is not None,
-                                                             keep_one_off=keep_one_off)
+    # a repeat cell's content is in every copy: what it shows once, the photo shows once per cell, as often as
+    # the texture will (the one-off rule's premise, content the photo shows once, does not hold)
+    exemplar, lighting, levelled, one_off = _photo_as_ground(exemplar, notes, keep_lighting=keep_lighting,
+                                                             keep_perspective=keep_perspective,
+                                                             keep_one_off=keep_one_off or repeat is not None)
     h, w = exemplar.shape[:2]
     total = 3 + iterations
     done = 0
@@ -1361,7 +1372,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
         if tiling == "periodic" or min(h, w) < 64:  # (too small for two windows of the measure)
             tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:
-            trial, way = _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, tile0)
+            trial, way = _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, tile0,
+                                         cell=_copy_side(repeat, factor, exemplar.shape[:2], analysed.shape[:2]))
             if way is not None:
                 tile0, n, tile_method, tilings0, snap0, scale0 = way
     if not tile_given and tile_method == "seamless crop" and snap0 == (0, 0) and n == min(h, w) and h != w:

@@ -278,8 +278,10 @@ def _one_repeat(rgb, notes):
     """A photo that repeats itself exactly (``_structure.repeat_cell``: a texture tiled two by two, three by
     three, or a strip of copies, before it was saved) read as one cell of it, the top left one (at the
     photo's corner, so that its places are the photo's): ``(cell, record)``; None where the photo does not
-    repeat, or repeats at a pattern's own period (a cell shorter than :data:`MIN_REPEAT_CELL`, one motif
-    per cell: :data:`REPEAT_MOTIF_SHARE`, or a structure finer than the repeat: :data:`REPEAT_FINER`).
+    repeat, or repeats at a pattern's own period (a cell shorter than :data:`MIN_REPEAT_CELL`, or one motif
+    per cell: :data:`REPEAT_MOTIF_SHARE`). A structure finer than the repeat (:data:`REPEAT_FINER`) keeps
+    the whole photo, its record's ``"whole"`` True, so that the trial does not take the tiling for the
+    photo's own repeat.
 
     Its copies add no content. Drawn from the whole photo, every patch of a stochastic layer carried them
     (the same stones twice, a cell apart), and a structured way cut at the repeat as a period drew it as one
@@ -299,12 +301,8 @@ def _one_repeat(rgb, notes):
     if share > REPEAT_MOTIF_SHARE:
         return None
     period = structure_period(preview) if structure_peak(preview) >= STRUCTURED_PEAK else None
-    if period is not None and any(q is not None and lag is not None and q < REPEAT_FINER * lag
-                                  for q, lag in zip(period, lags)):
-        # a structure finer than the repeat (a wall of bricks tiled): its tile is cut at whole periods of the
-        # whole photo, whose wrap edges it chooses among more places than one cell offers (a tiled wall's cell
-        # of three courses read alone gave a tile of two, short bricks where its courses were cut to fit)
-        return None
+    finer = period is not None and any(q is not None and lag is not None and q < REPEAT_FINER * lag
+                                       for q, lag in zip(period, lags))
     if step > 1.0:
         # the lag in photo pixels: the whole one nearest the preview's that matches best, as exactly
         level = rgb.mean(axis=2, dtype=np.float32)
@@ -322,12 +320,20 @@ def _one_repeat(rgb, notes):
         lags, scores = tuple(k for k, _ in found), tuple(c for _, c in found)
     cy, cx = lags[0] or h, lags[1] or w
     along = " and ".join(f"every {lag} px along {axis}" for lag, axis in zip(lags, "yx") if lag is not None)
-    notes.append(f"the photo repeats itself exactly ({along}; correlation "
-                 f"{min(v for v in scores if v is not None):.3f}): the fit reads one repeat of it, its top left "
-                 f"{cx}x{cy} pixels; the copies hold nothing more, and read as content the texture would "
-                 "repeat them")
-    return rgb[:cy, :cx], {"lags": list(lags), "correlation": [None if v is None else round(v, 4) for v in scores],
-                           "cell": [cy, cx], "motif_share": round(share, 3)}
+    record = {"lags": list(lags), "correlation": [None if v is None else round(v, 4) for v in scores],
+              "cell": [cy, cx], "motif_share": round(share, 3), "whole": finer}
+    said = f"the photo repeats itself exactly ({along}; correlation {min(v for v in scores if v is not None):.3f})"
+    if finer:
+        # a structure finer than the repeat (a wall of bricks tiled): its tile is cut at whole periods of the
+        # whole photo, whose wrap edges it chooses among more places than one cell offers (a tiled wall's cell
+        # of three courses read alone gave a tile of two, short bricks where its courses were cut to fit); the
+        # repeat is the tiling's, not the texture's, and the fit's trial is told so
+        notes.append(f"{said}: its structure is finer, and the fit reads the whole photo, the repeat taken for a "
+                     "tiling the texture need not show")
+        return rgb, record
+    notes.append(f"{said}: the fit reads one repeat of it, its top left {cx}x{cy} pixels; the copies hold nothing "
+                 "more, and read as content the texture would repeat them")
+    return rgb[:cy, :cx], record
 
 
 def _analysis_factor(rgb, max_size):
