@@ -125,3 +125,26 @@ def test_a_tiled_structure_is_not_drawn_with_its_tiling(monkeypatch):
     monkeypatch.setattr(_auto, "_copy_side", lambda *args: None)
     control = fit_result(floor).params["trial"]
     assert control["choice"] == "periodic" and control["photo_repeat"] > 0.9
+
+
+def test_the_report_of_a_tiled_photo_says_its_one_off_content_is_in_every_copy(tmp_path, capsys):
+    """The fit keeps a copy's one-off content (a red stone): the photo shows it once a copy, and the report
+    says so. The control: the copy alone, its stone kept (--keep-one-off), is shown as often, and the report
+    tells the user to crop it out."""
+    from spectex import io
+    from spectex.cli import main
+
+    cell = _gravel()[:256, :256].copy()
+    y, x = np.mgrid[:256, :256]
+    cell[np.hypot(y - 60, x - 90) < 14] = (1.0, 0.2, 0.2)  # a red stone, once in the copy
+    lines = []
+    for name, photo, extra in (("tiled", np.tile(cell, (2, 2, 1)), []), ("cell", cell, ["--keep-one-off"])):
+        path = tmp_path / f"{name}.png"
+        io.write_image(path, photo.astype(np.float32))
+        assert main(["fit", str(path), "-o", str(tmp_path / name)] + extra) == 0
+        out = capsys.readouterr().out
+        lines.append(next(x for x in out.splitlines() if x.strip().startswith("structure")))
+        assert ("the photo repeats itself exactly (every 256 px along y and every 256 px along x" in out) == (
+            name == "tiled")
+    assert "the photo shows it once in each of its copies" in lines[0] and "crop it out" not in lines[0]
+    assert "the photo shows it once in each of its copies" not in lines[1] and "crop it out" in lines[1]

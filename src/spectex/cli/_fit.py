@@ -255,7 +255,9 @@ def _finish(args, outputs, exemplar, result, reference, magnifications, start, m
         from spectex.metrics import structural_distance
 
         resampled = (why, structural_distance(box_halved(same), box_halved(exemplar)).ratio)
-    _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level"), resampled))
+    repeat = result.params.get("repeat")
+    _common.report(_structure_line(numbers, result.params.get("lighting"), result.params.get("level"), resampled,
+                                   copy=bool(repeat) and not repeat.get("whole")))
     misses = []
     if w1 > POOR_W1:
         misses.append(f"histogram W1 {w1:.3f} > {POOR_W1}")
@@ -280,11 +282,12 @@ def _resampled_why(params):
     return None
 
 
-def _structure_line(numbers, evened=None, levelled=None, resampled=None) -> str:
+def _structure_line(numbers, evened=None, levelled=None, resampled=None, copy=False) -> str:
     """The structural measures of the report (issue 22), one line (``evened``, ``levelled``: the fit's
     ``params["lighting"]`` and ``params["level"]``, where it evened the photo's lighting out or levelled
     its perspective; ``resampled``: ``(why, ratio)`` where the render resamples the finest tile
-    (:func:`_resampled_why`), the structural distance with render and photo halved)."""
+    (:func:`_resampled_why`), the structural distance with render and photo halved; ``copy``: the fit read
+    one copy of a photo tiled before it was saved, whose one-off content the photo shows once a copy)."""
     st, far, clip, coarse = numbers.structure, numbers.structure_far, numbers.clipping, numbers.coarse
     if st is None:
         line = "  structure: n/a (the photo holds no two 32x32 windows)"
@@ -314,8 +317,9 @@ def _structure_line(numbers, evened=None, levelled=None, resampled=None) -> str:
     elif one_off is not None:
         y0, x0, y1, x1 = one_off.box
         line += (f"; one-off content at photo x {x0}-{x1}, y {y0}-{y1} shown {one_off.copies} times over 8x its "
-                 "area" + ("" if one_off.within else " (a viewer sees the same object repeated: crop it out of "
-                                                      "the photo if it is not part of the texture)"))
+                 "area" + (" (the photo shows it once in each of its copies)" if copy else
+                           "" if one_off.within else " (a viewer sees the same object repeated: crop it out of "
+                                                     "the photo if it is not part of the texture)"))
     light = getattr(numbers, "lighting", None)
     if light is not None:
         line += (f"; blotches {'none' if light.within else 'SEEN'} at the photo's scale (excess {light.excess:.3f} "
