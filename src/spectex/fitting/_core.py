@@ -287,7 +287,9 @@ def _one_repeat(rgb, notes):
     (the same stones twice, a cell apart), and a structured way cut at the repeat as a period drew it as one
     (repeat 0.83 over a bake of a dirt photo tiled three by three). The repeat is read on a preview of
     shorter side :data:`REPEAT_PREVIEW` (a 2048-pixel photo of two copies: its analysed crop would hold
-    less than two) and confirmed on the photo at the whole lag nearest it."""
+    less than two; a lag of ``_structure.REPEAT_CANDIDATE`` there is a candidate, its repeat falling between
+    the preview's pixels) and confirmed on the photo's luma at the best whole lag within a preview pixel of
+    it."""
     from ._structure import REPEAT_CANDIDATE, REPEAT_EXACT, repeat_cell, structure_period
 
     h, w = rgb.shape[:2]
@@ -304,7 +306,8 @@ def _one_repeat(rgb, notes):
     finer = period is not None and any(q is not None and lag is not None and q < REPEAT_FINER * lag
                                        for q, lag in zip(period, lags))
     if step > 1.0:
-        # the lag in photo pixels: the whole one nearest the preview's that matches best, as exactly
+        # the lag in photo pixels: the whole one within a preview pixel of the preview's that matches best, and
+        # exactly
         level = rgb.mean(axis=2, dtype=np.float32)
         level -= level.mean()
         found = []
