@@ -1252,7 +1252,7 @@ def _copy_side(repeat, factor, shape, analysed_shape):
     if repeat is None or not repeat.get("whole") or tuple(shape) != tuple(analysed_shape):
         return None
     cy, cx = (round(c / factor) for c in repeat["cell"])
-    return (min(cy, shape[0]), min(cx, shape[1])) if min(cy, cx) >= 48 else None
+    return (min(cy, shape[0]), min(cx, shape[1])) if min(cy, cx) >= 48 else None  # (repeat_peak reads 48 or more)
 
 
 def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile, cell=None):

@@ -261,19 +261,6 @@ def _motif_share(cell):
     return 0.0 if total <= 0.0 else float(power[low].sum()) / total
 
 
-def _lag_correlation(level, axis, lag):
-    """The correlation of ``level`` (a 2-D array, mean removed) with itself shifted by ``lag`` whole pixels
-    along ``axis``, over the overlap; summed in blocks of rows, so that a large photo needs no copy of itself."""
-    x = level if axis == 0 else level.T
-    n = x.shape[0]
-    ab = aa = bb = 0.0
-    for r in range(0, n - lag, 256):
-        a = x[r:min(r + 256, n - lag)].astype(np.float64)
-        b = x[r + lag:min(r + 256, n - lag) + lag].astype(np.float64)
-        ab, aa, bb = ab + float(np.sum(a * b)), aa + float(np.sum(a * a)), bb + float(np.sum(b * b))
-    return ab / max(math.sqrt(aa * bb), 1e-30)
-
-
 def _one_repeat(rgb, notes):
     """A photo that repeats itself exactly (``_structure.repeat_cell``: a texture tiled two by two, three by
     three, or a strip of copies, before it was saved) read as one cell of it, the top left one (at the
@@ -290,7 +277,7 @@ def _one_repeat(rgb, notes):
     less than two; a lag of ``_structure.REPEAT_CANDIDATE`` there is a candidate, its repeat falling between
     the preview's pixels) and confirmed on the photo's luma at the best whole lag within a preview pixel of
     it."""
-    from ._structure import REPEAT_CANDIDATE, REPEAT_EXACT, repeat_cell, structure_period
+    from ._structure import REPEAT_CANDIDATE, REPEAT_EXACT, lag_correlation, repeat_cell, structure_period
 
     h, w = rgb.shape[:2]
     step = min(h, w) / min(min(h, w), REPEAT_PREVIEW)
@@ -317,7 +304,7 @@ def _one_repeat(rgb, notes):
                 continue
             near = [k for k in range(math.floor((lag - 0.5) * step) - 1, math.ceil((lag + 0.5) * step) + 2)
                     if 1 <= k <= rgb.shape[axis] // 2]
-            found.append(max(((k, _lag_correlation(level, axis, k)) for k in near), key=lambda kc: kc[1]))
+            found.append(max(((k, lag_correlation(level, axis, k)) for k in near), key=lambda kc: kc[1]))
         if any(c is not None and c < REPEAT_EXACT for _, c in found):
             return None
         lags, scores = tuple(k for k, _ in found), tuple(c for _, c in found)

@@ -260,6 +260,21 @@ def _shift_correlation(image, axis):
     return products / np.sqrt(np.maximum(head * tail, 1e-30))
 
 
+def lag_correlation(level, axis, lag):
+    """The correlation of ``level`` (a 2-D array, mean removed) with itself shifted by ``lag`` whole pixels
+    along ``axis``, over the overlap: :func:`_shift_correlation`'s value at one lag, summed directly in blocks of
+    rows, so that a large photo needs no copy of itself (the FFT reads every lag of a preview; this, a few of
+    the photo's own)."""
+    x = level if axis == 0 else level.T
+    n = x.shape[0]
+    ab = aa = bb = 0.0
+    for r in range(0, n - lag, 256):
+        a = x[r:min(r + 256, n - lag)].astype(np.float64)
+        b = x[r + lag:min(r + 256, n - lag) + lag].astype(np.float64)
+        ab, aa, bb = ab + float(np.sum(a * b)), aa + float(np.sum(a * a)), bb + float(np.sum(b * b))
+    return ab / max(math.sqrt(aa * bb), 1e-30)
+
+
 def repeat_cell(image, *, min_lag: int = 4, threshold: float | None = None):
     """The photo's exact repeat along each axis: ``((lag_y, lag_x), (corr_y, corr_x))``, a lag None where the
     photo does not repeat along that axis.
