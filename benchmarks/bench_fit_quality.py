@@ -39,6 +39,9 @@ near render reduced 8 x 8: the peers hold nothing coarser than the photo). Colum
 * ``cells``: :func:`spectex.metrics.cell_splits` ratio of the near render to the photo as the fit reads
   it (structured photos): about 1, bricks and floor tiles as uniform as the photo's; clearly above,
   cells made of two (patch boundaries across them);
+* ``short``: :func:`spectex.metrics.short_cells` of the near render, percent of its bricks or floor
+  tiles under 0.6 of the photo's median cell (``short own`` in the header: the photo's own); clearly
+  above the photo's, cells cut short where patches meet;
 * ``copies``: :func:`spectex.metrics.coarse_copies` of the far view: the best correlation
   with the photo magnified 2-256 times, ``*`` where it is over the photo's own (in the header);
 * ``1off``: :func:`spectex.metrics.one_off_repeats` of the near render: copies per photo area of
@@ -186,10 +189,20 @@ def _measure(photo, near, far, period=None, straight=None, prepared=None):
             "rs photo": _content_repeat(photo if straight is None else straight, period),
             "breaks": metrics.line_breaks(near, photo).ratio if period is not None else float("nan"),
             "cells": _cells(near, photo if straight is None else straight, period),
+            "short": _short(near, photo if straight is None else straight, period),
             "one-off": metrics.one_off_repeats(near, photo).per_photo_area,
             "blotches": metrics.lighting_blotches(near, photo),
             "grain": metrics.scale_blotches(near, photo),
             "groups": s1.group_ratios}
+
+
+def _short(near, reference, period):
+    """:func:`spectex.metrics.short_cells` of the near render and of the photo as the fit reads it, percent:
+    ``(image, photo)``; nan without a structure or where either shows no separate cells."""
+    from spectex import metrics
+
+    found = None if period is None else metrics.short_cells(near, reference, period=period)
+    return (float("nan"),) * 2 if found is None else (100 * found.image, 100 * found.reference)
 
 
 def _cells(near, reference, period):
@@ -265,7 +278,8 @@ def main(argv=None) -> int:
         sets = [(n, p[:256, :256]) for n, p in sets]
     rows = []
     header = f"{'photo':11s} {'method':9s} {'s 1x':>5s} {'s near':>6s} {'clip%':>6s} {'rp near':>7s} {'rp far':>6s} " \
-             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'copies':>7s} {'1off':>5s} {'blot':>6s} " \
+             f"{'rs near':>7s} {'rs far':>6s} {'brk':>5s} {'cells':>5s} {'short':>5s} {'copies':>7s} {'1off':>5s} " \
+             f"{'blot':>6s} " \
              f"{'grain':>6s} {'s':>6s}"
     print(header)
     means = {m: [] for m in methods}
@@ -291,11 +305,12 @@ def main(argv=None) -> int:
                 print(f"{name:11s} (photo: clip {r['clip photo']:.1f}%, copies own {r['copies photo']:.2f}, "
                       f"rp own {metrics_rp(photo):.3f}"
                       + ("" if straight is photo else f" ({metrics_rp(straight):.3f} as the fit reads it)")
-                      + f", structure period {period}, rs own {r['rs photo']:.3f})")
+                      + f", structure period {period}, rs own {r['rs photo']:.3f}, short own {r['short'][1]:.0f}%)")
                 first = False
             flag = "*" if r["copies flag"] else " "
             print(f"{'':11s} {m:9s} {r['s 1x']:5.2f} {r['s near']:6.2f} {r['clip']:6.1f} {r['rp near']:7.3f} "
                   f"{r['rp far']:6.3f} {r['rs near']:7.3f} {r['rs far']:6.3f} {r['breaks']:5.2f} {r['cells']:5.2f} "
+                  f"{r['short'][0]:5.0f} "
                   f"{r['copies']:6.2f}{flag} {r['one-off']:5.2f} {r['blotches'].excess:5.3f}"
                   f"{' ' if r['blotches'].within else '*'} {r['grain'].excess:5.3f}"
                   f"{' ' if r['grain'].within else '*'}"

@@ -114,6 +114,7 @@ __all__ = [
     "lines_or_none",
     "LineContinuity",
     "cell_splits",
+    "short_cells",
     "CellSplits",
 ]
 
@@ -881,8 +882,10 @@ class CellSplits(AsDict):
     cells_reference: int
 
 
-def _cell_split(image, period):
-    """``(score, cells)`` of :func:`cell_splits` for one image, or None where it shows no separate cells."""
+def _cell_components(image, period):
+    """The whole cells of one image (:func:`cell_splits`): ``(rgb, labels, count, ok)`` with ``ok`` (count + 1,)
+    True for the components not touching the border and of 16 pixels or more; None where it shows no separate
+    cells."""
     from scipy import ndimage
 
     rgb = _channels(image).astype(np.float64)
@@ -913,6 +916,18 @@ def _cell_split(image, period):
     ok &= areas >= 16
     if ok.sum() < MIN_CELLS:
         return None
+    return rgb, labels, count, ok
+
+
+def _cell_split(image, period):
+    """``(score, cells)`` of :func:`cell_splits` for one image, or None where it shows no separate cells."""
+    from scipy import ndimage
+
+    found = _cell_components(image, period)
+    if found is None:
+        return None
+    rgb, labels, count, ok = found
+    areas = np.bincount(labels.ravel(), minlength=count + 1).astype(np.float64)
     ok &= areas >= 0.25 * np.median(areas[ok])
     ids = np.flatnonzero(ok)
     if ids.size < MIN_CELLS:
@@ -1002,6 +1017,108 @@ def cell_splits(image, reference, *, period) -> CellSplits | None:
                       cells_reference=own[1])
 
 
+#: A cell (brick, floor tile) is short when its area is under this share of the reference's median cell's
+#: (:func:`short_cells`): a brick cut to 60% of its length where patches meet.
+SHORT_CELL = 0.6
+#: Components under this share of the reference's median cell's area are specks of the cells' colour in the
+#: grout, not cells (:func:`short_cells`).
+SHORT_CELL_FLOOR = 0.1
+
+
+@dataclass(frozen=True, eq=False)
+class ShortCells(AsDict):
+    """Cells (bricks, floor tiles) cut short, against a reference's (:func:`short_cells`).
+
+    Attributes
+    ----------
+    image, reference : float
+        Each one's share of its whole cells whose area is under
+        ``SHORT_CELL`` of the reference's median cell's (the median by
+        area: half the reference's cell area lies in larger cells).
+    excess : float
+        ``image - reference``: about 0 is as many short cells as the
+        reference has (a wall's own half bricks); clearly above, cells cut
+        where patches meet.
+    cells_image, cells_reference : int
+        The whole cells counted in each.
+    """
+
+    image: float
+    reference: float
+    excess: float
+    cells_image: int
+    cells_reference: int
+
+
+def short_cells(image, reference, *, period) -> ShortCells | None:
+    """Bricks or floor tiles cut short: the share of the image's cells much smaller than the reference's.
+
+    The cells are found on each image as :func:`cell_splits` finds them
+    (the thinner of two colour classes is the grout; the other's connected
+    components not touching the border are the cells). A cell is short
+    when its area is under ``SHORT_CELL`` of the reference's median cell's
+    (weighted by area, so that specks do not move it);
+    components under ``SHORT_CELL_FLOOR`` of it are specks, not cells. A
+    wall drawn from patches that change at the wrong place shows bricks a
+    third or half as long as the photo's, which the colour measures and
+    :func:`cell_splits` (cells of one colour, whatever their length) do not
+    see.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W) or (H, W, C)
+        The texture judged, e.g. a bake at the reference's pixel size.
+    reference : ndarray, shape (h, w) or (h, w, C)
+        The photo (square-on, as a fit reads it).
+    period : (py, px) or None
+        The reference's structure period in pixels (either None where it has
+        none along that axis).
+
+    Returns
+    -------
+    ShortCells or None
+        None where there is no structure (``period``), either image shows
+        no separate cells (:func:`cell_splits`) or the reference no cell
+        its frame does not cut.
+    """
+    image = check_image("image", image)
+    reference = check_image("reference", reference)
+    if period is not None:
+        if not isinstance(period, (tuple, list)) or len(period) != 2:
+            raise ValueError(f"period must be None or a pair (py, px), got {period!r}")
+        period = tuple(None if p is None else check_float("period", p, minimum=2.0) for p in period)
+    if period is None or period == (None, None):
+        return None
+    mine = _cell_components(image, period)
+    own = _cell_components(reference, period)
+    if mine is None or own is None:
+        return None
+
+    def areas(found):
+        _, labels, count, ok = found
+        ok = ok.copy()
+        # cells the frame cuts (the erosion leaves them a pixel short of the border) are not short
+        frame = np.concatenate([labels[:2].ravel(), labels[-2:].ravel(), labels[:, :2].ravel(),
+                                labels[:, -2:].ravel()])
+        ok[np.unique(frame)] = False
+        return np.bincount(labels.ravel(), minlength=count + 1)[ok].astype(np.float64)
+
+    ref_areas = np.sort(areas(own))
+    if ref_areas.size == 0:  # every cell of the reference cut by its frame
+        return None
+    # the area-weighted median: the cell size half of the reference's cell area lies in (specks, many and
+    # small, move a plain median far down)
+    weight = np.cumsum(ref_areas)
+    median = float(ref_areas[np.searchsorted(weight, 0.5 * weight[-1])])
+    shares = []
+    for a in (areas(mine), ref_areas):
+        cells = a[a >= SHORT_CELL_FLOOR * median]
+        shares.append((float(np.mean(cells < SHORT_CELL * median)) if cells.size else 0.0, int(cells.size)))
+    (mine_share, n_mine), (own_share, n_own) = shares
+    return ShortCells(image=mine_share, reference=own_share, excess=mine_share - own_share, cells_image=n_mine,
+                      cells_reference=n_own)
+
+
 # --------------------------------------------------------------------------
 # Everything at once
 # --------------------------------------------------------------------------
@@ -1050,6 +1167,10 @@ class Comparison(AsDict):
         With the reference's structure ``period``: :func:`cell_splits`, its
         bricks or floor tiles changing colour partway across (None without a
         period or where either image shows no separate cells).
+    short : ShortCells or None
+        With the reference's structure ``period``: :func:`short_cells`, its
+        bricks or floor tiles cut short against the reference's own (None
+        without a period or where either image shows no separate cells).
     lines : LineContinuity or None
         With a ``period`` along one axis only (boards side by side, columns
         or courses of bricks): :func:`line_continuity` of the lines along the
@@ -1091,6 +1212,7 @@ class Comparison(AsDict):
     lighting: LightingBlotches | None = None
     scale: ScaleBlotches | None = None
     lines: LineContinuity | None = None
+    short: ShortCells | None = None
 
 
 def _scale_or_none(image, reference, zoom):
@@ -1198,6 +1320,7 @@ def compare(image, *, reference, block: int | None = None, overlap: int = 0,
         structure=_structure_or_none(image, reference), clipping=clipping(image, reference),
         coarse=coarse_copies(image, reference, zoom=zoom) if zoom is not None else None,
         cells=cell_splits(image, reference, period=period) if period is not None else None,
+        short=short_cells(image, reference, period=period) if period is not None else None,
         one_off=_one_off_or_none(image, reference, zoom), lighting=_lighting_or_none(image, reference, zoom),
         scale=_scale_or_none(image, reference, zoom), lines=lines_or_none(image, reference, period))
 

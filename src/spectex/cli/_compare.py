@@ -150,6 +150,22 @@ def _print_structure(st, num) -> None:
     print("  per group (x floor)      " + "  ".join(f"{g} {num(v, '{:.2f}')}" for g, v in st.group_ratios.items()))
 
 
+def _print_cells(r, num) -> None:
+    """The cell measures' lines of :func:`_print_table` (a structured reference's bricks or floor tiles)."""
+    from spectex import metrics
+
+    if r.cells is not None:
+        k = r.cells
+        print(f"cells split image / ref.   {num(k.image, '{:.2f}')} / {num(k.reference, '{:.2f}')} = "
+              f"{num(k.ratio, '{:.2f}')}x   (bricks, floor tiles changing colour partway across; about 1 is "
+              "the reference's own)")
+    if r.short is not None:
+        k = r.short
+        print(f"cells cut short image / ref. {100 * k.image:.0f}% / {100 * k.reference:.0f}%   (bricks, floor tiles "
+              f"under {metrics.SHORT_CELL:g} of the reference's median cell; {k.cells_image} / {k.cells_reference} "
+              "cells)")
+
+
 def _print_table(r, image, reference) -> None:
     import math
 
@@ -185,11 +201,7 @@ def _print_table(r, image, reference) -> None:
         k = r.coarse
         print(f"magnified copies (zoom {k.zoom:g})  {num(k.value, '{:.3f}')} (reference's own "
               f"{num(k.reference, '{:.3f}')}): " + ("none found" if k.within else "FOUND, the reference magnified"))
-    if r.cells is not None:
-        k = r.cells
-        print(f"cells split image / ref.   {num(k.image, '{:.2f}')} / {num(k.reference, '{:.2f}')} = "
-              f"{num(k.ratio, '{:.2f}')}x   (bricks, floor tiles changing colour partway across; about 1 is "
-              "the reference's own)")
+    _print_cells(r, num)
     if r.lines is not None:
         k = r.lines
         print(f"lines kept image / ref.    {k.image:.2f} / {k.reference:.2f} = {k.ratio:.2f}x   (edges along "

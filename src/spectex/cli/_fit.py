@@ -308,6 +308,10 @@ def _structure_line(numbers, evened=None, levelled=None, resampled=None, copy=Fa
     if getattr(numbers, "cells", None) is not None:
         line += (f"; bricks or tiles changing colour partway across {numbers.cells.ratio:.2f}x the photo's own "
                  f"({numbers.cells.cells_image} cells)")
+    short = getattr(numbers, "short", None)
+    if short is not None:
+        line += (f"; bricks or tiles cut short {100 * short.image:.0f}% of {short.cells_image} cells (photo "
+                 f"{100 * short.reference:.0f}%)")
     if getattr(numbers, "lines", None) is not None:
         line += (f"; lines along {'y' if numbers.lines.axis == 0 else 'x'} holding their places "
                  f"{numbers.lines.ratio:.2f}x the photo's own (under 0.9: they end and go on aside)")

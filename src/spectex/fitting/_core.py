@@ -753,6 +753,9 @@ class FitReport(AsDict):
     #: :func:`spectex.metrics.line_continuity` of the bake against an exemplar structured along one axis (boards'
     #: edges holding their places: about 1 or above is the photo's own; None otherwise)
     lines: object = None
+    #: :func:`spectex.metrics.short_cells` of the bake against a structured exemplar (bricks, floor tiles cut
+    #: short: the share of cells under 0.6 of the photo's median, beside the photo's own; None otherwise)
+    short: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -905,7 +908,7 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
                       histogram_w1=histogram_w1(exemplar, bake), clipping=clipping(bake, exemplar),
                       one_off=_one_off(bake, exemplar), lighting=_lighting(bake, exemplar),
                       scale=_scale(bake, exemplar))
-        others["cells"], others["lines"] = _cells(bake, exemplar)
+        others["cells"], others["lines"], others["short"] = _cells(bake, exemplar)
         coarse = None if coarse is None else coarse.result()
     return FitReport(
         bake_shape=tuple(bake.shape[:2]),
@@ -922,17 +925,19 @@ def fit_report(texture, image, *, pixel_size: float = 1.0, origin=(0.0, 0.0), sc
 
 
 def _cells(bake, exemplar):
-    """``(cells, lines)``: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar and, for
-    a structure along one axis, :func:`spectex.metrics.line_continuity`; None where they do not apply."""
-    from ..metrics import cell_splits, lines_or_none
+    """``(cells, lines, short)``: :func:`spectex.metrics.cell_splits` of the bake against a structured exemplar,
+    for a structure along one axis :func:`spectex.metrics.line_continuity`, and
+    :func:`spectex.metrics.short_cells`; None where they do not apply."""
+    from ..metrics import cell_splits, lines_or_none, short_cells
     from ._structure import structure_period
 
     if exemplar.ndim != 3 or min(exemplar.shape[:2]) < 64 or structure_peak(exemplar) < STRUCTURED_PEAK:
-        return None, None
+        return None, None, None
     period = structure_period(exemplar)
     if period == (None, None):
-        return None, None
-    return cell_splits(bake, exemplar, period=period), lines_or_none(bake, exemplar, period)
+        return None, None, None
+    return (cell_splits(bake, exemplar, period=period), lines_or_none(bake, exemplar, period),
+            short_cells(bake, exemplar, period=period))
 
 
 def _lighting(bake, exemplar):
