@@ -1,6 +1,8 @@
 """Courses of boards or bricks snapped along one axis change patch at their joints (issue 22): the course map,
 the samplers (CPU and GL), the fit's period tile with a joint at its wrap edge, and a fitted floor of planks."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -9,16 +11,19 @@ from helpers import SIZE, VIEWS, assert_gl_matches_cpu, fast_path_against_genera
 JOINT = 0.08  # the joints' and the grout's grey
 
 
-def _planks(n=256, course=32, rng=4, grain=0.0, shift=0):
+def _planks(n=256, course=32, rng=4, grain=0.0, shift=0, heights=None):
     """A seamless floor of boards: ``n // course`` courses along x, each ``course`` texels high with a dark
     grout line 3 texels wide at its top, its boards of random lengths (40 to 120 texels, on the torus) ended by
     dark joints 2 texels wide, each board one flat colour (plus ``grain``). Returns the RGB tile, per texel its
     board's index (-1 in grout and joints) and the boards' colours. ``shift``: the courses start this many
-    texels down (the grout off the tile's edge)."""
+    texels down (the grout off the tile's edge). ``heights``: courses of these heights instead (adding up to
+    ``n``: a wall of courses of their own heights)."""
     gen = np.random.default_rng(rng)
     board = np.full((n, n), -1, np.int64)
     colours = []
-    for c in range(n // course):
+    heights = [course] * (n // course) if heights is None else list(heights)
+    tops = np.concatenate([[0], np.cumsum(heights)])
+    for c in range(len(heights)):
         x = int(gen.integers(0, n))
         cuts = [x]
         while True:
@@ -30,7 +35,7 @@ def _planks(n=256, course=32, rng=4, grain=0.0, shift=0):
         for k, a in enumerate(cuts):
             b = cuts[k + 1] if k + 1 < len(cuts) else cuts[0] + n
             cols = np.arange(a + 2, b) % n  # the joint: its first 2 texels
-            rows = (np.arange(c * course + 3, (c + 1) * course) + shift) % n
+            rows = (np.arange(tops[c] + 3, tops[c + 1]) + shift) % n
             board[np.ix_(rows, cols)] = len(colours)
             colours.append(gen.uniform(0.3, 0.9, 3))
     colours = np.array(colours)
@@ -116,6 +121,36 @@ def test_course_map_reads_every_board_from_joint_to_joint():
     assert np.all(cells[:, :, 3] == cells[0, 0, 3]) and 100 <= cells[0, 0, 3] <= 160
     # columns (snapped along x): the same map turned
     turned = course_map(np.ascontiguousarray(tile.transpose(1, 0, 2)), (8, 0))
+    assert np.array_equal(turned, cells.transpose(1, 0, 2))
+
+
+HEIGHTS = (24, 48, 32, 56, 40, 56)  # a wall of courses of their own heights (adding up to 256)
+
+
+def test_course_map_reads_courses_of_their_own_heights():
+    """Snapped one period across (``(0, 1)``: each patch offset along its courses only), the map reads each
+    course between its own grout lines, whatever its height; folded into courses of one height (the
+    control, ``(0, 6)``: six courses a tile) the grout falls into no single run and there is no map."""
+    from spectex.shading._cells import cell_map, course_map
+
+    tile, board, _ = _planks(shift=5, heights=HEIGHTS)
+    cells = cell_map(tile, (0, 1))
+    assert cells is not None and cells.shape == (256, 256, 4)
+    tops = 5 + np.concatenate([[0], np.cumsum(HEIGHTS)[:-1]])
+    centre = np.arange(256) + 0.5 + cells[:, 0, 2]  # each line's course's centre line
+    for top, height in zip(tops, HEIGHTS):
+        lines = (np.arange(top + 3, top + height)) % 256  # the course's lines below its grout
+        # the centre between the grout lines' centres (1.5 texels into each)
+        off = (centre[lines] - (top + 1.5 + height / 2.0) + 128.0) % 256.0 - 128.0  # on the torus
+        assert np.all(np.abs(off) <= 0.5), (top, centre[lines])
+    xx = np.arange(256)
+    for y in (10, 40, 100, 200):
+        a = cells[y, :, 0]
+        for k in np.unique(board[y][board[y] >= 0]):
+            on = xx[board[y] == k]
+            assert len(np.unique((on + a[on]) % 256)) == 1, (y, k)
+    assert course_map(tile, (0, 6)) is None
+    turned = course_map(np.ascontiguousarray(tile.transpose(1, 0, 2)), (1, 0))
     assert np.array_equal(turned, cells.transpose(1, 0, 2))
 
 
@@ -213,19 +248,21 @@ def test_aligned_segments_change_patch_where_both_patches_start_a_board():
     assert 0.4 <= clean <= 0.7, clean
 
 
-def test_courses_cpu_fast_path_matches_the_general_sampler():
-    fast, general = fast_path_against_general(_texture(_planks(grain=0.02)[0], (0, 8)))
+@pytest.mark.parametrize("snap", [(0, 8), (0, 1)])
+def test_courses_cpu_fast_path_matches_the_general_sampler(snap):
+    tile = _planks(grain=0.02, heights=None if snap[1] > 1 else HEIGHTS)[0]
+    fast, general = fast_path_against_general(_texture(tile, snap))
     diff = np.abs(fast - general)
     assert np.mean(diff.max(axis=2) > 1e-5) <= 0.005 and diff.mean() <= 1e-3, (np.mean(diff > 1e-5), diff.mean())
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("snap", [(0, 8), (8, 0)])
+@pytest.mark.parametrize("snap", [(0, 8), (8, 0), (0, 1), (1, 0)])
 def test_gl_matches_cpu_on_courses(gl, snap, monkeypatch):
     from spectex.render.cpu import render_cpu
     from spectex.shading import _cells, resources
 
-    tile = _planks(grain=0.02)[0]
+    tile = _planks(grain=0.02, heights=None if max(snap) > 1 else HEIGHTS)[0]
     if snap[1] == 0:
         tile = np.ascontiguousarray(tile.transpose(1, 0, 2))
     tex = _texture(tile, snap)
@@ -349,6 +386,72 @@ def test_fit_of_a_running_bond_with_few_bricks_across_cuts_each_row_at_its_joint
     control, pairs = fitted()
     assert control.params["courses"] is False
     assert rows <= 0.5 and pairs >= rows + 0.6, (rows, pairs)
+
+
+@pytest.mark.slow
+def test_fit_of_a_wall_few_bricks_across_takes_a_side_its_courses_wrap_at_their_joints(monkeypatch):
+    """A wall of bricks of random lengths (75-225 px) in a 512-pixel photo, rows of 85.3: at the largest tile
+    side (5 rows, 425 texels) some course has no stretch of the photo joint to joint that long, so its wrap edge
+    falls inside a brick and gets a joint there, two short bricks a course in every patch. The fit takes the
+    side at which every course wraps at its own joints (3 rows here): fewer bricks cut short in its bakes
+    (short_cells 0.28-0.33 against 0.35-0.57 at three places; the photo's own 0.23); the control is the side
+    chosen as before."""
+    from spectex.bake._block import bake_window
+    from spectex.fitting import _auto, fit_result, structure_period
+    from spectex.metrics import short_cells
+    from test_snap import subpixel_wall
+
+    photo = subpixel_wall(512, brick=150.0, row=85.3, mortar=4.0, rng=0, random_length=True)
+    period = structure_period(photo)
+    assert period[1] is None and abs(period[0] - 85.3) <= 0.2, period
+
+    def fitted():
+        result = fit_result(photo)
+        shares = [short_cells(bake_window(result.texture, (0, 768, 0, 768), pixel_size=result.pixel_size,
+                                          origin=o), photo, period=period)
+                  for o in ((17.3, 5.1), (0.0, 0.0), (3.3, 9.1))]
+        return result, float(np.mean([s.image for s in shares])), shares[0].reference
+
+    every = re.compile(r"\b(\d+) of its \1 courses cut at their own joints")
+    result, short, own = fitted()
+    assert every.search(result.params["tile_method"]), result.params["tile_method"]
+    monkeypatch.setattr(_auto, "_joint_side", lambda found, pick, joints: pick)
+    control, before, _ = fitted()
+    assert control.params["tile_px"] > result.params["tile_px"]
+    assert not every.search(control.params["tile_method"]), control.params["tile_method"]
+    assert short <= before - 0.1 and short <= own + 0.12, (short, before, own)
+
+
+@pytest.mark.slow
+def test_fit_of_a_wall_of_courses_of_their_own_heights_keeps_its_stones_whole(monkeypatch):
+    """Coursed ashlar: courses 30 to 60 pixels high, stones of random lengths. Its rows read a period of 30 (the
+    short courses), and drawn snapped to it, patches cut the tall stones through and cross-fade stones of two
+    courses (the control: structure / floor 1.25-1.35 at three places). Read as a wall of courses of their own
+    heights, the tile runs from one grout line to another and each patch is offset along the courses only:
+    1.01-1.10, every stone of the photo's height."""
+    from spectex.bake._block import bake_window
+    from spectex.fitting import _auto, fit_result
+    from spectex.metrics import structural_distance
+
+    heights = (30, 60, 30, 30, 60, 45, 30, 60, 39)
+    photo = _planks(n=384, heights=heights, rng=7, grain=0.03)[0]
+
+    def fitted():
+        result = fit_result(photo)
+        ratios = [structural_distance(bake_window(result.texture, (0, 768, 0, 768), pixel_size=result.pixel_size,
+                                                  origin=o), photo).ratio
+                  for o in ((17.3, 5.1), (0.0, 0.0), (3.3, 9.1))]
+        return result, float(np.mean(ratios))
+
+    result, coursed = fitted()
+    assert result.params["tile_method"].startswith("a wall of courses of their own heights"), \
+        result.params["tile_method"]
+    assert result.params["snap"] == (0, 1) and result.params["courses"] is True
+    assert result.params["trial"]["choice"] == "coursed"
+    monkeypatch.setattr(_auto, "_coursed_way", lambda exemplar: None)
+    control, before = fitted()
+    assert control.params["snap"] != (0, 1) and "coursed" not in control.params["trial"]
+    assert coursed <= 1.15 and coursed <= before - 0.15, (coursed, before)
 
 
 @pytest.mark.slow

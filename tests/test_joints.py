@@ -139,7 +139,7 @@ def test_period_tile_without_joints_is_the_straight_cut(monkeypatch):
 
 
 def test_strip_segments_prefer_one_stretch_then_two_that_share_no_brick_then_copies_far_apart():
-    from spectex.fitting._auto import _strip_segments
+    from spectex.fitting._joints import _strip_segments
 
     # one stretch: joints 10 and 110 for a side of 102 (2% stretch)
     assert _strip_segments([10.0, 60.0, 110.0, 200.0], 102) == [(10.0, 110.0)]
@@ -157,7 +157,7 @@ def test_strip_segments_prefer_one_stretch_then_two_that_share_no_brick_then_cop
 
 
 def test_strip_joints_are_thin_runs_of_mortar_off_the_photos_ends():
-    from spectex.fitting._auto import _strip_joints
+    from spectex.fitting._joints import _strip_joints
 
     profile = np.zeros(60)
     profile[0:3] = 1.0  # touches the photo's top: it may be cut, no joint

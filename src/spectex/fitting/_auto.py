@@ -65,6 +65,7 @@ from ._core import (
     finest_tile,
     structure_peak,
 )
+from ._joints import _strip_joints, _strip_segments, coursed_tile, wall_courses
 from ._structure import MIN_LINE_COHERENCE, orientation_vote, structure_orientation, structure_period
 
 #: The photo's assumed width (its longer side), metres, when neither ``pixel_size`` nor
@@ -93,12 +94,10 @@ DESIGN_HOLD = 1.5
 #: The orientation of a structured photo's halves (left and right, top and bottom) differing by more than
 #: this (degrees) says the photo is in perspective (its lines fan out).
 PERSPECTIVE_DRIFT = 1.5
-#: Most stretch of a strip's stretch of the photo, joint to joint, to the period tile's side (:func:`_strip_cuts`:
-#: a photo with a period along one axis only, its strips cut at their own joints); a strip with no pair of joints
-#: that close keeps the straight cut.
-JOINT_STRETCH = 0.1
-#: A strip with more joints than this (its thin runs of the grout's colour) is not taken as bricks in mortar.
-MAX_JOINTS = 32
+#: A photo with a period along one axis only may take a tile side down to this share of the largest where
+#: every one of its strips can then be cut at its own joints (:func:`_tile_counts`; the least stretch decides
+#: among sides of at least 70% of the largest otherwise).
+JOINT_SIDE_SHARE = 0.5
 #: Stretch a whole texel period along the tile's second axis may add before a fractional one is taken.
 PERIOD_FRACTION_COST = 0.02
 #: A structured photo's finest layer is the period-cut tile drawn stochastically with its offsets
@@ -345,7 +344,7 @@ def _best_cut(lines, span, period=None):
     return int(np.argmin(costs))
 
 
-def _tile_counts(h, w, period):
+def _tile_counts(h, w, period, joints=None):
     """The period tile's side and counts: ``(L, (qy, qx), (ky, kx))`` or None.
 
     ``L`` texels hold ``kx`` periods of ``qx`` whole texels along x and
@@ -358,6 +357,12 @@ def _tile_counts(h, w, period):
     whole would put the snapped offsets, whole texels, up to a texel off per
     period). Among the sides whose source crop fits the photo and that are
     at least 70% of the largest, the least stretch wins.
+
+    ``joints`` (a period along one axis only): the joints of the photo's
+    strips (:func:`_photo_strip_joints`); where some strip cannot be cut
+    at its own joints (:func:`_strip_segments`) at the side above, a side
+    at least ``JOINT_SIDE_SHARE`` of the largest at which every strip can
+    is taken (the least stretch among them, the larger when equal).
     """
     py, px = period
     strict = "x" if px is not None else "y"
@@ -396,10 +401,31 @@ def _tile_counts(h, w, period):
         return None
     # the least stretch among the sides within 70% of the largest (the larger when equal)
     largest = found[0][0]
-    side, ((ky, qy, sy), (kx, qx, sx)) = min(
-        (f for f in found if f[0] >= 0.7 * largest),
-        key=lambda f: (round(max(abs(f[1][0][2] - 1.0), abs(f[1][1][2] - 1.0)), 3), -f[0]))
+    pick = _joint_side(found, min((f for f in found if f[0] >= 0.7 * largest), key=_stretch_order), joints)
+    side, ((ky, qy, sy), (kx, qx, sx)) = pick
     return side, (qy, qx), (ky, kx), (sy, sx)
+
+
+def _stretch_order(found):
+    """The order of :func:`_tile_counts`'s sides: the least stretch (to a thousandth), then the larger side."""
+    side, ((_, _, sy), (_, _, sx)) = found
+    return round(max(abs(sy - 1.0), abs(sx - 1.0)), 3), -side
+
+
+def _joint_side(found, pick, joints):
+    """:func:`_tile_counts`'s choice for a period along one axis only: ``pick``, or where some strip cannot be
+    cut at its own joints (``joints``, per strip) at its side, the side of ``found`` (at least
+    ``JOINT_SIDE_SHARE`` of the largest) at which every strip can, first by :func:`_stretch_order`. A wall 3
+    bricks across: 2.5 bricks a course leave a half brick at every wrap edge, 2 bricks none. ``pick`` where
+    ``joints`` is None or empty."""
+
+    def whole(f):
+        return all(_strip_segments(j, f[0]) is not None for j in joints)
+
+    if not joints or whole(pick):
+        return pick
+    every = [f for f in found if f[0] >= JOINT_SIDE_SHARE * found[0][0] and whole(f)]
+    return min(every, key=_stretch_order) if every else pick
 
 
 def _period_tile(exemplar, period, words=None):
@@ -422,7 +448,8 @@ def _period_tile(exemplar, period, words=None):
     h, w = exemplar.shape[:2]
     if period[0] is None and period[1] is None:
         return None
-    found = _tile_counts(h, w, period)
+    one_axis = (period[0] is None) != (period[1] is None)
+    found = _tile_counts(h, w, period, _photo_strip_joints(exemplar, period) if one_axis else None)
     if found is None:
         return None
     side, (qy, qx), (ky, kx), (sy, sx) = found
@@ -455,68 +482,54 @@ def _period_tile(exemplar, period, words=None):
     return tile, side, (ky, kx), (qy, qx), float(sx if period[1] is not None else sy)
 
 
-def _strip_joints(profile, width):
-    """The joints along one strip: the centres (sub-pixel) of its runs of mortar, or an empty list.
+def _strip_layout(photo, period):
+    """The strips of a photo with a period along x only (:func:`_strip_cuts`): ``(grout, level, centre, width,
+    strip_of)`` or None where no grout is found.
 
-    ``profile`` (n,): per line along the strip, how much its colour is the
-    grout's (0: the bricks' mean colour, 1: the grout's); a joint is a run of
-    lines over 0.5, at most ``width`` lines long (thin: a run longer is a
-    light brick, not mortar) and not touching the photo's ends (where it may
-    be cut); its centre is the run's centroid weighted by the excess over 0.5.
+    ``grout`` (w,) bool: the columns of the grout's colour class (:func:`_grout_lines`); ``level`` (h, w): how
+    much each pixel's colour is the grout's (0 at the bricks' mean colour, 1 at the grout's); ``centre``: the
+    grout lines' centre's phase (pixels) in the period; ``width``: the most lines a joint spans; ``strip_of``
+    (w,): each column's strip (between the grout lines' centres).
     """
-    n = profile.shape[0]
-    above = np.concatenate([[False], profile > 0.5, [False]])
-    edges = np.flatnonzero(np.diff(above.astype(np.int8)))
-    joints = []
-    for start, stop in zip(edges[::2], edges[1::2]):
-        if start == 0 or stop == n or stop - start > width:
-            continue
-        weights = profile[start:stop] - 0.5
-        joints.append(float(np.sum(np.arange(start, stop) * weights) / np.sum(weights)))
-    return joints
-
-
-def _strip_segments(joints, side):
-    """The stretches of a strip, joint to joint, that one strip of the tile reads in turn: ``[(a, b), ...]``
-    or None.
-
-    One stretch ``(a, b)`` (two of ``joints``) whose length is closest to
-    ``side``, if within ``JOINT_STRETCH`` of it; else two, one after the
-    other, whose lengths add up to it within ``JOINT_STRETCH``: those that
-    share no brick first, then those whose shared bricks' two copies lie
-    furthest apart along the strip (taken as a loop), at least a third of
-    its length (a strip with too few whole bricks in the photo for the
-    tile's side shows one of its bricks twice, far apart, rather than a
-    brick made of two, or one brick twice in a row), then the least
-    stretch; None where none is.
-    """
-    if len(joints) < 2 or len(joints) > MAX_JOINTS:
+    h, w = photo.shape[:2]
+    photo = photo.astype(np.float64)
+    grout = _grout_lines(np.moveaxis(photo, 1, 0), period)
+    if grout is None or grout.all() or not grout.any():
         return None
-    j = np.asarray(joints, dtype=np.float64)
-    k, m = np.triu_indices(j.size, 1)
-    a, b = j[k], j[m]  # every stretch, joint to joint
-    stretch = np.abs(side / (b - a) - 1.0)
-    best = int(np.argmin(stretch))
-    if stretch[best] <= JOINT_STRETCH:
-        return [(float(a[best]), float(b[best]))]
-    # two stretches p and q (every unordered pair of them, p first), q read after p
-    p, q = np.meshgrid(np.arange(a.size), np.arange(a.size), indexing="ij")
-    p, q = p.ravel(), q.ravel()
-    order = (a[p] < a[q]) | ((a[p] == a[q]) & (b[p] < b[q]))
-    p, q = p[order], q[order]
-    total = (b[p] - a[p]) + (b[q] - a[q])
-    stretch = np.abs(side / total - 1.0)
-    shared = np.minimum(b[p], b[q]) > np.maximum(a[p], a[q])
-    # the shared stretch's first line in p's part and in q's, apart along the loop: |b_p - a_q|
-    apart = np.abs(b[p] - a[q])
-    apart = np.where(shared, np.minimum(apart, total - apart), total)
-    ok = (stretch <= JOINT_STRETCH) & (apart >= total / 3.0)
-    if not ok.any():
+    columns = photo.mean(axis=0)
+    toward = columns[grout].mean(axis=0) - columns[~grout].mean(axis=0)
+    contrast = float(toward @ toward)
+    if contrast < 1e-6:
         return None
-    p, q, stretch, shared, apart = p[ok], q[ok], stretch[ok], shared[ok], apart[ok]
-    # those sharing no brick first, then the shared copies furthest apart, then the least stretch
-    pick = np.lexsort((stretch, np.where(shared, -apart, 0.0), shared))[0]
-    return [(float(a[p[pick]]), float(b[p[pick]])), (float(a[q[pick]]), float(b[q[pick]]))]
+    # how much each pixel's colour is the grout's: 0 at the bricks' mean colour, 1 at the grout's
+    level = (photo - columns[~grout].mean(axis=0)) @ toward / contrast
+    # the strips' boundaries: the centres of the grout lines (the circular mean of the grout's phases)
+    phases = np.arange(w) % period
+    turn = np.exp(2j * np.pi * phases[grout] / period).mean()
+    centre = (np.angle(turn) / (2.0 * np.pi) * period) % period
+    # thin: a joint is at most twice as wide as the grout lines between the strips
+    width = max(2, int(math.ceil(2.0 * grout.sum() / (w / period))))
+    strip_of = np.floor((np.arange(w) - centre) / period).astype(np.int64)
+    return grout, level, centre, width, strip_of
+
+
+def _photo_strip_joints(exemplar, period):
+    """The joints of every whole strip of a photo with a period along one axis only (:func:`_strip_layout`,
+    :func:`_strip_joints`): a list of lists of positions along the strips, or None where no grout is found.
+    A period along y (courses) is the same turned."""
+    along_y = period[1] is None
+    photo = np.swapaxes(exemplar, 0, 1) if along_y else exemplar
+    p = period[0] if along_y else period[1]
+    layout = _strip_layout(photo, p)
+    if layout is None:
+        return None
+    grout, level, _, width, strip_of = layout
+    out = []
+    for s in np.unique(strip_of)[1:-1]:  # the strips the photo's sides do not cut
+        inside = (strip_of == s) & ~grout
+        if inside.sum() >= 2:
+            out.append(_strip_joints(level[:, inside].mean(axis=1), width))
+    return out
 
 
 def _strip_cuts(photo, period, x0, span_x, y0, side):
@@ -551,25 +564,10 @@ def _strip_cuts(photo, period, x0, span_x, y0, side):
     one stretch and at two, the tile's strips and the most stretch; None
     where no strip has such joints (or no grout is found).
     """
-    h, w = photo.shape[:2]
-    photo = photo.astype(np.float64)
-    grout = _grout_lines(np.moveaxis(photo, 1, 0), period)
-    if grout is None or grout.all() or not grout.any():
+    layout = _strip_layout(photo, period)
+    if layout is None:
         return None
-    columns = photo.mean(axis=0)
-    toward = columns[grout].mean(axis=0) - columns[~grout].mean(axis=0)
-    contrast = float(toward @ toward)
-    if contrast < 1e-6:
-        return None
-    # how much each pixel's colour is the grout's: 0 at the bricks' mean colour, 1 at the grout's
-    level = (photo - columns[~grout].mean(axis=0)) @ toward / contrast
-    # the strips' boundaries: the centres of the grout lines (the circular mean of the grout's phases)
-    phases = np.arange(w) % period
-    turn = np.exp(2j * np.pi * phases[grout] / period).mean()
-    centre = (np.angle(turn) / (2.0 * np.pi) * period) % period
-    # thin: a joint is at most twice as wide as the grout lines between the strips
-    width = max(2, int(math.ceil(2.0 * grout.sum() / (w / period))))
-    strip_of = np.floor((np.arange(w) - centre) / period).astype(np.int64)
+    grout, level, centre, width, strip_of = layout
     # the tile's columns in the photo, and their strips
     xs = x0 + (np.arange(side) + 0.5) * (span_x / side) - 0.5
     tile_strip = np.floor((xs - centre) / period).astype(np.int64)
@@ -1255,10 +1253,63 @@ def _copy_side(repeat, factor, shape, analysed_shape):
     return (min(cy, shape[0]), min(cx, shape[1])) if min(cy, cx) >= 48 else None  # (repeat_peak reads 48 or more)
 
 
-def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile, cell=None):
+def _coursed_way(exemplar):
+    """A wall of courses of their own heights (:func:`spectex.fitting._joints.wall_courses`): the way that draws
+    it, ``(tile, side, words, "stochastic", snap, 1.0)`` (:func:`spectex.fitting._joints.coursed_tile`, a
+    joint put at the wrap edge of each course not cut at its own joints, :func:`_joints_at_wrap`; snapped to
+    one period across its courses: each patch offset along them only), or None."""
+    found = wall_courses(exemplar)
+    if found is None:
+        return None
+    cut = coursed_tile(exemplar, found)
+    if cut is None:
+        return None
+    tile, side, (one, two, courses, most) = cut
+    axis = found[0]
+    snap = (0, 1) if axis == 0 else (1, 0)
+    heights = np.diff(found[1])
+    kind = "rows" if axis == 0 else "columns"
+    words = (f"a wall of courses of their own heights ({min(heights):.0f}-{max(heights):.0f} px; {courses} "
+             f"{kind} of stones from one grout line to another, {one + two} of them cut at their own joints ({one} "
+             f"at one stretch, {two} at two; stretched by at most {100 * most:.0f}%)), drawn stochastically with "
+             f"each patch offset along its courses only (snap {snap})")
+    return np.clip(_joints_at_wrap(tile, snap), 0.0, 1.0), side, words, "stochastic", snap, 1.0
+
+
+def _coursed_candidate(coursed):
+    """The trial's candidate (:func:`_trial`) of :func:`_coursed_way`'s way: its tile repeats across its
+    courses once a tile (the lattice its bake shows)."""
+    tile, side, _, tiling, snap, scale = coursed
+    lattice = (float(side), None) if snap[1] else (None, float(side))
+    return "coursed", tiling, tile, snap, scale, lattice
+
+
+def _unstructured_way(exemplar, pixel_size, patch, stochastic_tile, coursed, cell=None):
+    """The trial (:func:`_trial`, :func:`_choose`) of a photo without a period whose grout lines make it a wall of
+    courses of their own heights (``coursed``, :func:`_coursed_way`'s way): ``(trial, way)``, ``way`` the
+    coursed way's, or None where the stochastic one (``stochastic_tile``) is closer."""
+    from ..metrics import repeat_peak
+
+    period = (None, None)
+    ways = [("stochastic", "stochastic", stochastic_tile, (0, 0), 1.0, None), _coursed_candidate(coursed)]
+    trial = _trial(exemplar, pixel_size, ways, patch, period, along=float(coursed[1]) / 2.0)
+    own = repeat_peak(exemplar if cell is None else exemplar[:cell[0], :cell[1]])
+    trial["photo_repeat"] = own
+    choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
+    if trial["coursed"]["structure"] > trial["stochastic"]["structure"]:
+        # the courses only where they draw the photo closer than the way it is drawn without them (rough
+        # stones in courses of about one height, their joints not straight: cut where patches change)
+        choice = "stochastic"
+    trial["choice"] = choice
+    return trial, (coursed if choice == "coursed" else None)
+
+
+def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, stochastic_tile, cell=None,
+                    coursed=None):
     """The trial of a structured photo's finest layer (:func:`_trial`, :func:`_choose`): ``(trial, way)``, ``way``
     ``(tile, side, words, tiling, snap, texel scale)`` of the chosen way, None where it is the stochastic one
-    (``stochastic_tile``, as the caller has it)."""
+    (``stochastic_tile``, as the caller has it). ``coursed``: a wall of courses of their own heights
+    (:func:`_coursed_way`'s way), a candidate too."""
     from ..metrics import repeat_peak
 
     _, side, counts, whole, texel_scale = cut
@@ -1281,6 +1332,8 @@ def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_meth
         # way, whose map changes patch at them: drawn aligned, bricks were cut where two patches meet, the
         # mortar in stubs.)
         ways.append(("aligned", "stochastic", aligned_tile[0], _aligned_snap(snap), 1.0, period))
+    if coursed is not None:
+        ways.append(_coursed_candidate(coursed))
     trial = _trial(exemplar, pixel_size, ways, patch, period, along=_board_length(cut_tile, snap, texel_scale),
                    continuity=aligned_tile is not None)
     # the photo's own repeat beyond its lattice; a photo tiled before it was saved (``cell``: one copy's side in
@@ -1295,6 +1348,8 @@ def _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_meth
     if choice == "snapped":
         return trial, (cut_tile, side, cut_method + f", drawn stochastically with offsets snapped to whole periods "
                        f"(snap {snap})", "stochastic", snap, texel_scale)
+    if choice == "coursed":
+        return trial, coursed
     if choice == "aligned":
         aligned = _aligned_snap(snap)
         along = "columns" if aligned[0] else "rows"
@@ -1358,6 +1413,13 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
     snap0 = (0, 0)
     scale0 = 1.0  # the finest tile's texels per photo pixel
     trial = None
+    # a wall of courses of their own heights (coursed ashlar): a candidate of the trial, period or none
+    coursed = _coursed_way(exemplar) if tiling == "auto" and min(h, w) >= 64 else None
+    if cut is None and coursed is not None:
+        trial, way = _unstructured_way(exemplar, pixel_size, patch, tile0, coursed,
+                                       cell=_copy_side(repeat, factor, exemplar.shape[:2], analysed.shape[:2]))
+        if way is not None:
+            tile0, n, tile_method, tilings0, snap0, scale0 = way
     if cut is not None:
         crop, side, counts, whole, texel_scale = cut
         # the crop as it is: cut where its wrap edges differ least, at whole periods, it is seamless as a
@@ -1373,7 +1435,8 @@ def fit_auto(image, *, pixel_size=None, photo_size=None, layers=5, ratio=4.0, op
             tile0, n, tile_method, tilings0, scale0 = cut_tile, side, cut_method, "periodic", texel_scale
         else:
             trial, way = _structured_way(exemplar, pixel_size, patch, period, cut, cut_tile, cut_method, tile0,
-                                         cell=_copy_side(repeat, factor, exemplar.shape[:2], analysed.shape[:2]))
+                                         cell=_copy_side(repeat, factor, exemplar.shape[:2], analysed.shape[:2]),
+                                         coursed=coursed)
             if way is not None:
                 tile0, n, tile_method, tilings0, snap0, scale0 = way
     if not tile_given and tile_method == "seamless crop" and snap0 == (0, 0) and n == min(h, w) and h != w:

@@ -379,11 +379,14 @@ def course_map(tile, snap) -> np.ndarray | None:
 
     The courses: the tile's colours along their principal axis, averaged along the courses and folded
     into the snap's period, split by Otsu's threshold; the thinner class, one run per period, is the grout
-    between courses, its centre line a course's edge. The joints: per course, the mean over its interior
-    lines of the same colours, less its grey closing (or opening, for a light grout) over ``k`` texels
-    (``k = 2 w + 3``, ``w`` the grout's width, at least 5), at least :data:`JOINT_DEPTH` times the grout's
-    own contrast; a run of such texels is a joint, and a board (a *unit*) runs from a joint's start to
-    the next's, on the torus. A map where at least :data:`COURSE_MIN_JOINTED` of the courses have a joint
+    between courses, its centre line a course's edge. A snap of one period across (``(0, 1)``: a wall of
+    courses of several heights, each patch offset along the courses only) reads the profile unfolded: each
+    run of grout an edge, the courses of their own heights (:func:`_course_lines`). The joints: per course,
+    the mean over its interior lines of the same colours, less its grey closing (or opening, for a light
+    grout) over ``k`` texels (``k = 2 w + 3``, ``w`` the grout's width, at least 5), at least
+    :data:`JOINT_DEPTH` times the grout's own contrast; a run of such texels is a joint, and a board (a
+    *unit*) runs from a joint's start to the next's, on the torus. A map where at least
+    :data:`COURSE_MIN_JOINTED` of the courses have a joint
     and there are at least :data:`COURSE_MIN_UNITS` boards.
 
     Returns
@@ -431,6 +434,58 @@ def course_map(tile, snap) -> np.ndarray | None:
     return np.ascontiguousarray(out if along_x else out.transpose(1, 0, 2))
 
 
+def _course_lines(level, n):
+    """The courses of :func:`course_joints` (``level``: the tile's colours along their principal axis, courses
+    along x; ``n`` courses, or 1: courses of their own heights): ``(course, across, inside, contrast, k)`` or
+    None where there is no grout between courses. Per line its course's index, the vector to its centre line
+    and whether it is inside the course (not grout); the grout's contrast to the courses, and the closing's
+    size that finds the joints.
+
+    With ``n >= 2`` (a period of ``h / n`` lines): the mean profile across the courses folded into a period,
+    split by Otsu's threshold; the thinner class, one run per period, is the grout, its centre line a
+    course's edge. With ``n == 1`` (a wall of courses of several heights, the tile one period of them): the
+    same on the profile unfolded, its runs of grout (at least two, on the torus) the edges of courses of
+    their own heights, each at least 4 lines."""
+    h = level.shape[0]
+    rows = level.mean(axis=1)
+    if n >= 2:
+        _, phase, bins, period = _phases(h, n)
+        profile = np.bincount(phase, weights=rows, minlength=bins) / np.maximum(np.bincount(phase, minlength=bins),
+                                                                                1)
+    else:
+        phase, bins, period, profile = np.arange(h), h, float(h), rows
+    high = profile > otsu(profile)[0]
+    grout = high if high.sum() <= (~high).sum() else ~high
+    starts = np.flatnonzero(grout & ~np.roll(grout, 1))
+    if not grout.any() or grout.all() or (n >= 2 and len(starts) != 1) or grout.mean() > 0.4:
+        return None
+    contrast = float(profile[grout].mean() - profile[~grout].mean())
+    y = np.arange(h, dtype=np.float64) + 0.5
+    if n >= 2:
+        run = int(grout.sum())
+        edge = (starts[0] + run / 2.0) * period / bins  # the grout's centre line, texels into the period
+        # each line's course (its edge below it) and that course's centre line
+        course = np.floor((y - edge) / period)
+        across = np.round(2.0 * (edge + (course + 0.5) * period - y)) / 2.0
+        course = course.astype(np.int64) % n
+        return course, across, ~grout[phase], contrast, max(5, 2 * int(round(run * period / bins)) + 3)
+    if len(starts) < 2:
+        return None
+    # each run's centre line on the torus (a run may wrap over the tile's edge)
+    ends = np.flatnonzero(grout & ~np.roll(grout, -1))
+    stops = np.array([ends[np.searchsorted(ends, a) % len(ends)] for a in starts])
+    widths = (stops - starts) % h + 1
+    edges = np.sort((starts + widths / 2.0) % h)
+    heights = np.diff(np.concatenate([edges, edges[:1] + h]))
+    if heights.min() < 4.0:
+        return None
+    # each line's course: the last edge at or above it (the last one's, wrapped, above the first)
+    course = (np.searchsorted(edges, y, side="right") - 1) % len(edges)
+    top = np.where(y >= edges[0], edges[course], edges[course] - h)
+    across = np.round(2.0 * (top + heights[course] / 2.0 - y)) / 2.0
+    return course, across, ~grout, contrast, max(5, 2 * int(round(float(np.mean(widths)))) + 3)
+
+
 def course_joints(tile, snap):
     """The courses and joints :func:`course_map` reads (courses along x: a tile snapped along x only is read
     turned), or None where there is no grout between courses: ``(courses, across, runs)``, per line its
@@ -444,32 +499,17 @@ def course_joints(tile, snap):
     if not along_x:
         rgb = rgb.transpose(1, 0, 2)  # courses along x from here on
     h, w = rgb.shape[:2]
-    if n < 2 or h < 4 * n:
+    if n < 1 or h < 4 * n:
         return None
     flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
     axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
     level = rgb @ axis
-    # the courses' edges: the grout between them, on the mean profile across the courses folded into a period
-    _, phase, bins, period = _phases(h, n)
-    rows = level.mean(axis=1)
-    profile = np.bincount(phase, weights=rows, minlength=bins) / np.maximum(np.bincount(phase, minlength=bins), 1)
-    high = profile > otsu(profile)[0]
-    grout = high if high.sum() <= (~high).sum() else ~high
-    starts = np.flatnonzero(grout & ~np.roll(grout, 1))
-    if not grout.any() or grout.all() or len(starts) != 1 or grout.mean() > 0.4:
+    found = _course_lines(level, n)
+    if found is None:
         return None
-    contrast = float(profile[grout].mean() - profile[~grout].mean())
-    run = int(grout.sum())
-    edge = (starts[0] + run / 2.0) * period / bins  # the grout's centre line, texels into the period
-    # each line's course (its edge below it) and that course's centre line
-    y = np.arange(h, dtype=np.float64) + 0.5
-    course = np.floor((y - edge) / period)
-    across = np.round(2.0 * (edge + (course + 0.5) * period - y)) / 2.0
-    course = course.astype(np.int64) % n
-    inside = ~grout[phase]
-    k = max(5, 2 * int(round(run * period / bins)) + 3)
+    course, across, inside, contrast, k = found
     runs = []
-    for c in range(n):
+    for c in range(int(course.max()) + 1):
         lines = (course == c) & inside
         joints = []
         if lines.any():
