@@ -55,3 +55,20 @@ def grain_blind():
         yield
     finally:
         _core.MIN_TILE_GRAINS = original
+
+
+@contextmanager
+def without_coursed_walls():
+    """Within the block, main's code before walls of courses of their own heights (2026-11-28): the fit offers
+    its trial no coursed way (``spectex.fitting._auto._coursed_way`` answers None) and a photo with a period along
+    one axis only keeps the largest tile side whatever its courses' joints (``_auto._joint_side`` keeps its
+    pick)."""
+    from spectex.fitting import _auto
+
+    coursed, side = _auto._coursed_way, _auto._joint_side
+    _auto._coursed_way = lambda exemplar: None
+    _auto._joint_side = lambda found, pick, joints: pick
+    try:
+        yield
+    finally:
+        _auto._coursed_way, _auto._joint_side = coursed, side

@@ -27,10 +27,11 @@ QUICK = ("gravel", "brick", "paving")
 #: side) and :func:`pebbles` (256 x 256); :func:`planks` (floor boards: a structure along one axis only),
 #: :func:`weave` (a basket weave, a regular pattern) and :func:`ripples` (sand ripples, quasi-periodic
 #: across one direction); :func:`hexagons` (hexagonal floor tiles: a lattice no straight cut follows) and
-#: :func:`wood` (wood grain: stripes whose phase meanders).
+#: :func:`wood` (wood grain: stripes whose phase meanders); :func:`ashlar` (a wall of courses of their own
+#: heights: no period across them).
 EXTRA = ("gravel_leaf", "grass_leaf", "gravel_lit", "paving_lit", "page", "gravel_oblique", "paving_oblique",
          "grass_oblique", "scales", "wall_turned", "tiles_turned", "roof", "coins", "pebbles", "planks", "weave",
-         "ripples", "hexagons", "wood")
+         "ripples", "hexagons", "wood", "ashlar")
 
 
 def _skimage(name):
@@ -250,6 +251,33 @@ def planks(side: int = 512, board: float = 46.0, rng=5) -> np.ndarray:
     return np.clip(img, 0.0, 1.0).astype(np.float32)
 
 
+def ashlar(side: int = 512, heights=(28.0, 44.0, 64.0), rng=12) -> np.ndarray:
+    """A wall of coursed ashlar, RGB: courses of the given heights in a random order (so no period across
+    them), each course's stones of random lengths (1 to 3 times its height), each stone its own sandstone
+    tone with a fine grain and edges a little darker, set in light mortar 3 pixels wide."""
+    gen = np.random.default_rng(rng)
+    yy, xx = np.mgrid[0:side, 0:side].astype(np.float64)
+    img = np.empty((side, side, 3))
+    img[:] = (0.78, 0.76, 0.72)  # the mortar
+    top = -gen.uniform(0.0, max(heights))
+    while top < side:
+        height = float(gen.choice(heights))
+        x = -gen.uniform(0.0, 3.0 * height)
+        while x < side:
+            length = gen.uniform(1.0, 3.0) * height
+            on = (yy >= top + 1.5) & (yy < top + height - 1.5) & (xx >= x + 1.5) & (xx < x + length - 1.5)
+            tone = np.array([0.62, 0.55, 0.44]) * gen.uniform(0.8, 1.15) + gen.normal(0.0, 0.025, 3)
+            # the stone's edges a little darker (a worn bevel), its face grained
+            edge = np.minimum(np.minimum(yy[on] - top, top + height - yy[on]),
+                              np.minimum(xx[on] - x, x + length - xx[on]))
+            img[on] = tone * (0.88 + 0.12 * np.clip(edge / 6.0, 0.0, 1.0))[:, None]
+            x += length
+        top += height
+    grain = 1.0 + 0.07 * _noise((side, side), gen, (0.7, 3.0))
+    img *= grain[:, :, None]
+    return np.clip(img, 0.0, 1.0).astype(np.float32)
+
+
 def weave(side: int = 512, strand: int = 16, rng=9) -> np.ndarray:
     """A basket weave, RGB: pairs of straw-coloured strands ``strand`` pixels wide going over and under
     each other in 2 x 2 checks, each strand shaded round across its width, with fibres along it: a regular
@@ -370,7 +398,7 @@ def load(name: str) -> np.ndarray:
     if name == "coins":
         return _skimage("coins")
     made = {"scales": scales, "roof": roof, "pebbles": pebbles, "planks": planks, "weave": weave, "ripples": ripples,
-            "hexagons": hexagons, "wood": wood,
+            "hexagons": hexagons, "wood": wood, "ashlar": ashlar,
             "wall_turned": lambda: turned(running_bond(), 14.0),
             "tiles_turned": lambda: turned(tiles(side=800, period=48), 25.0)}
     if name in made:

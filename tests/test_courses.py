@@ -455,6 +455,25 @@ def test_fit_of_a_wall_of_courses_of_their_own_heights_keeps_its_stones_whole(mo
 
 
 @pytest.mark.slow
+def test_fit_of_coursed_ashlar_without_a_period_is_judged_by_its_courses_lines(monkeypatch):
+    """``benchmarks/exemplars.py``'s ashlar (courses 28, 44 and 64 pixels high in a random order: no period).
+    Its trial weighs the stochastic way (the photo's own crop) against the courses: the structural distance
+    reads the stochastic way closer (0.99 against 1.03), and its picture shows courses ending in stubs, stones
+    cut and cross-faded; the courses' grout lines holding their places (line_continuity, 0.79 against 0.96)
+    see it. The control: without that test the stochastic way is taken."""
+    from spectex.fitting import _auto, fit_result
+
+    photo = _exemplars().load("ashlar")
+    result = fit_result(photo)
+    trial = result.params["trial"]
+    assert trial["choice"] == "coursed" and result.params["snap"] == (0, 1), trial
+    assert trial["stochastic"]["continuity"] < _auto.CONTINUITY_LIMIT <= trial["coursed"]["continuity"], trial
+    monkeypatch.setattr(_auto, "CONTINUITY_LIMIT", 0.0)
+    control = fit_result(photo)
+    assert control.params["trial"]["choice"] == "stochastic" and control.params["snap"] == (0, 0)
+
+
+@pytest.mark.slow
 def test_fitted_columns_take_one_cut_per_segment():
     """The planks turned a quarter (columns along y, snapped along x), their fit baked from the world's origin,
     where a segment starts exactly on a texel edge: every line of a column takes the same cut, so along a

@@ -18,7 +18,11 @@ What each layer carries, and why (``docs/fitting.md``):
   rectified by a homography from its lines' vanishing points, so that
   patches from its left and right carry the same lattice and meet without
   V-shaped breaks (:func:`_straighten_structure`; the trial leaves out a way
-  whose bake's lines break, :func:`spectex.metrics.line_breaks`).
+  whose bake's lines break, :func:`spectex.metrics.line_breaks`). A wall of
+  courses of their own heights (coursed ashlar, no period across them) gets
+  a candidate of its own: a tile from one grout line to another, each course
+  cut at its own joints, snapped one period across (:func:`_coursed_way`,
+  ``fitting._joints``).
 * **Layers 1 ..** carry only what the photo says about larger scales: a
   second tile of random-phase noise (Galerne et al. 2011) whose spectrum
   continues the photo's below its lowest frequency (the slope of its three
@@ -889,7 +893,7 @@ def _board_length(tile, snap, texel_scale):
     return float(np.median(np.concatenate(lengths))) / texel_scale
 
 
-def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continuity=False):
+def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continuity=False, lines=None):
     """The finest layer alone, each way, measured: ``{label: {"structure": ratio, "repeat": peak}}``.
 
     ``candidates``: ``(label, tiling, tile, snap, scale, lattice)``, ``scale`` the tile's texels per
@@ -905,7 +909,8 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
     structure's lines kinked (:func:`spectex.metrics.line_breaks`) and its cells split
     (:func:`spectex.metrics.cell_splits`), each against the photo's. ``continuity`` (with ``continuity``,
     boards side by side without joints): :func:`spectex.metrics.line_continuity` of the far bake against
-    the photo, both reduced 2 x 2 (a bake of the photo's size holds too few patches); 1 otherwise.
+    the photo, both reduced 2 x 2 (a bake of the photo's size holds too few patches); 1 otherwise. ``lines``:
+    the axis of that continuity where ``period`` does not say it (a wall of courses of their own heights).
     """
     from ..metrics import (
         cell_splits,
@@ -927,7 +932,8 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
     cells = cell_splits(reference, reference, period=period) is not None  # the photo shows separate cells
     # with ``continuity``, a structure along one axis only whose lines run along the other (boards side by
     # side without joints: lines down the columns where the period is along x) is judged by them too
-    lines = lines_axis(period) if continuity else None
+    if lines is None:
+        lines = lines_axis(period) if continuity else None
     # (the lines' continuity is read on the far bake, which holds several patches, against the photo at its
     # pixel size: both reduced 2 x 2)
     halved = None if lines is None else box_halved(exemplar)
@@ -1292,13 +1298,17 @@ def _unstructured_way(exemplar, pixel_size, patch, stochastic_tile, coursed, cel
 
     period = (None, None)
     ways = [("stochastic", "stochastic", stochastic_tile, (0, 0), 1.0, None), _coursed_candidate(coursed)]
-    trial = _trial(exemplar, pixel_size, ways, patch, period, along=float(coursed[1]) / 2.0)
+    # the courses' grout lines holding their places (lines along x where the courses run along x: axis 1)
+    trial = _trial(exemplar, pixel_size, ways, patch, period, along=float(coursed[1]) / 2.0,
+                   lines=1 if coursed[4][1] else 0)
     own = repeat_peak(exemplar if cell is None else exemplar[:cell[0], :cell[1]])
     trial["photo_repeat"] = own
     choice = _choose({k: v for k, v in trial.items() if k != "photo_repeat"}, own)
-    if trial["coursed"]["structure"] > trial["stochastic"]["structure"]:
-        # the courses only where they draw the photo closer than the way it is drawn without them (rough
-        # stones in courses of about one height, their joints not straight: cut where patches change)
+    stochastic = trial["stochastic"]
+    if stochastic["continuity"] >= CONTINUITY_LIMIT and trial["coursed"]["structure"] > stochastic["structure"]:
+        # the courses only where the way the photo is drawn without them breaks their lines or draws it less
+        # closely (the structural distance does not see courses ending in stubs: a wall of courses drawn
+        # stochastically read 1.05 against 1.07 drawn by its courses)
         choice = "stochastic"
     trial["choice"] = choice
     return trial, (coursed if choice == "coursed" else None)

@@ -28,6 +28,9 @@ MAX_JOINTS = 32
 COURSE_LINE_SHARE = 0.6
 #: A run of such lines is a grout line when at most this share of the photo's side wide.
 COURSE_LINE_WIDTH = 0.06
+#: ... and runs unbroken (within two lines either side, gaps of its grain up to 4 pixels closed) over at least this
+#: share of the photo: a mortar line, not grout crossed now and then (hexagons, scales, a turned wall's joints).
+COURSE_LINE_SPAN = 0.7
 #: The least height of a course between two grout lines (pixels), and the least number of grout lines.
 MIN_COURSE = 8
 MIN_COURSE_LINES = 3
@@ -102,6 +105,14 @@ def _strip_segments(joints, side):
 
 
 
+def _unbroken(mask):
+    """The longest run of True in a 1-D mask once its gaps of up to 4 (a grout line's grain) are closed."""
+    from scipy import ndimage
+
+    closed = ndimage.binary_closing(np.pad(mask, 8, mode="edge"), structure=np.ones(5, bool))[8:-8]
+    return max((b - a for a, b in _runs(closed)), default=0)
+
+
 def _runs(mask):
     """``[(start, stop), ...]`` of the runs of True in a 1-D mask (stop exclusive)."""
     edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
@@ -112,16 +123,20 @@ def wall_courses(exemplar):
     """A wall of courses of their own heights: ``(axis, edges, level, width)`` or None.
 
     The photo's colours along their principal axis (lightly smoothed) are
-    split in two by Otsu's threshold; the thinner class (at most 40% of
-    the pixels) is the grout. A grout line between courses is a run of
+    split in two by Otsu's threshold, each side again while it holds over
+    40% of the pixels (:func:`_grout_classes`); either side's class may be
+    the grout, the thinner tried first. A grout line between courses is a run of
     lines (rows, or columns) each at least ``COURSE_LINE_SHARE`` of the
-    grout's class, at most ``COURSE_LINE_WIDTH`` of the side wide and not
-    at the photo's ends; a wall has at least ``MIN_COURSE_LINES`` of them
+    grout's class, at most ``COURSE_LINE_WIDTH`` of the side wide, not at
+    the photo's ends, and unbroken (within two lines either side, gaps up
+    to 4 pixels closed) over ``COURSE_LINE_SPAN`` of the photo; a wall has at least ``MIN_COURSE_LINES`` of them
     along one axis only (along both: a grid of floor tiles, which the
     period's way draws), courses at least ``MIN_COURSE`` pixels high
     between them, the tallest at least ``COURSE_HEIGHT_RATIO`` times the
-    shortest, and a joint (:func:`_strip_joints`) in at least half of its
-    courses.
+    shortest, no line of ``COURSE_LINE_SHARE`` grout across the middle
+    three fifths of a course (a grout line missed: the rows of a floor of
+    boards, which are one period's), and a joint (:func:`_strip_joints`) in
+    at least half of its courses.
 
     Returns ``axis`` (0: the courses run along x, the grout lines are rows;
     1: along y), ``edges`` (the grout lines' centres, pixels across the
@@ -132,8 +147,6 @@ def wall_courses(exemplar):
     """
     from scipy import ndimage
 
-    from .._otsu import otsu
-
     rgb = np.asarray(exemplar, np.float64)[:, :, :3]
     h, w = rgb.shape[:2]
     if min(h, w) < 4 * MIN_COURSE:
@@ -142,16 +155,45 @@ def wall_courses(exemplar):
     flat = smooth.reshape(-1, 3) - smooth.reshape(-1, 3).mean(axis=0)
     axis_c = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
     level = (flat @ axis_c).reshape(h, w)
-    high = level > otsu(level.ravel())[0]
-    grout = high if high.mean() <= 0.5 else ~high
-    if not 0.0 < grout.mean() <= 0.4:
-        return None
+    for grout in _grout_classes(level):
+        found = _wall(grout, smooth)
+        if found is not None:
+            return found
+    return None
+
+
+def _grout_classes(level):
+    """The candidates for :func:`wall_courses`' grout, lighter and darker: each side of Otsu's threshold on the
+    colours along their principal axis, split again by Otsu's threshold on that side alone (its more extreme
+    part kept) while it holds over 40% of the pixels (light stones fall with a light mortar at the first split),
+    at most three times; the thinner side first."""
+    from .._otsu import otsu
+
+    values = level.ravel()
+    high = level > otsu(values)[0]
+    out = []
+    for mask, sign in ((high, 1.0), (~high, -1.0)):
+        for _ in range(3):
+            if mask.mean() <= 0.4 or mask.sum() < 16:
+                break
+            mask = mask & (sign * level > sign * otsu(level[mask])[0])
+        if 0.0 < mask.mean() <= 0.4:
+            out.append(mask)
+    return sorted(out, key=lambda m: m.mean())
+
+
+def _wall(grout, smooth):
+    """:func:`wall_courses` for one candidate grout class (``grout`` (h, w) bool, ``smooth`` the smoothed
+    colours), or None."""
+    h, w = grout.shape
     found = []
     for axis in (0, 1):
-        share = grout.mean(axis=1 - axis)  # per row (axis 0) or column (axis 1)
-        n = share.shape[0]
+        lines = grout if axis == 0 else grout.T  # the candidate grout lines are its rows
+        share = lines.mean(axis=1)
+        n, length = lines.shape
         runs = [(a, b) for a, b in _runs(share >= COURSE_LINE_SHARE)
-                if a > 0 and b < n and b - a <= max(2, COURSE_LINE_WIDTH * min(h, w))]
+                if a > 0 and b < n and b - a <= max(2, COURSE_LINE_WIDTH * min(h, w))
+                and _unbroken(lines[max(a - 2, 0):b + 2].any(axis=0)) >= COURSE_LINE_SPAN * length]
         found.append(runs)
     if (len(found[0]) >= MIN_COURSE_LINES) == (len(found[1]) >= MIN_COURSE_LINES):
         return None  # no lines, or lines along both axes (a grid)
@@ -161,6 +203,15 @@ def wall_courses(exemplar):
     heights = np.diff(edges)
     if heights.min() < MIN_COURSE or heights.max() < COURSE_HEIGHT_RATIO * heights.min():
         return None
+    share = (grout if axis == 0 else grout.T).mean(axis=1)
+    for a, b in zip(edges[:-1], edges[1:]):
+        inside = share[int(math.ceil(a + 0.2 * (b - a))):int(math.floor(b - 0.2 * (b - a))) + 1]
+        if inside.size and inside.max() >= COURSE_LINE_SHARE:
+            # a line of grout across the course's middle that was not taken as one (broken by the grain, or
+            # too wide): a grout line missed, not a course of its own height (a floor of boards read as
+            # courses of one, two and eight boards; its rows are one period's); a tall stone beside two short
+            # ones stacked leaves the line between them under half the course's length
+            return None
     # the colours turned so that the courses run along x, as each pixel's share of the grout's colour
     turned = smooth if axis == 0 else smooth.transpose(1, 0, 2)
     mask = grout if axis == 0 else grout.T
