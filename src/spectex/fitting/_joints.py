@@ -26,6 +26,8 @@ MAX_JOINTS = 32
 #: A line across a wall is grout between courses where at least this share of it is of the grout's colour class
 #: (:func:`wall_courses`; inside a course, only its joints are).
 COURSE_LINE_SHARE = 0.6
+#: A grout line's pixels count in every line within this many lines of them (a real wall's mortar wanders).
+COURSE_LINE_WANDER = 2
 #: A run of such lines is a grout line when at most this share of the photo's side wide.
 COURSE_LINE_WIDTH = 0.06
 #: ... and runs unbroken (within two lines either side, gaps of its grain up to 4 pixels closed) over at least this
@@ -185,15 +187,20 @@ def _grout_classes(level):
 def _wall(grout, smooth):
     """:func:`wall_courses` for one candidate grout class (``grout`` (h, w) bool, ``smooth`` the smoothed
     colours), or None."""
+    from scipy import ndimage
+
     h, w = grout.shape
     found = []
     for axis in (0, 1):
         lines = grout if axis == 0 else grout.T  # the candidate grout lines are its rows
-        share = lines.mean(axis=1)
+        # a line that wanders (a real wall's mortar, a pixel or two up and down along it) is counted in each
+        # row it passes within COURSE_LINE_WANDER rows of
+        near = ndimage.maximum_filter1d(lines, 2 * COURSE_LINE_WANDER + 1, axis=0, mode="nearest")
+        share = near.mean(axis=1)
         n, length = lines.shape
         runs = [(a, b) for a, b in _runs(share >= COURSE_LINE_SHARE)
                 if a > 0 and b < n and b - a <= max(2, COURSE_LINE_WIDTH * min(h, w))
-                and _unbroken(lines[max(a - 2, 0):b + 2].any(axis=0)) >= COURSE_LINE_SPAN * length]
+                and _unbroken(near[max(a - 2, 0):b + 2].any(axis=0)) >= COURSE_LINE_SPAN * length]
         found.append(runs)
     if (len(found[0]) >= MIN_COURSE_LINES) == (len(found[1]) >= MIN_COURSE_LINES):
         return None  # no lines, or lines along both axes (a grid)
