@@ -24,8 +24,12 @@ JOINT_STRETCH = 0.1
 #: A strip with more joints than this (its thin runs of the grout's colour) is not taken as bricks in mortar.
 MAX_JOINTS = 32
 #: A line across a wall is grout between courses where at least this share of it is of the grout's colour class
-#: (:func:`wall_courses`; inside a course, only its joints are).
-COURSE_LINE_SHARE = 0.6
+#: within ``COURSE_LINE_WANDER`` lines of it (:func:`wall_courses`; inside a course, only its joints are; a wall
+#: of rubble, its stones in a network of mortar, reads 0.6-0.7 there).
+COURSE_LINE_SHARE = 0.85
+#: A line across a course's middle three fifths with at least this share of grout (not widened) is a grout line
+#: missed (:func:`wall_courses`).
+MISSED_LINE_SHARE = 0.6
 #: A grout line's pixels count in every line within this many lines of them (a real wall's mortar wanders).
 COURSE_LINE_WANDER = 2
 #: A run of such lines is a grout line when at most this share of the photo's side wide.
@@ -127,15 +131,16 @@ def wall_courses(exemplar):
     The photo's colours along their principal axis (lightly smoothed) are
     split in two by Otsu's threshold, each side again while it holds over
     40% of the pixels (:func:`_grout_classes`); either side's class may be
-    the grout, the thinner tried first. A grout line between courses is a run of
-    lines (rows, or columns) each at least ``COURSE_LINE_SHARE`` of the
-    grout's class, at most ``COURSE_LINE_WIDTH`` of the side wide, not at
-    the photo's ends, and unbroken (within two lines either side, gaps up
-    to 4 pixels closed) over ``COURSE_LINE_SPAN`` of the photo; a wall has at least ``MIN_COURSE_LINES`` of them
-    along one axis only (along both: a grid of floor tiles, which the
+    the grout, the thinner tried first. A grout line between courses is a
+    run of lines (rows, or columns) each at least ``COURSE_LINE_SHARE`` of
+    the grout's class within ``COURSE_LINE_WANDER`` lines, at most
+    ``COURSE_LINE_WIDTH`` of the side wide, not at the photo's ends, and
+    unbroken (within two lines either side, gaps up to 4 pixels closed) over
+    ``COURSE_LINE_SPAN`` of the photo; a wall has at least
+    ``MIN_COURSE_LINES`` of them along one axis only (along both: a grid of floor tiles, which the
     period's way draws), courses at least ``MIN_COURSE`` pixels high
     between them, the tallest at least ``COURSE_HEIGHT_RATIO`` times the
-    shortest, no line of ``COURSE_LINE_SHARE`` grout across the middle
+    shortest, no line of ``MISSED_LINE_SHARE`` grout across the middle
     three fifths of a course (a grout line missed: the rows of a floor of
     boards, which are one period's), and a joint (:func:`_strip_joints`) in
     at least half of its courses.
@@ -213,7 +218,7 @@ def _wall(grout, smooth):
     share = (grout if axis == 0 else grout.T).mean(axis=1)
     for a, b in zip(edges[:-1], edges[1:]):
         inside = share[int(math.ceil(a + 0.2 * (b - a))):int(math.floor(b - 0.2 * (b - a))) + 1]
-        if inside.size and inside.max() >= COURSE_LINE_SHARE:
+        if inside.size and inside.max() >= MISSED_LINE_SHARE:
             # a line of grout across the course's middle that was not taken as one (broken by the grain, or
             # too wide): a grout line missed, not a course of its own height (a floor of boards read as
             # courses of one, two and eight boards; its rows are one period's); a tall stone beside two short
