@@ -25,8 +25,8 @@ JOINT_STRETCH = 0.1
 MAX_JOINTS = 32
 #: A line across a wall is grout between courses where at least this share of it is of the grout's colour class
 #: within ``COURSE_LINE_WANDER`` lines of it (:func:`wall_courses`; inside a course, only its joints are; a wall
-#: of rubble, its stones in a network of mortar, reads 0.6-0.7 there).
-COURSE_LINE_SHARE = 0.85
+#: of rubble, its stones in a network of mortar, reads 0.6-0.9 there, a coursed wall's mortar line 0.99-1).
+COURSE_LINE_SHARE = 0.95
 #: A line across a course's middle three fifths with at least this share of grout (not widened) is a grout line
 #: missed (:func:`wall_courses`).
 MISSED_LINE_SHARE = 0.6
