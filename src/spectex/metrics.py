@@ -55,6 +55,7 @@ from ._lattice import lattice_strength as _lattice_strength  # (shared with the 
 from ._lattice import lattice_strength_2d as _lattice_strength_2d
 from ._lighting import LightingBlotches, lighting_blotches  # the photo's lighting (issue 22)
 from ._otsu import otsu
+from ._pixels import principal_axis
 from ._results import AsDict
 from ._scale import ScaleBlotches, scale_blotches  # a photo taken at an angle (issue 22)
 from ._texture_stats import (  # structural measures (issue 22), in their own module
@@ -891,9 +892,7 @@ def _cell_components(image, period):
     rgb = _channels(image).astype(np.float64)
     smooth = np.stack([ndimage.gaussian_filter(rgb[:, :, c], 1.0) for c in range(rgb.shape[2])], axis=2)
     flat = smooth.reshape(-1, rgb.shape[2])
-    centred = flat - flat.mean(axis=0)
-    axis = np.linalg.svd(centred[:: max(1, centred.shape[0] // 20000)], full_matrices=False)[2][0]
-    level = (centred @ axis).reshape(rgb.shape[:2])
+    level = ((flat - flat.mean(axis=0)) @ principal_axis(flat, sample=20000)).reshape(rgb.shape[:2])
     strength = _lattice_strength(level, period)
     if None not in period:  # a lattice along both axes: grout of any shape (hexagons) is seen folded in 2-D
         strength = max(strength, _lattice_strength_2d(level, period))
@@ -963,6 +962,25 @@ def _cell_split(image, period):
     return float(top.mean() / spread), n
 
 
+def _cells_of_both(image, reference, period, measure):
+    """The checked inputs of :func:`cell_splits` and :func:`short_cells` measured: ``(measure(image, period),
+    measure(reference, period))``, or None without a structure (``period`` None or ``(None, None)``) or where
+    either shows no separate cells; a bad ``period`` is one line of ValueError naming it."""
+    image = check_image("image", image)
+    reference = check_image("reference", reference)
+    if period is not None:
+        if not isinstance(period, (tuple, list)) or len(period) != 2:
+            raise ValueError(f"period must be None or a pair (py, px), got {period!r}")
+        period = tuple(None if p is None else check_float("period", p, minimum=2.0) for p in period)
+    if period is None or period == (None, None):
+        return None
+    mine = measure(image, period)
+    own = measure(reference, period)
+    if mine is None or own is None:
+        return None
+    return mine, own
+
+
 def cell_splits(image, reference, *, period) -> CellSplits | None:
     """Bricks or floor tiles that change colour partway across: the image's cells against the reference's.
 
@@ -1001,18 +1019,10 @@ def cell_splits(image, reference, *, period) -> CellSplits | None:
         explain less than ``CELL_SEPARATION`` of it, or it has fewer than
         ``MIN_CELLS`` whole cells.
     """
-    image = check_image("image", image)
-    reference = check_image("reference", reference)
-    if period is not None:
-        if not isinstance(period, (tuple, list)) or len(period) != 2:
-            raise ValueError(f"period must be None or a pair (py, px), got {period!r}")
-        period = tuple(None if p is None else check_float("period", p, minimum=2.0) for p in period)
-    if period is None or period == (None, None):
+    found = _cells_of_both(image, reference, period, _cell_split)
+    if found is None:
         return None
-    mine = _cell_split(image, period)
-    own = _cell_split(reference, period)
-    if mine is None or own is None:
-        return None
+    mine, own = found
     return CellSplits(image=mine[0], reference=own[0], ratio=mine[0] / max(own[0], 1e-9), cells_image=mine[1],
                       cells_reference=own[1])
 
@@ -1081,18 +1091,10 @@ def short_cells(image, reference, *, period) -> ShortCells | None:
         no separate cells (:func:`cell_splits`) or the reference no cell
         its frame does not cut.
     """
-    image = check_image("image", image)
-    reference = check_image("reference", reference)
-    if period is not None:
-        if not isinstance(period, (tuple, list)) or len(period) != 2:
-            raise ValueError(f"period must be None or a pair (py, px), got {period!r}")
-        period = tuple(None if p is None else check_float("period", p, minimum=2.0) for p in period)
-    if period is None or period == (None, None):
+    found = _cells_of_both(image, reference, period, _cell_components)
+    if found is None:
         return None
-    mine = _cell_components(image, period)
-    own = _cell_components(reference, period)
-    if mine is None or own is None:
-        return None
+    mine, own = found
 
     def areas(found):
         _, labels, count, ok = found

@@ -495,7 +495,7 @@ def _strip_layout(photo, period):
     grout lines' centre's phase (pixels) in the period; ``width``: the most lines a joint spans; ``strip_of``
     (w,): each column's strip (between the grout lines' centres).
     """
-    h, w = photo.shape[:2]
+    w = photo.shape[1]
     photo = photo.astype(np.float64)
     grout = _grout_lines(np.moveaxis(photo, 1, 0), period)
     if grout is None or grout.all() or not grout.any():

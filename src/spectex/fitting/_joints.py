@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from .._pixels import principal_axis
 from ._core import cubic_at
 
 #: Most stretch of a strip's stretch of the photo, joint to joint, to the period tile's side (:func:`_strip_cuts`:
@@ -160,8 +161,7 @@ def wall_courses(exemplar):
         return None
     smooth = np.stack([ndimage.gaussian_filter(rgb[:, :, c], 1.0) for c in range(3)], axis=2)
     flat = smooth.reshape(-1, 3) - smooth.reshape(-1, 3).mean(axis=0)
-    axis_c = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
-    level = (flat @ axis_c).reshape(h, w)
+    level = (flat @ principal_axis(smooth)).reshape(h, w)
     for grout in _grout_classes(level):
         found = _wall(grout, smooth)
         if found is not None:

@@ -56,6 +56,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._otsu import otsu
+from .._pixels import principal_axis
 
 __all__ = ["cell_map", "free_cell_map", "course_map", "COURSE_MIN_JOINTED", "COURSE_MIN_UNITS", "JOINT_DEPTH",
            "MIN_CONTRAST", "CHANCE_FACTOR", "MIN_INTERIOR", "MIN_CELL",
@@ -264,8 +265,7 @@ def free_cell_map(tile) -> np.ndarray | None:
     if f > 1:
         return _magnified_map(free_cell_map(tile[:, :, :3].reshape(h // f, f, w // f, f, 3).mean(axis=(1, 3))), f)
     rgb = tile[:, :, :3].astype(np.float64)
-    flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
-    axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
+    axis = principal_axis(rgb)
     level = ndimage.gaussian_filter(rgb @ axis, 1.0, mode="wrap")
     for sign in (1.0, -1.0):
         for i in range(len(FREE_WIDTHS) - 1, 0, -1):  # the widest first
@@ -501,8 +501,7 @@ def course_joints(tile, snap):
     h, w = rgb.shape[:2]
     if n < 1 or h < 4 * n:
         return None
-    flat = rgb.reshape(-1, 3) - rgb.reshape(-1, 3).mean(axis=0)
-    axis = np.linalg.svd(flat[:: max(1, flat.shape[0] // 65536)], full_matrices=False)[2][0]
+    axis = principal_axis(rgb)
     level = rgb @ axis
     found = _course_lines(level, n)
     if found is None:
