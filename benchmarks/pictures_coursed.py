@@ -70,6 +70,8 @@ def main(argv=None) -> int:
     ap.add_argument("--photo", action="append", default=[], help="a photo of your own to fit beside (repeatable)")
     ap.add_argument("--grid", help="write the picture here (JPEG)")
     args = ap.parse_args(argv)
+    if args.grid and not Path(args.grid).resolve().parent.is_dir():  # before minutes of fits, not after
+        ap.error(f"--grid: the folder of {args.grid!r} does not exist")
     photos = {"ashlar (exemplars.py)": exemplars.load("ashlar")}
     for path in args.photo:
         try:
