@@ -248,6 +248,51 @@ def test_aligned_segments_change_patch_where_both_patches_start_a_board():
     assert 0.4 <= clean <= 0.7, clean
 
 
+def _course_heights_down(tex, tiles=16):
+    """The heights of the courses a bake of ``tex`` (a 2 m tile of 256 texels, courses along x) shows down a
+    strip ``tiles`` tiles tall, one texel a pixel: from one grout line's first row to the next's."""
+    from spectex.render.cpu import bake
+
+    img = bake(tex, (256 * tiles, 48), pixel_size=2.0 / 256, origin=(0.37, 0.11))
+    rows = img[:, :, :3].mean(axis=(1, 2))
+    grout = rows < 0.5 * (JOINT + float(np.median(rows)))
+    first = np.flatnonzero(grout & ~np.roll(grout, 1))
+    return np.diff(first)
+
+
+def test_walls_of_courses_of_their_own_heights_change_their_courses_order_band_by_band(monkeypatch):
+    """A wall of courses of their own heights (snap ``(0, 1)``) is drawn in bands one tile high, each starting
+    the tile's courses at one of its courses (``stochastic.course_band_shift``): down a strip 16 tiles tall every
+    course is one of the tile's, whole (each band boundary on grout), but the heights do not come back once a
+    tile (six courses on): a fifth of them equal the one six courses before. The control, every band started at
+    the same course (a course-start table of one course), repeats once a tile: all of them."""
+    from spectex.shading import resources, stochastic
+
+    tile = _planks(shift=5, heights=HEIGHTS, grain=0.02)[0]
+    tex = _texture(tile, (0, 1))
+    resources.clear_cache()
+    heights = _course_heights_down(tex)
+    assert set(heights.tolist()) <= set(HEIGHTS), sorted(set(heights.tolist()))
+    assert len(heights) >= 15 * len(HEIGHTS)
+    again = float(np.mean(heights[len(HEIGHTS):] == heights[:-len(HEIGHTS)]))
+    assert again <= 0.5, again
+    real = stochastic.course_starts_row
+
+    def one_course(course_map):
+        out = real(course_map)
+        out[0, :, 0] = out[0, 0, 0]
+        return out
+
+    monkeypatch.setattr(stochastic, "course_starts_row", one_course)
+    resources.clear_cache()
+    try:
+        control = _course_heights_down(tex)
+    finally:
+        resources.clear_cache()
+    assert set(control.tolist()) <= set(HEIGHTS)
+    assert np.mean(control[len(HEIGHTS):] == control[:-len(HEIGHTS)]) == 1.0
+
+
 @pytest.mark.parametrize("snap", [(0, 8), (0, 1)])
 def test_courses_cpu_fast_path_matches_the_general_sampler(snap):
     tile = _planks(grain=0.02, heights=None if snap[1] > 1 else HEIGHTS)[0]
@@ -428,7 +473,9 @@ def test_fit_of_a_wall_of_courses_of_their_own_heights_keeps_its_stones_whole(mo
     short courses), and drawn snapped to it, patches cut the tall stones through and cross-fade stones of two
     courses (the control: structure / floor 1.25-1.35 at three places). Read as a wall of courses of their own
     heights, the tile runs from one grout line to another and each patch is offset along the courses only:
-    1.01-1.10, every stone of the photo's height."""
+    1.08-1.25 at the three places (mean 1.17), every stone of the photo's height (1.01-1.10 before the wall was
+    drawn in bands of courses starting at other courses, ``stochastic.course_band_shift``: each band boundary
+    pairs two courses the photo does not, about 0.04 more over ten places)."""
     from spectex.bake._block import bake_window
     from spectex.fitting import _auto, fit_result
     from spectex.metrics import structural_distance
@@ -451,7 +498,7 @@ def test_fit_of_a_wall_of_courses_of_their_own_heights_keeps_its_stones_whole(mo
     monkeypatch.setattr(_auto, "_coursed_way", lambda exemplar: None)
     control, before = fitted()
     assert control.params["snap"] != (0, 1) and "coursed" not in control.params["trial"]
-    assert coursed <= 1.15 and coursed <= before - 0.15, (coursed, before)
+    assert coursed <= 1.2 and coursed <= before - 0.1, (coursed, before)
 
 
 @pytest.mark.slow

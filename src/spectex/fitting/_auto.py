@@ -950,7 +950,8 @@ def _trial(exemplar, pixel_size, candidates, patch, period, along=None, continui
                       "repeat": repeat_peak(far, period=half),
                       "breaks": line_breaks(baked, reference, window=BREAK_WINDOW).ratio if m >= 3 * BREAK_WINDOW
                       else 1.0,
-                      "splits": _splits(cell_splits(baked, reference, period=period), cells),
+                      "splits": _splits(cell_splits(baked, reference, period=period), cells,
+                                        coursed=label == "coursed"),
                       "continuity": 1.0 if lines is None else line_continuity(far, halved, axis=lines).ratio}
     return out
 
@@ -1015,10 +1016,13 @@ def _aligned_snap(snap):
     return tuple(1 if count else 0 for count in snap)
 
 
-def _splits(found, cells):
+def _splits(found, cells, coursed=False):
     """:func:`spectex.metrics.cell_splits`' ratio of a trial bake: 1 where the photo shows no separate cells
-    (``cells`` False), infinite where it does and the bake does not (a jumble without the photo's lattice)."""
-    if not cells:
+    (``cells`` False), infinite where it does and the bake does not (a jumble without the photo's lattice).
+    A wall drawn by its courses of their own heights (``coursed``) shows no lattice at the photo's period by
+    design, its bands of courses starting at other heights (``shading.stochastic.course_band_shift``), and
+    changes patch at joints only: 1 where its cells are not found."""
+    if not cells or (coursed and found is None):
         return 1.0
     return math.inf if found is None else float(found.ratio)
 
@@ -1278,7 +1282,8 @@ def _coursed_way(exemplar):
     words = (f"a wall of courses of their own heights ({min(heights):.0f}-{max(heights):.0f} px; {courses} "
              f"{kind} of stones from one grout line to another, {one + two} of them cut at their own joints ({one} "
              f"at one stretch, {two} at two; stretched by at most {100 * most:.0f}%)), drawn stochastically with "
-             f"each patch offset along its courses only (snap {snap})")
+             f"each patch offset along its courses only (snap {snap}), in bands a tile high each starting its "
+             f"courses at one of the tile's")
     return np.clip(_joints_at_wrap(tile, snap), 0.0, 1.0), side, words, "stochastic", snap, 1.0
 
 

@@ -43,6 +43,7 @@ from .stochastic import (
     blend_patches,
     cell_mix,
     cell_vertex,
+    course_band_shift,
     lut_lookup,
     patch_lod,
     sample_stochastic_grad,
@@ -359,6 +360,10 @@ def _sample_row_stochastic(gflat, base, offsets, size0, mats, anchor, grid, key,
         tm = cell_mix(lam, w0, w0, nx, ny)
         cells = cell_row >= 0.0 and tm < 1.0
         v0 = v1 = v2 = v3 = 0.0
+        if cell_row >= 0.0:  # a wall of courses of their own heights: its band's courses (else 0)
+            sb, tb = course_band_shift(lut, cell_row, kx, ky, gk, w0, w0, bi, bj, key, nx, ny)
+            s += sb
+            t += tb
         if cells:
             ci, cj, whole, ds, dt = cell_vertex(lut, cell_row, s, t, kx, ky, gk, w0, w0, bi, bj, key, nx, ny)
             if whole:

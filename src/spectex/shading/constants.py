@@ -20,7 +20,7 @@ __all__ = [
     "TILINGS", "TILING_PERIODIC", "TILING_STOCHASTIC", "DEFAULT_PATCH", "MAX_SNAP",
     "GAUSS_MEAN", "GAUSS_SCALE", "LUT_SIZE", "LUT_SUBROWS",
     "HASH_MUL1", "HASH_MUL2", "WEIGHT_SQUARINGS", "SHARP_LOD", "CELL_LOD_MARGIN",
-    "COURSE_SEGMENT", "COURSE_SLIVER", "COURSE_TRIES", "COURSE_ROUND", "NO_JOINT",
+    "COURSE_SEGMENT", "COURSE_SLIVER", "COURSE_TRIES", "COURSE_ROUND", "NO_JOINT", "BAND_SALT",
     "WRAP_MODES", "WRAP_REPEAT", "WRAP_CLAMP_TO_EDGE", "WRAP_MIRRORED_REPEAT",
     "FILTERS", "FILTER_ALIASES", "FILTER_NEAREST", "FILTER_LINEAR", "FILTER_NEAREST_MIPMAP_NEAREST",
     "FILTER_LINEAR_MIPMAP_NEAREST", "FILTER_NEAREST_MIPMAP_LINEAR", "FILTER_LINEAR_MIPMAP_LINEAR",
@@ -106,6 +106,11 @@ COURSE_ROUND = 0.3819660112501051
 #: A course map's unit start and end for a course without a joint (a band the whole tile long): the cut
 #: across it is at the segment's start.
 NO_JOINT = 4096.0
+#: A wall of courses of their own heights (a layer snapped along one axis with one period across) is cut
+#: across its courses into *bands* one tile high, each the tile's courses started at a course of its own
+#: (``stochastic.course_band_shift``): band ``b`` takes the entry ``lowbias32(b ^ lowbias32(key ^
+#: BAND_SALT))`` picks of the course-start table, so that its choice is not the vertex hash of any row.
+BAND_SALT = 0x5BD1E995
 #: The two multipliers of the grid vertices' hash (Wellons' ``lowbias32``).
 HASH_MUL1 = 0x7FEB352D
 HASH_MUL2 = 0x846CA68B
@@ -186,6 +191,7 @@ def glsl_defines() -> str:
     lines.append(f"#define SPX_COURSE_TRIES {COURSE_TRIES}")
     lines.append(f"#define SPX_COURSE_ROUND {_glsl_number(COURSE_ROUND)}")
     lines.append(f"#define SPX_NO_JOINT {_glsl_number(NO_JOINT)}")
+    lines.append(f"#define SPX_BAND_SALT {BAND_SALT:#x}u")
     lines.append(f"#define SPX_MAX_LAYERS {MAX_LAYERS}")
     lines.append(f"#define SPX_FADE_START {_glsl_number(FADE_START)}")
     lines.append(f"#define SPX_FADE_END {_glsl_number(FADE_END)}")

@@ -239,7 +239,8 @@ def cell_rows(texture) -> tuple:
             out.append(-1)
         else:
             out.append(row)
-            row += -(-cells.shape[0] * cells.shape[1] // _lut_size())
+            # (a course map's course-start table after it: stochastic.course_starts_row)
+            row += -(-cells.shape[0] * cells.shape[1] // _lut_size()) + (cells.shape[2] == 4)
     return tuple(out)
 
 

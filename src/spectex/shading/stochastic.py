@@ -68,6 +68,7 @@ from .._validate import check_float, check_image, check_seed
 from ._jit import jit_inline as _jit_inline
 from ._mip_texture import MipTexture, filter_code
 from .constants import (
+    BAND_SALT,
     CELL_LOD_MARGIN,
     COURSE_ROUND,
     COURSE_SEGMENT,
@@ -99,6 +100,8 @@ __all__ = [
     "decorrelation",
     "sample_stochastic",
     "triangle_grid_matrix",
+    "layer_grid",
+    "course_band_shift",
     "lowbias32",
     "layer_key",
     "expand_lut",
@@ -121,6 +124,29 @@ def triangle_grid_matrix(patch: float) -> np.ndarray:
     """
     patch = check_float("patch", patch, minimum=0.0, exclusive_minimum=True)
     return np.array([[1.0, -1.0 / _SQRT3], [0.0, 2.0 / _SQRT3]], dtype=np.float64) / patch
+
+
+def layer_grid(patch: float, snap=(0, 0)) -> np.ndarray:
+    """The 2 x 2 map from a stochastic layer's tile coordinates to its grid coordinates.
+
+    :func:`triangle_grid_matrix` of ``patch``, except for a layer snapped along one axis with one period
+    across (``Layer.snap`` ``(0, 1)`` or ``(1, 0)``: a wall of courses of their own heights), whose rows of
+    triangles run along the courses, ``q`` of them in a tile's height exactly, ``q`` the whole number
+    nearest ``2 / (sqrt(3) patch)`` (the equilateral grid's rows, at least 1): rows (``(0, 1)``)
+    ``[[1 / patch, -q / 2], [0, q]]``, the lattice spanned by ``patch (1, 0)`` and ``(patch / 2, 1 / q)``;
+    columns (``(1, 0)``) the same turned, ``[[q, 0], [-q / 2, 1 / patch]]``. So the grid's row (column)
+    index, which the renderers hold exactly (``tables.anchor_coords``), counts whole tiles across the
+    courses: ``floor(index / q)`` is the tile's band there (:func:`course_band_shift`).
+    """
+    grid = triangle_grid_matrix(patch)
+    nx, ny = (int(v) for v in snap)
+    if (nx, ny) not in ((0, 1), (1, 0)):
+        return grid
+    patch = float(patch)
+    q = float(max(1, round(2.0 / (_SQRT3 * patch))))
+    if ny == 1:
+        return np.array([[1.0 / patch, -q / 2.0], [0.0, q]], dtype=np.float64)
+    return np.array([[q, 0.0], [-q / 2.0, 1.0 / patch]], dtype=np.float64)
 
 
 def lowbias32(x):
@@ -322,7 +348,29 @@ def cell_rows(cells: np.ndarray) -> np.ndarray:
     rows = -(-flat.shape[0] // LUT_SIZE)
     out = np.zeros((rows * LUT_SIZE, 4), dtype=np.float32)
     out[:flat.shape[0], :flat.shape[1]] = flat
-    return _half(out.reshape(rows, LUT_SIZE, 4))
+    out = out.reshape(rows, LUT_SIZE, 4)
+    if cells.shape[2] == 4:
+        out = np.concatenate([out, course_starts_row(cells)])
+    return _half(out)
+
+
+def course_starts_row(course_map: np.ndarray) -> np.ndarray:
+    """The course-start table of a course map (``shading._cells.course_map``): one row ``(1, LUT_SIZE, 4)``
+    whose entry ``e`` holds in channel 0 the first line (texels across the courses) of course ``floor(e n /
+    LUT_SIZE)`` of the tile's ``n``, in order (:func:`course_band_shift` picks an entry). A course's lines are
+    those whose course centre (the map's channel 2 across, plus the line's centre) is the same, modulo the
+    tile; the courses run along x where that channel is the same along every row."""
+    course_map = np.asarray(course_map, dtype=np.float64)
+    along_x = bool(np.all(course_map[:, :, 2] == course_map[:, :1, 2]))
+    across = course_map[:, 0, 2] if along_x else course_map[0, :, 2]
+    size = across.shape[0]
+    centre = (np.arange(size) + 0.5 + across) % size
+    starts = np.flatnonzero(centre != np.roll(centre, 1))
+    if starts.size == 0:
+        starts = np.zeros(1, dtype=np.int64)
+    out = np.zeros((1, LUT_SIZE, 4), dtype=np.float32)
+    out[0, :, 0] = starts[(np.arange(LUT_SIZE) * starts.size) // LUT_SIZE]
+    return out
 
 
 def _half(values: np.ndarray) -> np.ndarray:
@@ -762,6 +810,46 @@ def course_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny
 
 
 @_jit_inline
+def course_band_shift(lut, cell_row, kx, ky, grid, w0, h0, bi, bj, key, nx, ny):
+    """Where a wall of courses of their own heights starts its band's courses: ``(ds, dt)``, tile units.
+
+    A layer snapped along one axis with one period across (``ny == 1``, free along x: courses along x; or
+    ``nx == 1``, free along y) whose tile has a course map (``cell_row >= 0``) is cut across its courses
+    into bands one tile high, and band ``b`` shows the tile's courses from the start of one of them on
+    (its coordinates shifted across the courses by that start, whole texels): the courses' order is the
+    tile's, but where it begins changes from band to band, so the course heights, and the stones each
+    course holds, do not repeat once a tile across the wall. Every band boundary falls on grout (a
+    course's first line, in the tile and in the band). The bands are the grid's rows (columns) of
+    triangles, ``q`` to a tile (:func:`layer_grid`), as :func:`course_vertex` reads them at a course's centre
+    line (after adding ``COURSE_ROUND``): band ``b`` holds rows ``q b`` to ``q b + q - 1``, so that no
+    course of one band takes its patches from a row of the next (the same course at the end of one band
+    and the start of the next was drawn twice, the same stones above each other). It begins ``lead =
+    round(COURSE_ROUND size / q)`` texels before tile coordinate ``b`` (whole texels); its index is
+    ``floor((bj + floor(ky + q lead / size)) mod 2^32 / q)``, from the renderers' exact integers. It picks
+    entry ``((h & 0xFFFF) LUT_SIZE) >> 16``, ``h = lowbias32(b ^ lowbias32(key ^ BAND_SALT))``, of the
+    course-start table after the map (:func:`cell_rows`): a course's first line ``f``, and the shift is
+    ``(f + lead) / size``. ``(0, 0)`` for any other layer.
+    """
+    rows = ny == 1.0 and nx >= w0
+    if cell_row < 0.0 or not (rows or (nx == 1.0 and ny >= h0)):
+        return 0.0, 0.0
+    if rows:
+        size, base, k, q = h0, bj, ky, math.floor(grid[1, 1] + 0.5)
+    else:
+        size, base, k, q = w0, bi, kx, math.floor(grid[0, 0] + 0.5)
+    lead = math.floor(COURSE_ROUND * size / q + 0.5)
+    gridline = (base + np.int64(math.floor(k + q * lead / size))) & _M32
+    h = hash32((gridline // np.int64(q)) ^ hash32((key & _M32) ^ BAND_SALT))
+    n = np.int64(lut.shape[1])
+    e = ((h & 0xFFFF) * n) >> 16
+    row = np.int64(cell_row) + (np.int64(w0) * np.int64(h0) + n - 1) // n
+    shift = (np.float64(lut[row, e, 0]) + lead) / size
+    if rows:
+        return 0.0, shift
+    return shift, 0.0
+
+
+@_jit_inline
 def _course_at(lut, cell_row, along, vrow, oa, ob, along_x, w0, h0, c):
     """Channel ``c`` of the course map at texel ``along`` of the course in texel row ``vrow`` (across), as a patch
     offset by ``(oa, ob)`` whole texels (along, across) shows it."""
@@ -933,6 +1021,10 @@ def sample_stochastic_at_lod(data, base, offsets, widths, heights, lut, row0, ba
     tm = cell_mix(lam, w0, h0, nx, ny)
     cells = cell_row >= 0.0 and tm < 1.0
     v0 = v1 = v2 = v3 = 0.0
+    if cell_row >= 0.0:  # a wall of courses of their own heights: its band's courses (else 0)
+        sb, tb = course_band_shift(lut, cell_row, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
+        s += sb
+        t += tb
     if cells:
         ci, cj, whole, ds, dt = cell_vertex(lut, cell_row, s, t, kx, ky, grid, w0, h0, bi, bj, key, nx, ny)
         if whole:
@@ -1082,9 +1174,10 @@ def sample_stochastic(tables, s, t, *, patch=0.5, seed=0, snap=(0, 0), cells=Non
     if not isinstance(tables, StochasticTables):
         raise TypeError(f"tables must be StochasticTables, got {type(tables).__name__}")
     from .._validate import check_snap
-    grid = triangle_grid_matrix(patch)
+    snap = check_snap("snap", snap)
+    grid = layer_grid(patch, snap)
     key = layer_key(seed)
-    nx, ny = snap_counts(check_snap("snap", snap), tables.gaussian[0].shape[:2])
+    nx, ny = snap_counts(snap, tables.gaussian[0].shape[:2])
     code = filter_code("filter", filter)
     anisotropy = check_float("anisotropy", anisotropy, minimum=1.0, maximum=16.0)
     levels = tables.gaussian if mipmaps else tables.gaussian[:1]

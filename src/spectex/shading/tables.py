@@ -111,9 +111,10 @@ def anchor_coords(layers, x0: float, y0: float) -> np.ndarray:
         offsets = [layer.offset for layer in layers]
         stochastic = [getattr(layer, "tiling", "periodic") == "stochastic" for layer in layers]
         if any(stochastic):
-            from .stochastic import triangle_grid_matrix
+            from .stochastic import layer_grid
 
-            grids = [triangle_grid_matrix(layer.patch) if st else None for layer, st in zip(layers, stochastic)]
+            grids = [layer_grid(layer.patch, getattr(layer, "snap", (0, 0))) if st else None
+                     for layer, st in zip(layers, stochastic)]
     out = np.zeros((len(maps), 6), dtype=np.float64)
     for k, m in enumerate(maps):
         dx = float(x0) - offsets[k][0]
@@ -180,9 +181,9 @@ def pack(texture, *, filter="trilinear", anisotropy=1.0, mipmaps=True, enabled=N
         opacity[k] = layer.opacity
         lod_off[k] = math.log2(w0 / layer.size)
         if tiling[k] == TILING_STOCHASTIC:
-            from .stochastic import layer_key, snap_counts, triangle_grid_matrix
+            from .stochastic import layer_grid, layer_key, snap_counts
 
-            grid[k] = triangle_grid_matrix(layer.patch)
+            grid[k] = layer_grid(layer.patch, getattr(layer, "snap", (0, 0)))
             key[k] = layer_key(layer.seed)
             snap[k] = snap_counts(getattr(layer, "snap", (0, 0)), (h0, w0))
     if on.any():

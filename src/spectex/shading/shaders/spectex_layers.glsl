@@ -316,6 +316,34 @@ vec3 spectex_course_vertex(SPX_TEX_ARG(lut), vec2 st, vec2 g, SPX_UINT base_i, S
     return (u * size >= cut) ? vec3(cur, 0.0) : vec3(prev, prev_shift);
 }
 
+// Where a wall of courses of their own heights starts its band's courses (stochastic.course_band_shift):
+// the shift of st across the courses (tile units; 0 for any other layer). A layer snapped along one axis
+// with one period across (snap.y == 1, free along x: courses along x; or snap.x == 1) whose tile has a
+// course map is cut into bands one tile high, each q rows of the grid (grid.w, or grid.x, a whole number)
+// as spectex_course_vertex reads them (after adding SPX_COURSE_ROUND): band b = (the row (column) index
+// of g + q lead / size) / q, exact in uint, lead = round(SPX_COURSE_ROUND size / q) texels, picks entry
+// ((h & 0xFFFF) SPX_LUT_SIZE) >> 16, h = lowbias32(b ^ lowbias32(key ^ SPX_BAND_SALT)), of the
+// course-start table (the row after the map): f, the first line of one of the tile's courses; the band's
+// courses start there, the shift (f + lead) / size.
+vec2 spectex_course_band(SPX_TEX_ARG(lut), vec2 g, SPX_UINT base_i, SPX_UINT base_j, SPX_UINT key, vec2 snap,
+                         vec2 tex_size, vec4 grid, float cell_row, float lut_rows) {
+    bool rows = snap.y == 1.0 && snap.x >= tex_size.x;
+    if (cell_row < 0.0 || !(rows || (snap.x == 1.0 && snap.y >= tex_size.y))) {
+        return vec2(0.0);
+    }
+    float size = rows ? tex_size.y : tex_size.x;
+    float qf = floor((rows ? grid.w : grid.x) + 0.5);
+    float lead = floor(SPX_COURSE_ROUND * size / qf + 0.5);
+    SPX_UINT gridline = (rows ? base_j : base_i) + SPX_UINT(int(floor((rows ? g.y : g.x) + qf * lead / size)));
+    SPX_UINT h = spectex_hash((gridline / SPX_UINT(int(qf))) ^ spectex_hash(key ^ SPX_BAND_SALT));
+    float e = float(int(((h & 65535u) * SPX_UINT(SPX_LUT_SIZE)) >> 16u));
+    float row = cell_row + ceil(tex_size.x * tex_size.y / float(SPX_LUT_SIZE));
+    // (a macro's arguments on one line: Godot's preprocessor takes no line break inside them)
+    vec2 uv = vec2((e + 0.5) * (1.0 / float(SPX_LUT_SIZE)), (row + 0.5) / (4.0 * lut_rows));
+    float shift = (SPX_LOD(lut, uv, 0.0).x + lead) / size;
+    return rows ? vec2(0.0, shift) : vec2(shift, 0.0);
+}
+
 // The offset of the patch a layer with a cell map shows whole at st (stochastic.cell_vertex), and 1 (0:
 // blend at the point instead); snapped along one axis only (courses), that of spectex_course_vertex;
 // snapped along both, that of the vertex nearest the centre of the cell
@@ -422,6 +450,9 @@ vec4 spectex_sample_stochastic(SPX_TEX_ARG(gauss), SPX_TEX_ARG(lut), vec2 st, ve
     }
     bool cells = cell_row >= 0.0 && tm < 1.0;
     vec4 gb = vec4(0.0);
+    if (cell_row >= 0.0) {  // a wall of courses of their own heights: its band's courses (else 0)
+        st += spectex_course_band(SPX_TEX(lut), g, base_i, base_j, key, snap, tex_size, grid, cell_row, lut_rows);
+    }
     if (cells) {
         // (a macro's arguments on one line: Godot's preprocessor takes no line break inside them)
         vec3 off = spectex_cell_offset(SPX_TEX(lut), st, g, base_i, base_j, key, snap, tex_size, grid, cell_row,
