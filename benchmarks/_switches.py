@@ -72,3 +72,27 @@ def without_coursed_walls():
         yield
     finally:
         _auto._coursed_way, _auto._joint_side = coursed, side
+
+
+@contextmanager
+def without_course_bands():
+    """Within the block, a wall of courses of their own heights is drawn as before its bands of courses
+    (2026-11-28): every band starts at the tile's first course (the course-start table,
+    ``spectex.shading.stochastic.course_starts_row``, of that one course), so the tile's courses come back in
+    their order once a tile across them; the shading cache is emptied on the way in and out."""
+    from spectex.shading import resources, stochastic
+
+    original = stochastic.course_starts_row
+
+    def one_course(course_map):
+        out = original(course_map)
+        out[0, :, 0] = out[0, 0, 0]
+        return out
+
+    stochastic.course_starts_row = one_course
+    resources.clear_cache()
+    try:
+        yield
+    finally:
+        stochastic.course_starts_row = original
+        resources.clear_cache()
