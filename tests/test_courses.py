@@ -248,6 +248,28 @@ def test_aligned_segments_change_patch_where_both_patches_start_a_board():
     assert 0.4 <= clean <= 0.7, clean
 
 
+def test_an_aligned_change_never_shows_the_same_course_on():
+    """An odd segment's patch is shifted so that one of its joints meets the patch before's; where the joint it
+    would shift there is the patch before's own (the new patch offset by less than the board before it), the
+    course would run on unchanged (and come back a tile on, a repeat along the courses from afar): its next
+    joint is taken instead. Checked on the map of a floor of boards: the new patch 3 texels on from the patch
+    before, its aligned shift leaves it showing other texels than the patch before (the code before answered
+    -3, the same texels, at every joint)."""
+    from spectex.shading import _cells, stochastic
+
+    tile = _planks()[0]
+    cells = _cells.course_map(tile, (0, 8))
+    lut = stochastic.cell_rows(cells).astype(np.float64)
+    w = float(tile.shape[1])
+    vrow = 17.0  # a line inside the first course
+    starts = np.flatnonzero(cells[int(vrow), :, 0] == 0.0)
+    assert len(starts) >= 2
+    for j0 in starts:
+        j, shift = stochastic._course_align(lut, 0.0, float(j0), float(j0) + 64.0, 0.0, 0.0, 3.0, 0.0, vrow, True,
+                                            w, w)
+        assert j == j0 and shift > 0.0 and (3.0 + shift) % w != 0.0, (j0, j, shift)
+
+
 def _course_heights_down(tex, tiles=16):
     """The heights of the courses a bake of ``tex`` (a 2 m tile of 256 texels, courses along x) shows down a
     strip ``tiles`` tiles tall, one texel a pixel: from one grout line's first row to the next's."""

@@ -863,7 +863,10 @@ def _course_align(lut, cell_row, start, end, pa, pb, oa, ob, vrow, along_x, w0, 
     """An aligned patch change (:func:`course_vertex`): ``(j, shift)``, ``j`` the first unit start at or after texel
     ``start`` (and before ``end``) of the patch before (offsets ``(pa, pb)``), ``shift`` (texels, at most 0) what
     moves the new patch's (``(oa, ob)``) unit start at or before ``j`` onto it; ``(-1, 0)`` where the patch before
-    has no unit start there, or either course no joint."""
+    has no unit start there, or either course no joint. Where that start is the patch before's own joint at ``j``
+    (the same course of the tile, the same joint: the course would run on unchanged, and come back a tile on),
+    the new patch's next unit start after ``j`` instead (``shift`` positive); ``(-1, 0)`` where that is the same
+    joint too (a course of one joint)."""
     b = _course_at(lut, cell_row, start - 1.0, vrow, pa, pb, along_x, w0, h0, 1)
     if b >= 0.5 * NO_JOINT:
         return -1.0, 0.0
@@ -873,6 +876,11 @@ def _course_align(lut, cell_row, start, end, pa, pb, oa, ob, vrow, along_x, w0, 
     a = _course_at(lut, cell_row, j, vrow, oa, ob, along_x, w0, h0, 0)
     if a <= -0.5 * NO_JOINT:
         return -1.0, 0.0
+    size, across = (w0, h0) if along_x else (h0, w0)
+    if (ob - pb) % across == 0.0 and (oa + a - pa) % size == 0.0:
+        a = _course_at(lut, cell_row, j, vrow, oa, ob, along_x, w0, h0, 1)
+        if (oa + a - pa) % size == 0.0:
+            return -1.0, 0.0
     return j, a
 
 

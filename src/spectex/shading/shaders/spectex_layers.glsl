@@ -203,7 +203,8 @@ float spectex_course_at(SPX_TEX_ARG(lut), float along, float vrow, vec2 o, bool 
 
 // An aligned patch change (stochastic._course_align): (j, shift), j the first unit start at or after texel
 // start (before end) of the patch before (whole-texel offsets p: along, across), shift what moves the new
-// patch's (o) unit start at or before j onto it; (-1, 0) where there is none.
+// patch's (o) unit start at or before j onto it, or its next one where that is the patch before's own joint
+// (the course would run on unchanged); (-1, 0) where there is none.
 vec2 spectex_course_align(SPX_TEX_ARG(lut), float start, float end, vec2 p, vec2 o, float vrow, bool along_x,
                           vec2 tex_size, float cell_row, float lut_rows) {
     float b = spectex_course_at(SPX_TEX(lut), start - 1.0, vrow, p, along_x, tex_size, cell_row, lut_rows, 1);
@@ -217,6 +218,19 @@ vec2 spectex_course_align(SPX_TEX_ARG(lut), float start, float end, vec2 p, vec2
     float a = spectex_course_at(SPX_TEX(lut), j, vrow, o, along_x, tex_size, cell_row, lut_rows, 0);
     if (a <= -0.5 * SPX_NO_JOINT) {
         return vec2(-1.0, 0.0);
+    }
+    // (whole texels wrapped as x - n floor(x / n): HLSL has no mod)
+    float size = along_x ? tex_size.x : tex_size.y;
+    float across = along_x ? tex_size.y : tex_size.x;
+    float dy = o.y - p.y;
+    float dx = o.x + a - p.x;
+    if (dy - across * floor(dy / across) == 0.0 && dx - size * floor(dx / size) == 0.0) {
+        // the patch before's own joint: the next unit start after j instead (none: a course of one joint)
+        a = spectex_course_at(SPX_TEX(lut), j, vrow, o, along_x, tex_size, cell_row, lut_rows, 1);
+        dx = o.x + a - p.x;
+        if (dx - size * floor(dx / size) == 0.0) {
+            return vec2(-1.0, 0.0);
+        }
     }
     return vec2(j, a);
 }
