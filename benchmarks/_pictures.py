@@ -39,3 +39,31 @@ def save_grid(rows, path):
         for c, img in enumerate(row):
             grid.paste(img, (c * (w + 8), r * h))
     grid.save(path, quality=90)
+
+
+def wall_photos(description, argv=None):
+    """The ``pictures_*`` wall benchmarks' command line: ``--photo PATH`` (repeatable, fitted beside
+    ``exemplars.py``'s ``ashlar``) and ``--grid PATH`` (the picture, JPEG; its folder checked before minutes of
+    fits). Returns ``(args, photos)``, ``photos`` by name, RGB float32; a missing or unreadable photo or folder
+    is one line of error and exit status 2."""
+    import argparse
+    from pathlib import Path
+
+    import exemplars
+
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--photo", action="append", default=[], help="a photo of your own to fit beside (repeatable)")
+    ap.add_argument("--grid", help="write the picture here (JPEG)")
+    args = ap.parse_args(argv)
+    if args.grid and not Path(args.grid).resolve().parent.is_dir():
+        ap.error(f"--grid: the folder of {args.grid!r} does not exist")
+    photos = {"ashlar (exemplars.py)": exemplars.load("ashlar")}
+    for path in args.photo:
+        try:
+            photos[Path(path).stem] = exemplars.load(path)
+        except (OSError, ValueError) as exc:
+            ap.error(f"--photo: {exc}")
+    for name, photo in photos.items():
+        photo = np.asarray(photo, np.float32)
+        photos[name] = np.repeat(photo[:, :, None], 3, axis=2) if photo.ndim == 2 else photo[:, :, :3]
+    return args, photos

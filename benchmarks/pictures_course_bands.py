@@ -27,7 +27,6 @@ Run from the repository root::
 
 from __future__ import annotations
 
-import argparse
 import sys
 from contextlib import nullcontext
 from pathlib import Path
@@ -36,9 +35,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
-from _pictures import panel, save_grid  # noqa: E402
+from _pictures import panel, save_grid, wall_photos  # noqa: E402
 from _switches import without_course_bands  # noqa: E402
 
 CROP = 384
@@ -84,18 +82,7 @@ def _drawn(result, photo, bands):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--photo", action="append", default=[], help="a photo of your own to fit beside (repeatable)")
-    ap.add_argument("--grid", help="write the picture here (JPEG)")
-    args = ap.parse_args(argv)
-    if args.grid and not Path(args.grid).resolve().parent.is_dir():  # before minutes of fits, not after
-        ap.error(f"--grid: the folder of {args.grid!r} does not exist")
-    photos = {"ashlar (exemplars.py)": exemplars.load("ashlar")}
-    for path in args.photo:
-        try:
-            photos[Path(path).stem] = exemplars.load(path)
-        except (OSError, ValueError) as exc:
-            ap.error(f"--photo: {exc}")
+    args, photos = wall_photos(__doc__.split("\n")[0], argv)
     from spectex.fitting import fit_result
 
     print(f"CPU: {cpu_name()}; s 1x: structural distance / floor, 768 x 768 at the photo's pixel size, {PLACES} "
@@ -103,8 +90,6 @@ def main(argv=None) -> int:
           "profile across the courses repeating), rp (repeat_peak, the courses' lattice removed)")
     rows = []
     for name, photo in photos.items():
-        photo = np.asarray(photo, np.float32)
-        photo = np.repeat(photo[:, :, None], 3, axis=2) if photo.ndim == 2 else photo[:, :, :3]
         result = fit_result(photo)
         method = result.params["tile_method"]
         if not method.startswith("a wall of courses of their own heights"):

@@ -24,7 +24,6 @@ Run from the repository root::
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from contextlib import nullcontext
@@ -34,9 +33,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import exemplars  # noqa: E402
 from _machine import cpu_name  # noqa: E402
-from _pictures import panel, save_grid  # noqa: E402
+from _pictures import panel, save_grid, wall_photos  # noqa: E402
 from _switches import without_coursed_walls  # noqa: E402
 
 CROP = 384
@@ -66,24 +64,11 @@ def _measure(photo, way):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--photo", action="append", default=[], help="a photo of your own to fit beside (repeatable)")
-    ap.add_argument("--grid", help="write the picture here (JPEG)")
-    args = ap.parse_args(argv)
-    if args.grid and not Path(args.grid).resolve().parent.is_dir():  # before minutes of fits, not after
-        ap.error(f"--grid: the folder of {args.grid!r} does not exist")
-    photos = {"ashlar (exemplars.py)": exemplars.load("ashlar")}
-    for path in args.photo:
-        try:
-            photos[Path(path).stem] = exemplars.load(path)
-        except (OSError, ValueError) as exc:
-            ap.error(f"--photo: {exc}")
+    args, photos = wall_photos(__doc__.split("\n")[0], argv)
     print(f"CPU: {cpu_name()}; bakes 768 x 768 at the photo's pixel size, {len(ORIGINS)} places; s: structural "
           "distance / floor (mean); short: metrics.short_cells of the bakes (mean; the photo's own)")
     rows = []
     for name, photo in photos.items():
-        photo = np.asarray(photo, np.float32)
-        photo = np.repeat(photo[:, :, None], 3, axis=2) if photo.ndim == 2 else photo[:, :, :3]
         firsts = {}
         for way in ("before", "after"):
             seconds, words, bakes, ratios, shorts = _measure(photo, way)
